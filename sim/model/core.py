@@ -1,0 +1,196 @@
+"""Bit-true model of rtl/finequad_core.v: timing of the estimator against the sample stream.
+
+Clock-edge timing (the RTL implements exactly this; edges are numbered from 0):
+
+* Sample k is strobed (s_valid high) at edge t_k; it is registered in stage 1 on t_k.
+* The estimator decides on edge s = t_k + PHASE_STAGE, when the sample's fine phase (under
+  the bundle it sees) is known, if it is idle (not busy before that edge):
+    - reset pending  -> RESET program (P = kappa I, theta rescaled to the new input gain g,
+                        chosen from the peak |u| since the last reset); peak cleared.
+    - x = u << g saturates -> no start; a reset becomes pending (clipped sample excluded).
+    - fine phase within `gate` of the phase at the last update -> no start (no new
+                        information: standstill and creep do not wind the estimator up)
+    - otherwise      -> UPDATE program on this sample (Eqs. 5-8); after the period-th
+                        update since the last reset (the first time: WARMUP), a reset
+                        becomes pending.
+  A program started on edge s ends (END retires, busy clears) on edge s + CYCLES[prog];
+  samples arriving meanwhile are not used by the estimator (they still go through the
+  fast path). At the end of an UPDATE, if theta was valid and at least `settle` updates
+  have ended since the last reset, the new bundle {g, m1, m2, c1, c12, c2} is committed.
+* Sample k uses the bundle committed on edges <= t_k (each fast-path stage sees the
+  bundle through a delay matched to its depth, so a sample never mixes two bundles).
+"""
+import bisect
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import fastpath as fp
+from .estimator import CYCLES, Estimator
+
+PHASE_STAGE = 8      # edges from the strobe to the estimator decision (rtl/finequad_core.v)
+WARMUP = 64          # updates before the first automatic reset (picks the input gain)
+G_MAX = 3            # input gain 2**g, g in 0..3 (amplitudes down to ~6 % of full scale)
+FAULT_BITS = {
+    "clip": 0,       # an input code sits on an ADC rail
+    "nsat": 1,       # u << g saturated in the fast path
+    "csat": 2,       # offset removal or correction saturated
+    "illegal": 3,    # A/B skipped a quadrant (both changed) or a whole n-th order period:
+                     # counted, and the count resolved from the fine phase
+    "uncal": 4,      # no estimate committed yet: default coefficients in use
+    "hold": 5,       # the last estimate was invalid: last valid coefficients held
+}
+
+
+@dataclass
+class Config:
+    """Build-time parameters (UPPER in the RTL) and run-time registers (lower)."""
+    ADC_W: int = 16
+    SIN_W: int = 10
+    TABLE: str = "exact"
+    COUNT_W: int = 32
+    G_INIT: int = 0
+    interp: int = 100        # n, 1..511
+    eps: int = 1638          # u0.15 hysteresis (0.05)
+    lam_k: int = 8           # lambda = 1/(1 + 2**-k), k in 1..23
+    kappa: int = 64 << 8     # u8.8
+    period: int = 4096       # updates between covariance resets (0: never)
+    settle: int = 256        # updates after a reset before coefficients are applied
+    gate: int = 64           # u13 phase progress needed between updates (1/128 period)
+    div: int = 36            # clocks per sample when strobes are uniform
+    resets: list = field(default_factory=list)   # sample indices of reset requests
+
+
+# Default bundle: centred circle of radius 0.5 (normalised): c1 = c2 = 2.0 in s4.12.
+BUNDLE0 = (0, 0, 0, 2 << 12, 0, 2 << 12)
+
+
+def gsel(peak: int, g: int) -> int:
+    if peak == 0:
+        return g
+    for cand in range(G_MAX, -1, -1):
+        if (peak << cand) < (1 << 14):
+            return cand
+    return 0
+
+
+def _phase(u1r, u2r, bundle, lut):
+    """Fast path up to the fine phase for a block of samples under one bundle."""
+    g, m1, m2, c1, c12, c2 = bundle
+    u1c, u2c, _ = fp.correct(fp.normalize(u1r, g)[0], fp.normalize(u2r, g)[0],
+                             m1, m2, c1, c12, c2)
+    return lut.phase(*fp.octant(u1c, u2c))
+
+
+def strobe_edges(n, div, t0=2):
+    return t0 + div * np.arange(n, dtype=np.int64)
+
+
+def run(u1_code, u2_code, cfg: Config = Config(), strobes=None, trace=False):
+    """Run the core on ADC codes; returns a dict of per-sample arrays."""
+    u1_code = np.asarray(u1_code, dtype=np.int64)
+    u2_code = np.asarray(u2_code, dtype=np.int64)
+    n = len(u1_code)
+    t = strobe_edges(n, cfg.div) if strobes is None else np.asarray(strobes, np.int64)
+    u1r, clip1 = fp.align(u1_code, cfg.ADC_W)
+    u2r, clip2 = fp.align(u2_code, cfg.ADC_W)
+
+    # ---- estimator schedule (sequential: one decision per sample) -----------------------
+    est = Estimator()
+    lut = fp.Lut(cfg.TABLE, cfg.SIN_W)
+    g_eng = cfg.G_INIT
+    peak = 0
+    reset_pend = True
+    first = True
+    upd = 0
+    settle = 0
+    busy_until = -1
+    ph_last = 0
+    lam = 1 << (23 - min(max(cfg.lam_k, 1), 23))
+    kappa = cfg.kappa << 15
+    requests = set(cfg.resets)
+    ev_edge = [-1]
+    ev_bundle = [BUNDLE0]
+    ev_flags = [(1, 0)]           # (uncal, hold)
+    uncal = 1
+    n_updates = 0
+    blk_lo = blk_hi = 0           # fine phase of samples [blk_lo, blk_hi) under one bundle
+    blk_phase = None
+    for k in range(n):
+        if k in requests:
+            reset_pend = True
+        s = int(t[k]) + PHASE_STAGE
+        a1, a2 = min(abs(int(u1r[k])), 32767), min(abs(int(u2r[k])), 32767)
+        if s <= busy_until:
+            peak = max(peak, a1, a2)
+            continue
+        if reset_pend:
+            g_new = gsel(peak, g_eng)
+            dg = g_new - g_eng
+            est.run("reset", kappa=kappa, gs1=1 << (24 - dg), gs2=1 << (24 - 2 * dg))
+            g_eng = g_new
+            peak = 0
+            reset_pend = False
+            upd = 0
+            settle = 0
+            busy_until = s + CYCLES["reset"]
+            continue
+        peak = max(peak, a1, a2)
+        x1, x2 = int(u1r[k]) << g_eng, int(u2r[k]) << g_eng
+        if not (-32768 <= x1 <= 32767 and -32768 <= x2 <= 32767):
+            reset_pend = True
+            continue
+        if k >= blk_hi:
+            blk_lo = k
+            blk_hi = min(n, k + 256)
+            b = ev_bundle[bisect.bisect_right(ev_edge, int(t[k])) - 1]
+            blk_phase = _phase(u1r[k:blk_hi], u2r[k:blk_hi], b, lut)
+        ph = int(blk_phase[k - blk_lo])
+        step = ((ph - ph_last + 4096) & 8191) - 4096
+        if abs(step) < cfg.gate:
+            continue
+        ph_last = ph
+        ok = est.run("update", x1=x1 << 15, x2=x2 << 15, lam=lam)
+        n_updates += 1
+        upd += 1
+        limit = min(WARMUP, cfg.period) if first and cfg.period else cfg.period
+        if limit and upd >= limit:
+            reset_pend = True
+            first = False
+        busy_until = s + CYCLES["update"]
+        if ok and settle >= cfg.settle:
+            ev_bundle.append((g_eng, *est.out))
+            uncal = 0
+        else:
+            ev_bundle.append(ev_bundle[-1])
+        ev_flags.append((uncal, 0 if ok else 1))
+        ev_edge.append(busy_until)
+        settle = min(settle + 1, 1023)
+        # samples from the first one that sees this commit need their phase recomputed
+        blk_hi = min(blk_hi, int(np.searchsorted(t, busy_until, side="left")))
+
+    # ---- fast path, vectorised over samples -------------------------------------------
+    idx = np.searchsorted(np.asarray(ev_edge), t, side="right") - 1
+    bund = np.asarray(ev_bundle, dtype=np.int64)[idx]
+    flags = np.asarray(ev_flags, dtype=np.int64)[idx]
+    g, m1, m2, c1, c12, c2 = bund.T
+    u1n, ns1 = fp.normalize(u1r, g)
+    u2n, ns2 = fp.normalize(u2r, g)
+    u1c, u2c, csat = fp.correct(u1n, u2n, m1, m2, c1, c12, c2)
+    j, base, neg = fp.octant(u1c, u2c)
+    phase = lut.phase(j, base, neg)
+    pn, cosn, sinn = lut.nth(phase, cfg.interp)
+    a, b = fp.pulse(cosn, sinn, cfg.eps, cfg.SIN_W, a0=1, b0=1)
+    count, illegal, ill_cnt, dstep = fp.counter(a, b, phase, cfg.interp, cfg.COUNT_W)
+    fault = ((clip1 | clip2).astype(np.int64) << FAULT_BITS["clip"]
+             | (ns1 | ns2).astype(np.int64) << FAULT_BITS["nsat"]
+             | csat.astype(np.int64) << FAULT_BITS["csat"]
+             | illegal.astype(np.int64) << FAULT_BITS["illegal"]
+             | flags[:, 0] << FAULT_BITS["uncal"]
+             | flags[:, 1] << FAULT_BITS["hold"])
+    res = dict(count=count, a=a, b=b, fault=fault, n_updates=n_updates)
+    if trace:
+        res.update(u1c=u1c, u2c=u2c, phase=phase, pn=pn, cosn=cosn, sinn=sinn,
+                   g=g, m1=m1, m2=m2, c1=c1, c12=c12, c2=c2, illegal_count=ill_cnt,
+                   j=j, base=base, neg=neg, u1n=u1n, u2n=u2n)
+    return res

@@ -1,0 +1,112 @@
+"""Bit-true model of rtl/estimator.v: the microcoded RLS engine (Eqs. 5-8).
+
+It executes the ROM image of sim/model/program.py. For speed each program is translated
+once into straight-line Python (one statement per instruction); the semantics are those
+listed in program.py and implemented by rtl/estimator.v:
+
+  acc   64-bit two's complement (wrapped when written back, which equals wrapping on
+        every add); rounding add and shift in 65 bits; register write saturates to 32 bits,
+        OUT write to 16 bits.
+"""
+from . import program as prog
+from .fixed import clz32
+
+ACC_W = 64
+_M64 = (1 << ACC_W) - 1
+_H64 = 1 << (ACC_W - 1)
+
+# The instruction in slot k of a program started on edge S writes its result on edge
+# S + k + PIPE (rtl/rls_engine.v: fetch, read, operands, multiply, accumulate, round,
+# write); END in slot k ends the program (busy clears, commit) on edge S + k + PIPE.
+PIPE = 6
+
+
+def program_cycles(entry: str) -> int:
+    """Clock edges from start to END retirement (commit) for a program."""
+    start = prog.ENTRY[entry]
+    k = 0
+    while prog.decode(prog.ROM[start + k])["op"] != prog.OP_END:
+        k += 1
+    return k + PIPE
+
+
+def _compile(entry: str):
+    lines = ["def run(rf, out, acc, X1, X2, LAM, KAPPA, GS1, GS2):",
+             "    dz = 0; invalid = 0; sat = 0"]
+    spec = {v: k for k, v in prog.SPECIALS.items()}
+    pc = prog.ENTRY[entry]
+    while True:
+        f = prog.decode(prog.ROM[pc])
+        pc += 1
+        op = f["op"]
+        if op == prog.OP_END:
+            break
+        a = f"rf[{f['a']}]"
+        if op == prog.OP_NOP:
+            continue
+        if op == prog.OP_CHK:
+            lines.append(f"    if {a} <= 0: invalid = 1")
+            continue
+        if op in (prog.OP_NORMR, prog.OP_NORMS):
+            even = "; dz -= dz & 1" if op == prog.OP_NORMS else ""
+            lines.append(f"    v = {a}")
+            lines.append(f"    if v <= 0: invalid = 1; dz = 0")
+            lines.append(f"    else: dz = clz32(v) - 1{even}")
+            continue
+        if op == prog.OP_MAC:
+            b = spec[f["b"]] if f["b"] >= 64 else f"rf[{f['b']}]"
+            term = f"{a} * {b}"
+            sign = "-" if f["neg"] else "+"
+            if f["clr"]:
+                lines.append(f"    acc = {'-' if f['neg'] else ''}{term}")
+            elif not (f["a"] == prog.REGS["ZERO"] and f["b"] == prog.REGS["ZERO"]):
+                lines.append(f"    acc = acc {sign} {term}")
+        elif op == prog.OP_SEEDR:
+            lines.append(f"    acc = SEEDR[({a} >> 24) & 63]")
+        elif op == prog.OP_SEEDS:
+            lines.append(f"    acc = SEEDS[({a} >> 25) & 63]")
+        if f["wb"]:
+            dyn = {prog.DYN_NONE: "0", prog.DYN_DZ: "dz", prog.DYN_DZ2: "(dz >> 1)"}[f["dyn"]]
+            lines.append(f"    s = {f['sh']} - {dyn}")
+            lines.append("    s = 0 if s < 0 else 63 if s > 63 else s")
+            lines.append(f"    w = ((acc + {_H64}) & {_M64}) - {_H64}")
+            lines.append("    r = (w + (1 << (s - 1))) >> s if s else w")
+            if f["out"]:
+                lines.append(f"    if r > 32767: r = 32767; invalid = 1")
+                lines.append(f"    elif r < -32768: r = -32768; invalid = 1")
+                lines.append(f"    out[{f['dst']}] = r")
+            else:
+                lines.append(f"    if r > 2147483647: r = 2147483647; sat = 1")
+                lines.append(f"    elif r < -2147483648: r = -2147483648; sat = 1")
+                lines.append(f"    rf[{f['dst']}] = r")
+    lines.append("    return acc, invalid, sat")
+    from .tables import seed_recip, seed_isqrt
+    ns = {"clz32": clz32, "SEEDR": seed_recip(), "SEEDS": seed_isqrt()}
+    exec("\n".join(lines), ns)
+    return ns["run"]
+
+
+_RUN = {name: _compile(name) for name in prog.ENTRY}
+CYCLES = {name: program_cycles(name) for name in prog.ENTRY}
+
+
+class Estimator:
+    """State of the engine: register file, accumulator, OUT registers, flags."""
+
+    def __init__(self):
+        self.rf = list(prog.RF_INIT)
+        self.out = [0] * len(prog.OUTS)
+        self.acc = 0
+        self.invalid = 0
+        self.sat = 0
+
+    def run(self, entry: str, x1=0, x2=0, lam=0, kappa=0, gs1=0, gs2=0):
+        """Run one program; special inputs are raw integers in the formats of
+        program.SPECIALS. Returns True if the program ended valid."""
+        self.acc, self.invalid, sat = _RUN[entry](self.rf, self.out, self.acc, x1, x2,
+                                                  lam, kappa, gs1, gs2)
+        self.sat |= sat
+        return not self.invalid
+
+    def theta(self):
+        return [self.rf[prog.REGS[n]] for n in prog.THETA]

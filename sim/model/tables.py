@@ -1,0 +1,58 @@
+"""Look-up tables of the interpolator and the estimator (Table 1 of the paper, seeds).
+
+One generator serves the RTL ($readmemh files written by scripts/gen_tables.py) and the
+bit-true model, so the two can never hold different contents.
+
+Phase units: one signal period is PH_PERIOD = 2**PH_W = 8192 units (u13). One octant is
+1024 units; the phase table maps the octant-local address j (the small corrected signal,
+|s| in u0.11 steps of 1/2048 of the unit radius) to the octant-local phase.
+
+* ``phase_table(kind)``: 2048 entries, PHT_W = 12 bits unsigned.
+    - "exact": round(asin(j/2048) * 8192 / (2 pi))   (METHOD.md "In hardware")
+    - "paper": round(j / (2048 sin(pi/4)) * 1024)      (uniform angle per row, Table 2)
+* ``sine_table(sin_w)``: quarter wave, 2048 entries, s1.(SIN_W-1) magnitudes
+    T[k] = round((2**(SIN_W-1) - 1) * sin((k + 0.5) * (pi/2) / 2048)).
+  The half-step offset makes the quarter wave symmetric (index ~k for the mirror).
+* ``seed_recip()`` / ``seed_isqrt()``: 64-entry Newton-Raphson seeds, s1.30.
+"""
+import math
+
+PH_W = 13                 # phase index width: u13, 8192 units per signal period
+PH_PERIOD = 1 << PH_W
+OCT = PH_PERIOD // 8      # 1024 units per octant
+ADDR_W = 11               # octant-local address width (2048 rows)
+ROWS = 1 << ADDR_W
+PHT_W = 12                # phase table word: 0 .. 2048 (u12)
+SINE_ROWS = PH_PERIOD // 4  # quarter wave: 2048 rows
+KINDS = ("exact", "paper")
+
+
+def phase_table(kind: str = "exact") -> list[int]:
+    if kind == "exact":
+        return [round(math.asin(min(1.0, j / ROWS)) * PH_PERIOD / (2 * math.pi))
+                for j in range(ROWS)]
+    if kind == "paper":
+        return [round(j / (ROWS * math.sin(math.pi / 4)) * OCT) for j in range(ROWS)]
+    raise ValueError(f"table kind must be one of {KINDS}, got {kind!r}")
+
+
+def sine_table(sin_w: int) -> list[int]:
+    amp = (1 << (sin_w - 1)) - 1
+    return [round(amp * math.sin((k + 0.5) * (math.pi / 2) / SINE_ROWS))
+            for k in range(SINE_ROWS)]
+
+
+def seed_recip() -> list[int]:
+    # index = mantissa bits [29:24] of m in [2**30, 2**31) (m = 1 + (i + 0.5)/64)
+    return [round((1 << 30) / (1 + (i + 0.5) / 64)) for i in range(64)]
+
+
+def seed_isqrt() -> list[int]:
+    # index = mantissa bits [30:25] of m in [2**29, 2**31), m in s2.29 = i/16 in [1, 4)
+    return [round((1 << 30) / math.sqrt(max(i, 16) + 0.5) * 4) for i in range(64)]
+
+
+def hexlines(values, width: int) -> str:
+    digits = (width + 3) // 4
+    mask = (1 << width) - 1
+    return "".join(f"{v & mask:0{digits}x}\n" for v in values)
