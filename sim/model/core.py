@@ -82,7 +82,7 @@ def _phase(u1r, u2r, bundle, lut):
     return lut.phase(*fp.octant(u1c, u2c))
 
 
-def strobe_edges(n, div, t0=2):
+def strobe_edges(n, div, t0=16):
     return t0 + div * np.arange(n, dtype=np.int64)
 
 

@@ -81,7 +81,8 @@ def _compile(entry: str):
                 lines.append(f"    rf[{f['dst']}] = r")
     lines.append("    return acc, invalid, sat")
     from .tables import seed_recip, seed_isqrt
-    ns = {"clz32": clz32, "SEEDR": seed_recip(), "SEEDS": seed_isqrt()}
+    ns = {"clz32": clz32, "SEEDR": [v << 15 for v in seed_recip()],
+          "SEEDS": [v << 15 for v in seed_isqrt()]}
     exec("\n".join(lines), ns)
     return ns["run"]
 

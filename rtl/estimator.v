@@ -1,0 +1,165 @@
+`timescale 1ns / 1ps
+`default_nettype none
+// estimator: decides which samples the RLS engine takes, manages covariance resets and
+// the input gain, and hands the correction coefficients over to the fast path.
+// Mirrors the estimator schedule in sim/model/core.py (documented there in full).
+//
+// On the edge where a sample is presented (smp_valid_i) and the engine is idle:
+//   reset pending        -> RESET program: P = kappa I; gain g chosen from the peak |u|
+//                           since the last reset (theta rescaled to it); peak cleared
+//   u << g saturates     -> reset pending (clipped sample excluded from estimation)
+//   |phase - phase at the last update| < gate -> skip (no new information)
+//   otherwise            -> UPDATE program (Eqs. 5-8) on this sample
+// Samples that arrive while the engine is busy are skipped by the estimator (they still
+// pass the fast path). When an UPDATE ends valid and at least `settle` updates have ended
+// since the last reset, the bundle {g, m1, m2, c1, c12, c2} is committed atomically.
+module estimator #(
+    parameter TABLE_DIR = "rtl/tables/",
+    // input gain after power-up, 0..3
+    parameter [1:0] G_INIT = 2'd0,
+    // updates before the first automatic reset (picks the gain)
+    parameter WARMUP = 64,
+    // program entries (sim/model/program.py ENTRY)
+    parameter [8:0] ENTRY_RESET = 9'd0,
+    parameter [8:0] ENTRY_UPDATE = 9'd21
+) (
+    input  wire               clk,
+    input  wire               rst,
+    input  wire               smp_valid_i,
+    input  wire signed [15:0] u1_i,        // s1.15 raw (aligned) sample
+    input  wire signed [15:0] u2_i,
+    input  wire [12:0]        phase_i,     // u13 fine phase of this sample
+    input  wire               req_reset_i, // reset P before the next update
+    input  wire [4:0]         lam_k_i,     // lambda = 1/(1 + 2**-k)
+    input  wire [15:0]        kappa_i,     // u8.8
+    input  wire [15:0]        period_i,    // updates between resets, 0 = never
+    input  wire [9:0]         settle_i,    // updates after a reset before a commit
+    input  wire [12:0]        gate_i,      // u13 phase progress between updates
+    // committed bundle
+    output reg  [1:0]         g_o,         // input gain 2**g
+    output reg  signed [15:0] m1_o,        // s1.15 offsets (normalised units)
+    output reg  signed [15:0] m2_o,
+    output reg  signed [15:0] c1_o,        // s4.12 correction coefficients (Eq. 9)
+    output reg  signed [15:0] c12_o,
+    output reg  signed [15:0] c2_o,
+    output reg                uncal_o,     // no estimate committed yet
+    output reg                hold_o,      // the last estimate was invalid (held)
+    output reg  [31:0]        updates_o,   // updates run (wraps)
+    output wire               sat_o        // engine saturated a register (sticky)
+);
+    reg [1:0]  g_eng = G_INIT;
+    reg [14:0] peak = 0;
+    reg        reset_pend = 1'b1;
+    reg        first = 1'b1;
+    reg [15:0] upd = 0;
+    reg [9:0]  settle = 0;
+    reg [12:0] ph_last = 0;
+    reg        running_update = 1'b0;
+
+    // |u| saturated to 15 bits
+    wire [15:0] a1_full = u1_i[15] ? -u1_i : u1_i;
+    wire [15:0] a2_full = u2_i[15] ? -u2_i : u2_i;
+    wire [14:0] a1 = a1_full[15] ? 15'h7fff : a1_full[14:0];
+    wire [14:0] a2 = a2_full[15] ? 15'h7fff : a2_full[14:0];
+    wire [14:0] amax = (a1 > a2) ? a1 : a2;
+    wire [14:0] peak_next = (amax > peak) ? amax : peak;
+
+    // gain for the next reset: largest g <= 3 with peak << g < 2**14 (2x headroom)
+    reg [1:0] g_new;
+    always @* begin
+        if (peak == 0)
+            g_new = g_eng;
+        else if (peak < 15'd2048)
+            g_new = 2'd3;
+        else if (peak < 15'd4096)
+            g_new = 2'd2;
+        else if (peak < 15'd8192)
+            g_new = 2'd1;
+        else
+            g_new = 2'd0;
+    end
+
+    // normalised sample for the engine and its saturation
+    wire signed [18:0] x1w = $signed({{3{u1_i[15]}}, u1_i}) <<< g_eng;
+    wire signed [18:0] x2w = $signed({{3{u2_i[15]}}, u2_i}) <<< g_eng;
+    wire xsat = (x1w > 19'sd32767) || (x1w < -19'sd32768) ||
+                (x2w > 19'sd32767) || (x2w < -19'sd32768);
+    wire [12:0] dph = phase_i - ph_last;
+    wire [12:0] dph_abs = dph[12] ? -dph : dph;
+    wire gate_ok = dph_abs >= gate_i;
+    wire [15:0] limit = (first && period_i != 0 && period_i > WARMUP) ? WARMUP : period_i;
+
+    wire busy, done, valid;
+    wire [79:0] outs;
+    wire pend = reset_pend | req_reset_i;
+    wire idle_smp = smp_valid_i && !busy;
+    wire do_reset = idle_smp && pend;
+    wire do_update = idle_smp && !pend && !xsat && gate_ok;
+    wire [4:0] lam_k = (lam_k_i == 0) ? 5'd1 : (lam_k_i > 5'd23) ? 5'd23 : lam_k_i;
+
+    rls_engine #(.TABLE_DIR(TABLE_DIR)) u_engine (
+        .clk(clk), .rst(rst),
+        .start_i(do_reset | do_update),
+        .entry_i(do_reset ? ENTRY_RESET : ENTRY_UPDATE),
+        .x1_i(x1w[15:0]), .x2_i(x2w[15:0]),
+        .lam_k_i(lam_k), .kappa_i(kappa_i),
+        .dg_i($signed({1'b0, g_new}) - $signed({1'b0, g_eng})),
+        .busy_o(busy), .done_o(done), .valid_o(valid), .out_o(outs), .sat_o(sat_o)
+    );
+
+    always @(posedge clk) begin
+        // sample bookkeeping
+        if (smp_valid_i)
+            peak <= peak_next;
+        reset_pend <= pend;
+        if (do_reset) begin
+            g_eng <= g_new;
+            peak <= 0;
+            reset_pend <= 1'b0;
+            upd <= 0;
+            settle <= 0;
+            running_update <= 1'b0;
+        end else if (idle_smp && !pend && xsat) begin
+            reset_pend <= 1'b1;
+        end else if (do_update) begin
+            ph_last <= phase_i;
+            upd <= upd + 1'b1;
+            updates_o <= updates_o + 1'b1;
+            running_update <= 1'b1;
+            if (limit != 0 && upd + 1'b1 >= limit) begin
+                reset_pend <= 1'b1;
+                first <= 1'b0;
+            end
+        end
+        // hand-over at the end of an update
+        if (done && running_update) begin
+            if (valid && settle >= settle_i) begin
+                {c2_o, c12_o, c1_o, m2_o, m1_o} <= outs;
+                g_o <= g_eng;
+                uncal_o <= 1'b0;
+            end
+            hold_o <= !valid;
+            settle <= (settle == 10'h3ff) ? settle : settle + 1'b1;
+        end
+        if (rst) begin
+            g_eng <= G_INIT;
+            peak <= 0;
+            reset_pend <= 1'b1;
+            first <= 1'b1;
+            upd <= 0;
+            settle <= 0;
+            ph_last <= 0;
+            running_update <= 1'b0;
+            g_o <= G_INIT;
+            m1_o <= 0; m2_o <= 0; c1_o <= 16'sd8192; c12_o <= 0; c2_o <= 16'sd8192;
+            uncal_o <= 1'b1;
+            hold_o <= 1'b0;
+            updates_o <= 0;
+        end
+    end
+    initial begin
+        g_o = G_INIT; m1_o = 0; m2_o = 0; c1_o = 16'sd8192; c12_o = 0; c2_o = 16'sd8192;
+        uncal_o = 1'b1; hold_o = 1'b0; updates_o = 0;
+    end
+endmodule
+`resetall

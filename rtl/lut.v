@@ -1,0 +1,94 @@
+`timescale 1ns / 1ps
+`default_nettype none
+// lut: Table 1 of the paper through two block-RAM look-ups (sim/model/fastpath.py Lut).
+// Row i of Table 1 only depends on (n i) mod 8N, so the octant address first goes through
+// a phase table (one octant, by symmetry) and the n-th order phase indexes one
+// quarter-wave sine table that serves every n:
+//   +1  ph    = PH[j]                                    u12 (phase_<table>.hex)
+//   +2  phase = (oct2 * 2048 +- ph) mod 8192             u13, 8192 units per period
+//   +3  pn    = (n * phase) mod 8192                     u13, phase of the n-th order
+//   +4  cos(n a), sin(n a) as magnitude T[k] (u0.(SIN_W-1)) and sign
+//       (quadrant q = pn[12:11], k = pn[10:0], mirrored k for odd q, negative for q >= 2)
+// TABLE_EXACT = 1: rows through arcsin (no linearisation error, the default);
+// TABLE_EXACT = 0: the paper's uniform angle per row.
+module lut #(
+    parameter TABLE_DIR = "rtl/tables/",
+    parameter [0:0] TABLE_EXACT = 1'b1,
+    // sine word width (magnitude SIN_W-1 bits)
+    parameter SIN_W = 10
+) (
+    input  wire              clk,
+    input  wire              valid_i,
+    input  wire [10:0]       j_i,
+    input  wire [1:0]        oct2_i,
+    input  wire              neg_i,
+    input  wire [8:0]        n_i,          // interpolation factor
+    output reg               phase_valid_o,
+    output reg  [12:0]       phase_o,      // u13 fine phase (latency 2)
+    output reg               valid_o,      // latency 4
+    output reg  [12:0]       pn_o,         // u13 n-th order phase, aligned with the sines
+    output reg  [SIN_W-2:0]  cos_mag_o,
+    output reg               cos_neg_o,
+    output reg  [SIN_W-2:0]  sin_mag_o,
+    output reg               sin_neg_o
+);
+    localparam PH_FILE = TABLE_EXACT ? "phase_exact.hex" : "phase_paper.hex";
+    localparam SIN_FILE = (SIN_W == 8) ? "sine_8.hex" : (SIN_W == 12) ? "sine_12.hex" :
+                          (SIN_W == 16) ? "sine_16.hex" : "sine_10.hex";
+    reg [11:0]      ph_rom [0:2047];
+    reg [SIN_W-1:0] sin_rom_c [0:2047];
+    reg [SIN_W-1:0] sin_rom_s [0:2047];
+    initial begin
+        $readmemh({TABLE_DIR, PH_FILE}, ph_rom);
+        $readmemh({TABLE_DIR, SIN_FILE}, sin_rom_c);
+        $readmemh({TABLE_DIR, SIN_FILE}, sin_rom_s);
+    end
+
+    // +1: phase table
+    reg [11:0] ph_q = 0;
+    reg [1:0]  oct2_q = 0;
+    reg        neg_q = 1'b0, v1 = 1'b0;
+    always @(posedge clk) begin
+        ph_q   <= ph_rom[j_i];
+        oct2_q <= oct2_i;
+        neg_q  <= neg_i;
+        v1     <= valid_i;
+    end
+    // +2: fine phase
+    wire [12:0] base = {oct2_q, 11'd0};
+    always @(posedge clk) begin
+        phase_o <= neg_q ? base - {1'b0, ph_q} : base + {1'b0, ph_q};
+        phase_valid_o <= v1;
+    end
+    // +3: n-th order phase
+    wire [21:0] prod = phase_o * n_i;
+    reg  [12:0] pn_q = 0;
+    reg         v3 = 1'b0;
+    always @(posedge clk) begin
+        pn_q <= prod[12:0];
+        v3   <= phase_valid_o;
+    end
+    // +4: quarter-wave sine table, cos(x) = sin(x + pi/2)
+    wire [12:0] pc = pn_q + 13'd2048;
+    wire [10:0] ks = pn_q[11] ? ~pn_q[10:0] : pn_q[10:0];
+    wire [10:0] kc = pc[11] ? ~pc[10:0] : pc[10:0];
+    reg [SIN_W-1:0] sraw = 0, craw = 0;
+    always @(posedge clk) begin
+        sraw      <= sin_rom_s[ks];
+        craw      <= sin_rom_c[kc];
+        sin_neg_o <= pn_q[12];
+        cos_neg_o <= pc[12];
+        pn_o      <= pn_q;
+        valid_o   <= v3;
+    end
+    always @* begin
+        sin_mag_o = sraw[SIN_W-2:0];
+        cos_mag_o = craw[SIN_W-2:0];
+    end
+    initial begin
+        phase_o = 0; phase_valid_o = 1'b0; valid_o = 1'b0; pn_o = 0;
+        sin_neg_o = 1'b0; cos_neg_o = 1'b0;
+    end
+    wire unused = &{1'b0, prod[21:13], sraw[SIN_W-1], craw[SIN_W-1], 1'b0};
+endmodule
+`resetall

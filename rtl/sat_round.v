@@ -1,0 +1,36 @@
+`timescale 1ns / 1ps
+`default_nettype none
+// sat_round: out = sat_OW(rnd_shr(in, sh)) -- arithmetic shift right by sh with
+// round-half-up (add 2**(sh-1) first, in IW+1 bits so it cannot overflow), then
+// saturation to OW bits. Mirrors sim/model/fixed.py rnd_shr + sat. Combinational.
+module sat_round #(
+    // input width
+    parameter IW = 64,
+    // output width
+    parameter OW = 32,
+    // width of the shift amount
+    parameter SW = 6
+) (
+    input  wire signed [IW-1:0] in_i,
+    input  wire        [SW-1:0] sh_i,
+    output reg  signed [OW-1:0] out_o,
+    output reg                  sat_o   // 1 when the value was clamped
+);
+    reg signed [IW:0] ext, rnd, shifted;
+    always @* begin
+        ext = {in_i[IW-1], in_i};
+        rnd = (sh_i == 0) ? {(IW+1){1'b0}} : ({{IW{1'b0}}, 1'b1} <<< (sh_i - 1'b1));
+        shifted = (ext + rnd) >>> sh_i;
+        if (shifted > $signed({{(IW-OW+2){1'b0}}, {(OW-1){1'b1}}})) begin
+            out_o = {1'b0, {(OW-1){1'b1}}};
+            sat_o = 1'b1;
+        end else if (shifted < $signed({{(IW-OW+2){1'b1}}, {(OW-1){1'b0}}})) begin
+            out_o = {1'b1, {(OW-1){1'b0}}};
+            sat_o = 1'b1;
+        end else begin
+            out_o = shifted[OW-1:0];
+            sat_o = 1'b0;
+        end
+    end
+endmodule
+`resetall

@@ -1,0 +1,168 @@
+// Compiled Verilator harness of finequad_core: CSV of ADC codes in, one CSV row per
+// sample out. No Python runs per clock. Built and run by `make rtlsim`.
+//
+//   rtlsim --in in.csv --out out.csv [--interp N] [--eps E] [--lam-k K] [--kappa Q]
+//          [--period P] [--settle S] [--gate G] [--div D] [--vcd out.vcd]
+//          [--vcd-depth L] [--trace-col]
+//
+// Timing (the bit-true model uses the same): registers are written on edges 0..7, sample
+// k is strobed on edge T0 + k * div (T0 = 16); edge e is at time e * PERIOD_PS in the VCD.
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "Vfinequad_core.h"
+#include "verilated.h"
+#include "verilated_vcd_c.h"
+
+#ifndef PERIOD_PS
+#define PERIOD_PS 27778  // 36 MHz
+#endif
+static const long T0 = 16;
+
+static void die(const std::string &msg) {
+    std::cerr << "rtlsim: error: " << msg << std::endl;
+    std::exit(2);
+}
+
+static long parse_long(const std::string &s, const std::string &what) {
+    errno = 0;
+    char *end = nullptr;
+    long v = std::strtol(s.c_str(), &end, 0);
+    if (errno || end == s.c_str() || *end != '\0') die(what + ": not an integer: '" + s + "'");
+    return v;
+}
+
+static std::string trim(std::string s) {
+    while (!s.empty() && (s.back() == '\r' || s.back() == ' ' || s.back() == '\n')) s.pop_back();
+    size_t i = 0;
+    while (i < s.size() && s[i] == ' ') i++;
+    return s.substr(i);
+}
+
+static void read_csv(const std::string &path, std::vector<int> &u1, std::vector<int> &u2) {
+    std::ifstream f(path);
+    if (!f) die("cannot open input '" + path + "'");
+    std::string line;
+    if (!std::getline(f, line)) die(path + ":1: empty file (expected header 'u1,u2')");
+    if (trim(line) != "u1,u2")
+        die(path + ":1: header is '" + trim(line) + "', expected 'u1,u2'");
+    const long lo = -(1L << (ADC_W - 1)), hi = (1L << (ADC_W - 1)) - 1;
+    long ln = 1;
+    while (std::getline(f, line)) {
+        ln++;
+        line = trim(line);
+        if (line.empty()) continue;
+        size_t c = line.find(',');
+        if (c == std::string::npos || line.find(',', c + 1) != std::string::npos)
+            die(path + ":" + std::to_string(ln) + ": expected two values 'u1,u2', got '" + line + "'");
+        std::string where = path + ":" + std::to_string(ln);
+        long a = parse_long(trim(line.substr(0, c)), where + ": u1");
+        long b = parse_long(trim(line.substr(c + 1)), where + ": u2");
+        if (a < lo || a > hi || b < lo || b > hi)
+            die(where + ": code out of the signed " + std::to_string(ADC_W) +
+                "-bit range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]: '" + line + "'");
+        u1.push_back((int)a);
+        u2.push_back((int)b);
+    }
+    if (u1.empty()) die(path + ": no samples after the header");
+}
+
+int main(int argc, char **argv) {
+    std::string in, out, vcd;
+    long interp = 100, eps = 1638, lam_k = 8, kappa = 0x4000, period = 4096, settle = 256,
+         gate = 64, div = 36, vcd_depth = 99;
+    for (int i = 1; i < argc; i++) {
+        std::string a = argv[i];
+        auto val = [&](const char *name) -> std::string {
+            if (i + 1 >= argc) die(std::string("missing value after ") + name);
+            return argv[++i];
+        };
+        if (a == "--in") in = val("--in");
+        else if (a == "--out") out = val("--out");
+        else if (a == "--vcd") vcd = val("--vcd");
+        else if (a == "--interp") interp = parse_long(val("--interp"), "--interp");
+        else if (a == "--eps") eps = parse_long(val("--eps"), "--eps");
+        else if (a == "--lam-k") lam_k = parse_long(val("--lam-k"), "--lam-k");
+        else if (a == "--kappa") kappa = parse_long(val("--kappa"), "--kappa");
+        else if (a == "--period") period = parse_long(val("--period"), "--period");
+        else if (a == "--settle") settle = parse_long(val("--settle"), "--settle");
+        else if (a == "--gate") gate = parse_long(val("--gate"), "--gate");
+        else if (a == "--div") div = parse_long(val("--div"), "--div");
+        else if (a == "--vcd-depth") vcd_depth = parse_long(val("--vcd-depth"), "--vcd-depth");
+        else if (a.rfind("+verilator", 0) == 0) continue;
+        else die("unknown argument '" + a + "'");
+    }
+    if (in.empty() || out.empty()) die("usage: rtlsim --in IN.csv --out OUT.csv [--interp N] ...");
+    if (interp < 1 || interp > 511) die("--interp must be 1..511, got " + std::to_string(interp));
+    if (div < 1) die("--div must be >= 1");
+    if (eps < 0 || eps > 32767) die("--eps must be 0..32767 (u0.15)");
+    if (lam_k < 1 || lam_k > 23) die("--lam-k must be 1..23");
+    if (kappa < 1 || kappa > 65535) die("--kappa must be 1..65535 (u8.8)");
+    if (period < 0 || period > 65535) die("--period must be 0..65535");
+    if (settle < 0 || settle > 1023) die("--settle must be 0..1023");
+    if (gate < 0 || gate > 4096) die("--gate must be 0..4096");
+
+    std::vector<int> u1, u2;
+    read_csv(in, u1, u2);
+    FILE *fo = std::fopen(out.c_str(), "w");
+    if (!fo) die("cannot write '" + out + "'");
+    std::fprintf(fo, "count,a,b,fault\n");
+
+    auto ctx = std::make_unique<VerilatedContext>();
+    ctx->commandArgs(argc, argv);
+    auto top = std::make_unique<Vfinequad_core>(ctx.get());
+    std::unique_ptr<VerilatedVcdC> tfp;
+    if (!vcd.empty()) {
+        ctx->traceEverOn(true);
+        tfp = std::make_unique<VerilatedVcdC>();
+        top->trace(tfp.get(), (int)vcd_depth);
+        tfp->open(vcd.c_str());
+    }
+    const long regs[][2] = {{1, interp}, {2, eps}, {3, lam_k}, {4, kappa},
+                            {5, period}, {6, settle}, {7, gate}};
+    const long n = (long)u1.size();
+    const long last_edge = T0 + (n - 1) * div + 16;
+    long next = 0, written = 0;
+    top->clk = 0;
+    top->rst = 0;
+    top->eval();
+    if (tfp) tfp->dump(0);
+    for (long e = 0; e <= last_edge; e++) {
+        // inputs for edge e
+        top->reg_we = (e < 7);
+        if (e < 7) {
+            top->reg_addr = regs[e][0];
+            top->reg_wdata = (uint32_t)regs[e][1];
+        }
+        bool strobe = next < n && e == T0 + next * div;
+        top->s_valid = strobe;
+        top->s_u1 = strobe ? u1[next] : 0;
+        top->s_u2 = strobe ? u2[next] : 0;
+        if (strobe) next++;
+        // posedge at time e * PERIOD_PS, negedge half a period later
+        top->clk = 1;
+        top->eval();
+        if (tfp) tfp->dump((uint64_t)e * PERIOD_PS);
+        if (top->m_valid) {
+            std::fprintf(fo, "%d,%d,%d,%d\n", (int)(int32_t)top->m_count, top->m_a, top->m_b,
+                         top->m_fault);
+            written++;
+        }
+        top->clk = 0;
+        top->eval();
+        if (tfp) tfp->dump((uint64_t)e * PERIOD_PS + PERIOD_PS / 2);
+    }
+    std::fclose(fo);
+    if (tfp) tfp->close();
+    top->final();
+    if (written != n) die("wrote " + std::to_string(written) + " rows for " + std::to_string(n) + " samples");
+    return 0;
+}
