@@ -60,12 +60,20 @@ module lut #(
         phase_o <= neg_q ? base - {1'b0, ph_q} : base + {1'b0, ph_q};
         phase_valid_o <= v1;
     end
-    // +3: n-th order phase
-    wire [21:0] prod = phase_o * n_i;
+    // +3: n-th order phase. Only the low 13 bits of n * phase are needed, so it is a
+    // shift-and-add in logic (the DSP blocks go to the correction and the estimator).
+    reg  [12:0] prod;
+    integer     bi;
+    always @* begin
+        prod = 13'd0;
+        for (bi = 0; bi < 9; bi = bi + 1)
+            if (n_i[bi])
+                prod = prod + (phase_o << bi);
+    end
     reg  [12:0] pn_q = 0;
     reg         v3 = 1'b0;
     always @(posedge clk) begin
-        pn_q <= prod[12:0];
+        pn_q <= prod;
         v3   <= phase_valid_o;
     end
     // +4: quarter-wave sine table, cos(x) = sin(x + pi/2)
@@ -89,6 +97,6 @@ module lut #(
         phase_o = 0; phase_valid_o = 1'b0; valid_o = 1'b0; pn_o = 0;
         sin_neg_o = 1'b0; cos_neg_o = 1'b0;
     end
-    wire unused = &{1'b0, prod[21:13], sraw[SIN_W-1], craw[SIN_W-1], 1'b0};
+    wire unused = &{1'b0, sraw[SIN_W-1], craw[SIN_W-1], 1'b0};
 endmodule
 `resetall

@@ -192,11 +192,14 @@ module rls_engine #(
     end
 
     // ---- round and saturate --------------------------------------------------------------------
-    wire [5:0] sh4 = i4[14:9];
-    wire [1:0] dyn4 = i4[8:7];
-    wire [6:0] dyn_amt = (dyn4 == 2'd1) ? {2'd0, dz4} : (dyn4 == 2'd2) ? {3'd0, dz4[4:1]} : 7'd0;
-    wire signed [7:0] sh_raw = $signed({2'b00, sh4}) - $signed({1'b0, dyn_amt});
-    wire [5:0] sh_eff = sh_raw[7] ? 6'd0 : sh_raw[5:0];
+    // the shift, sh - dyn clamped to 0..63, is computed one stage early (sh4)
+    wire [5:0] sh3 = i3[14:9];
+    wire [1:0] dyn3 = i3[8:7];
+    wire [6:0] dyn_amt = (dyn3 == 2'd1) ? {2'd0, dz3} : (dyn3 == 2'd2) ? {3'd0, dz3[4:1]} : 7'd0;
+    wire signed [7:0] sh_raw = $signed({2'b00, sh3}) - $signed({1'b0, dyn_amt});
+    reg  [5:0] sh_eff = 0;
+    always @(posedge clk)
+        sh_eff <= sh_raw[7] ? 6'd0 : sh_raw[5:0];
     wire signed [31:0] r32;
     wire signed [15:0] r16;
     wire sat32, sat16;
@@ -257,7 +260,7 @@ module rls_engine #(
         busy_o = 1'b0; out_o = 0; sat_o = 1'b0;
     end
 
-    wire unused = &{1'b0, i5[35:34], i5[27:7], sh_raw[6], i5[4:3], i4[35:15], i4[6:5],
+    wire unused = &{1'b0, i5[35:34], i5[27:7], sh_raw[6], dz4, i5[4:3], i4[35:15], i4[6:5],
                     i3[35:5], i2[35:3], i1[35:28], i1[20:3], instr_q[35:27], instr_q[14:3],
                     dst5[5:3], 1'b0};
 endmodule

@@ -21,11 +21,9 @@ module sat_round #(
         ext = {in_i[IW-1], in_i};
         rnd = (sh_i == 0) ? {(IW+1){1'b0}} : ({{IW{1'b0}}, 1'b1} <<< (sh_i - 1'b1));
         shifted = (ext + rnd) >>> sh_i;
-        if (shifted > $signed({{(IW-OW+2){1'b0}}, {(OW-1){1'b1}}})) begin
-            out_o = {1'b0, {(OW-1){1'b1}}};
-            sat_o = 1'b1;
-        end else if (shifted < $signed({{(IW-OW+2){1'b1}}, {(OW-1){1'b0}}})) begin
-            out_o = {1'b1, {(OW-1){1'b0}}};
+        // fits in OW bits exactly when bits [IW:OW-1] are all copies of the sign
+        if (!(&shifted[IW:OW-1]) && (|shifted[IW:OW-1])) begin
+            out_o = shifted[IW] ? {1'b1, {(OW-1){1'b0}}} : {1'b0, {(OW-1){1'b1}}};
             sat_o = 1'b1;
         end else begin
             out_o = shifted[OW-1:0];

@@ -1,0 +1,137 @@
+#!/usr/bin/env python3
+"""The main job: a recording like the paper's slider, through the RTL and the model.
+
+    python3 scripts/demo.py [--build build/demo] [--interp 100] [--seconds 0.5] [--seed 1]
+        [--rtlsim path/to/harness] [--no-rtl]
+
+Generates 4 um pitch, 1 MS/s encoder signals with amplitude mismatch, offsets, phase
+error and 0.5 % noise (16-bit ADC) for an S-curve move with dwells; runs the RTL (the
+Verilator harness of `make rtlsim`) and the bit-true model on it with the exact table and
+with the paper's table; checks RTL == model bit for bit; prints the counter's error
+against ground truth and against the physical floor (METHOD.md); writes a VCD of the
+RTL, a plot and summary.json.
+"""
+import argparse
+import json
+import pathlib
+import subprocess
+import sys
+
+import numpy as np
+
+ROOT = pathlib.Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+from sim import metrics, siggen  # noqa: E402
+from sim.model import core  # noqa: E402
+from sim.run_model import write_codes, write_result  # noqa: E402
+
+PITCH_NM = 4000.0
+FS = 1e6
+
+
+def recording(seconds, seed):
+    """Dwell, 0.5 mm S-curve out, dwell, back 0.3 mm, dwell (the slider of the paper)."""
+    n = int(seconds * FS)
+    t1, t2 = 0.02 * seconds / 0.5, 0.27 * seconds / 0.5
+    x = siggen.s_curve(n, FS, 0.5e6 * seconds / 0.5, 0.2 * seconds / 0.5, t_start=t1)
+    x += siggen.s_curve(n, FS, -0.3e6 * seconds / 0.5, 0.15 * seconds / 0.5, t_start=t2)
+    sig = siggen.Signal()
+    u1, u2, a = siggen.encode(x, PITCH_NM, sig, seed=seed)
+    return x, u1, u2, a, sig
+
+
+def score(res, x, a, sig, interp):
+    """Error after the estimator's first commit plus one signal period of travel."""
+    cal = np.nonzero((res["fault"] >> core.FAULT_BITS["uncal"]) & 1 == 0)[0]
+    if len(cal) == 0:
+        raise SystemExit("demo: error: the estimator never calibrated on this recording")
+    start = int(cal[0])
+    moved = np.nonzero(np.abs(x[start:] - x[start]) > PITCH_NM)[0]
+    start += int(moved[0]) if len(moved) else 0
+    fl, noise, q = metrics.floor_nm(a[start:], sig, PITCH_NM, interp)
+    err = metrics.position_error_nm(res["count"], x, interp, PITCH_NM, start)
+    out = metrics.summary(err, fl, PITCH_NM)
+    out.update(scored_from_sample=start, floor_noise_nm=noise, q_nm=q)
+    return out, err
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--build", default=str(ROOT / "build" / "demo"))
+    ap.add_argument("--interp", type=int, default=100)
+    ap.add_argument("--seconds", type=float, default=0.5)
+    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--rtlsim", action="append", default=[],
+                    help="TABLE=path of a built harness (e.g. exact=build/rtlsim_exact/...)")
+    ap.add_argument("--vcd-samples", type=int, default=4000,
+                    help="samples in the VCD excerpt (a VCD of the whole run is large)")
+    args = ap.parse_args()
+    d = pathlib.Path(args.build)
+    d.mkdir(parents=True, exist_ok=True)
+    x, u1, u2, a, sig = recording(args.seconds, args.seed)
+    write_codes(d / "in.csv", u1, u2)
+    harness = dict(h.split("=", 1) for h in args.rtlsim)
+    summary = {"signal": siggen.describe(sig), "pitch_nm": PITCH_NM, "fs_hz": FS,
+               "samples": len(u1), "interp": args.interp}
+    print(f"demo: {len(u1)} samples, 4 um pitch, 1 MS/s, A1={sig.A1} A2={sig.A2} "
+          f"m1={sig.m1} m2={sig.m2} phi={sig.phi} rad, noise {sig.noise * 100:.1f} %")
+    errs = {}
+    for table in ("exact", "paper"):
+        cfg = core.Config(TABLE=table, interp=args.interp)
+        res = core.run(u1, u2, cfg)
+        write_result(d / f"model_{table}.csv", res)
+        same = None
+        if table in harness:
+            cmd = [harness[table], "--in", str(d / "in.csv"), "--out",
+                   str(d / f"rtl_{table}.csv"), "--interp", str(args.interp)]
+            subprocess.run(cmd, check=True)
+            same = (d / f"rtl_{table}.csv").read_bytes() == (d / f"model_{table}.csv").read_bytes()
+        s, err = score(res, x, a, sig, args.interp)
+        s["rtl_equals_model"] = same
+        s["illegal_ab_steps"] = int(np.sum((res["fault"] >> core.FAULT_BITS["illegal"]) & 1))
+        s["estimator_updates"] = res["n_updates"]
+        summary[table] = s
+        errs[table] = err
+        eq = {True: "RTL == model (bit for bit)", False: "RTL != MODEL", None: "RTL not run"}[same]
+        print(f"  {table:5s} table: RMS {s['rms_nm']:.2f} nm, peak {s['peak_nm']:.1f} nm, "
+              f"floor {s['floor_nm']:.2f} nm, ratio {s['ratio']:.3f}, slips {s['slips']}; {eq}")
+    # VCD excerpt of the RTL run around the start of the move
+    if "exact" in harness:
+        k0 = int(0.03 * args.seconds / 0.5 * FS)
+        write_codes(d / "vcd_in.csv", u1[k0:k0 + args.vcd_samples], u2[k0:k0 + args.vcd_samples])
+        subprocess.run([harness["exact"], "--in", str(d / "vcd_in.csv"), "--out",
+                        str(d / "vcd_out.csv"), "--interp", str(args.interp), "--vcd",
+                        str(d / "rtl.vcd"), "--vcd-depth", "2"], check=True)
+        print(f"  VCD of the RTL (first {args.vcd_samples} samples of the move, top and "
+              f"block ports): {d / 'rtl.vcd'}")
+    plot(d / "demo.png", x, errs, summary, args.interp)
+    (d / "summary.json").write_text(json.dumps(summary, indent=1))
+    print(f"  plot: {d / 'demo.png'}; summary: {d / 'summary.json'}")
+    bad = [t for t in ("exact", "paper") if summary[t]["rtl_equals_model"] is False]
+    if bad:
+        raise SystemExit(f"demo: error: RTL differs from the bit-true model ({', '.join(bad)})")
+
+
+def plot(path, x, errs, summary, interp):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(2, 1, figsize=(9, 6), sharex=True)
+    t = np.arange(len(x)) / FS
+    ax[0].plot(t, x / 1000, lw=1)
+    ax[0].set_ylabel("position (um)")
+    ax[0].set_title(f"finequad demo: n = {interp}, 4 um pitch, 1 MS/s")
+    for table, err in errs.items():
+        s = summary[table]
+        k = s["scored_from_sample"]
+        ax[1].plot(t[k:][::10], err[::10], lw=0.5,
+                   label=f"{table}: RMS {s['rms_nm']:.1f} nm ({s['ratio']:.2f} x floor)")
+    ax[1].set_ylabel("counter error (nm)")
+    ax[1].set_xlabel("time (s)")
+    ax[1].legend(loc="upper right")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,77 @@
+"""Float reference of the whole method in double precision (the ideal algorithm).
+
+Eqs. 5-7 (RLS with exponential forgetting, lambda = 1/(1 + 2**-k) as in the gateware),
+Eq. 8 (parameters, with asin and sqrt), Eq. 9 (correction), then the ideal interpolation:
+the angle by atan2 (no table) and an x4 count of the n-th order quadrants. It takes the
+same samples for estimation as the gateware when given their indices (`update_idx`), so
+the bit-true model can be compared with it coefficient by coefficient; by default it
+updates on every sample.
+"""
+import numpy as np
+
+
+def extract(theta):
+    """Eq. 8: (A1, R, m1, m2, phi) from theta, or None if theta is not an ellipse."""
+    t1, t2, t3, t4, t5 = theta
+    den = 4 * t1 * t2 - t3 * t3
+    if t1 <= 0 or t2 <= 0 or den <= 0:
+        return None
+    m1 = (2 * t2 * t4 - t5 * t3) / (t3 * t3 - 4 * t1 * t2)
+    m2 = (2 * t1 * t5 - t4 * t3) / (t3 * t3 - 4 * t1 * t2)
+    a1sq = 4 * t2 * (1 + t1 * m1 ** 2 + t2 * m2 ** 2 + t3 * m1 * m2) / den
+    if a1sq <= 0:
+        return None
+    return np.sqrt(a1sq), np.sqrt(t2 / t1), m1, m2, np.arcsin(t3 / np.sqrt(4 * t1 * t2))
+
+
+def correct(u1, u2, p):
+    """Eq. 9."""
+    a1, r, m1, m2, phi = p
+    return (u1 - m1) / a1, ((u1 - m1) * np.sin(phi) + r * (u2 - m2)) / (a1 * np.cos(phi))
+
+
+class Rls:
+    """Eq. 7 in double precision."""
+
+    def __init__(self, lam_k=8, kappa=64.0, theta0=(4.0, 4.0, 0.0, 0.0, 0.0)):
+        self.lam = 1.0 / (1.0 + 2.0 ** -lam_k)
+        self.kappa = kappa
+        self.theta = np.array(theta0, dtype=float)
+        self.P = kappa * np.eye(5)
+
+    def reset(self):
+        self.P = self.kappa * np.eye(5)
+
+    def update(self, x1, x2):
+        phi = np.array([x1 * x1, x2 * x2, x1 * x2, x1, x2])
+        h = self.P @ phi
+        k = h / (self.lam + phi @ h)
+        self.theta = self.theta + k * (1.0 - phi @ self.theta)
+        self.P = (self.P - np.outer(k, h)) / self.lam
+        return self.theta
+
+
+def run(u1, u2, interp=100, lam_k=8, kappa=64.0, update_idx=None, period=4096):
+    """u1, u2 in full-scale units (codes / 32768). Returns per-sample angle (rad,
+    unwrapped), count (x4 of the n-th order) and the parameters in force."""
+    n = len(u1)
+    rls = Rls(lam_k, kappa, theta0=(4.0, 4.0, 0.0, 0.0, 0.0))
+    p = (0.5, 1.0, 0.0, 0.0, 0.0)
+    idx = range(n) if update_idx is None else update_idx
+    mask = np.zeros(n, bool)
+    mask[list(idx)] = True
+    params = np.zeros((n, 5))
+    ups = 0
+    for k in range(n):
+        if mask[k]:
+            q = extract(rls.update(u1[k], u2[k]))
+            ups += 1
+            if q is not None:
+                p = q
+            if period and ups % period == 0:
+                rls.reset()
+        params[k] = p
+    c1, c2 = correct(u1, u2, params.T)
+    ang = np.unwrap(np.arctan2(c2, c1))
+    count = np.floor(ang * interp * 2 / np.pi).astype(np.int64)
+    return dict(angle=ang, count=count, params=params)
