@@ -33,16 +33,36 @@ module lut #(
     output reg               sin_neg_o
 );
     localparam PH_FILE = TABLE_EXACT ? "phase_exact.hex" : "phase_paper.hex";
-    localparam SIN_FILE = (SIN_W == 8) ? "sine_8.hex" : (SIN_W == 12) ? "sine_12.hex" :
-                          (SIN_W == 16) ? "sine_16.hex" : "sine_10.hex";
     reg [11:0]      ph_rom [0:2047];
     reg [SIN_W-1:0] sin_rom_c [0:2047];
     reg [SIN_W-1:0] sin_rom_s [0:2047];
-    initial begin
+    initial
         $readmemh({TABLE_DIR, PH_FILE}, ph_rom);
-        $readmemh({TABLE_DIR, SIN_FILE}, sin_rom_c);
-        $readmemh({TABLE_DIR, SIN_FILE}, sin_rom_s);
-    end
+    // one branch per sine file: Icarus 11 turns a ?: between strings of different
+    // lengths ("sine_8.hex" vs "sine_10.hex") into an empty string
+    generate
+        if (SIN_W == 8) begin : g_sin8
+            initial begin
+                $readmemh({TABLE_DIR, "sine_8.hex"}, sin_rom_c);
+                $readmemh({TABLE_DIR, "sine_8.hex"}, sin_rom_s);
+            end
+        end else if (SIN_W == 12) begin : g_sin12
+            initial begin
+                $readmemh({TABLE_DIR, "sine_12.hex"}, sin_rom_c);
+                $readmemh({TABLE_DIR, "sine_12.hex"}, sin_rom_s);
+            end
+        end else if (SIN_W == 16) begin : g_sin16
+            initial begin
+                $readmemh({TABLE_DIR, "sine_16.hex"}, sin_rom_c);
+                $readmemh({TABLE_DIR, "sine_16.hex"}, sin_rom_s);
+            end
+        end else begin : g_sin10
+            initial begin
+                $readmemh({TABLE_DIR, "sine_10.hex"}, sin_rom_c);
+                $readmemh({TABLE_DIR, "sine_10.hex"}, sin_rom_s);
+            end
+        end
+    endgenerate
 
     // +1: phase table
     reg [11:0] ph_q = 0;
