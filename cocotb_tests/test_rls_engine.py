@@ -1,0 +1,151 @@
+"""rls_engine (microcoded RLS machine) against sim.model.estimator.Estimator.
+
+A RESET program (entry ENTRY['reset']) and then many UPDATE programs (ENTRY['update']) on
+samples of noisy ellipses, with resets in between that change the input gain (dg_i != 0,
+theta rescaled) and kappa, and varying lambda. For every program started on edge S the
+bench checks: busy_o high after edges S .. S+C-1 and low after edge S+C, done_o high
+exactly after edge S+C-1 (C = sim.model.estimator.CYCLES[program]); then valid_o, out_o
+(the five 16-bit OUT registers) and the sticky sat_o equal the model's after that program.
+A few programs run on garbage samples so that invalid results and saturation occur."""
+import math
+import random
+
+import pytest
+
+import fqtb
+
+
+@pytest.mark.parametrize("sim", fqtb.SIMULATORS)
+def test_rls_engine(sim):
+    fqtb.run_block(sim, "rls_engine", fqtb.sources("rls_engine", "sat_round"),
+                   "test_rls_engine",
+                   parameters=dict(TABLE_DIR=fqtb.qstr(fqtb.TABLE_DIR)),
+                   extra_env=dict(N_PROGRAMS=400))
+
+
+# ---- cocotb side ------------------------------------------------------------------------
+import cocotb  # noqa: E402
+
+
+def s16(v):
+    return max(-32768, min(32767, int(round(v))))
+
+
+def make_programs(rng, n):
+    """[(name, x1, x2, lam_k, kappa, dg)]"""
+    progs = [("reset", 0, 0, 8, 64 << 8, 0)]
+    g = 0
+    ang = rng.uniform(0, 2 * math.pi)
+    A1, A2, m1, m2, phi = 0.22, 0.2, 0.01, -0.008, 0.07
+    lam_k = 8
+    while len(progs) < n:
+        if len(progs) in (n // 3, 2 * n // 3):
+            # a burst that winds the estimate up (garbage samples, then a standing point,
+            # with fast forgetting): invalid extractions and saturated registers; then a
+            # reset to recover
+            const = (rng.randint(-3000, 3000), rng.randint(-3000, 3000))
+            for i in range(30):
+                x = (rng.randint(-32768, 32767), rng.randint(-32768, 32767)) if i < 15 \
+                    else const
+                progs.append(("update", *x, 1, 0, 0))
+            progs.append(("reset", 0, 0, lam_k, 64 << 8, 0))
+            continue
+        r = rng.random()
+        if r < 0.02:            # reset with a gain change (and a new kappa)
+            dg = rng.choice([d for d in (-3, -2, -1, 1, 2, 3) if 0 <= g + d <= 3])
+            g += dg
+            progs.append(("reset", rng.randint(-32768, 32767), rng.randint(-32768, 32767),
+                          lam_k, rng.choice((64 << 8, 16 << 8, 200 << 8, 1 << 8)), dg))
+            lam_k = rng.choice((4, 6, 8, 8, 10, 12))
+            continue
+        if r < 0.03:            # reset without a gain change
+            progs.append(("reset", 0, 0, lam_k, 64 << 8, 0))
+            continue
+        if r < 0.05:            # garbage sample (saturations, invalid extraction)
+            x1, x2 = rng.randint(-32768, 32767), rng.randint(-32768, 32767)
+            k = rng.randint(1, 23)
+        else:
+            ang += rng.uniform(0.05, 0.5) * rng.choice((1, 1, 1, -1))
+            sc = 32768 * (1 << g)
+            x1 = s16(sc * (A1 * math.cos(ang) + m1 + rng.gauss(0, 0.002)))
+            x2 = s16(sc * (A2 * math.sin(ang - phi) + m2 + rng.gauss(0, 0.002)))
+            k = lam_k
+        progs.append(("update", x1, x2, k, rng.randint(0, 65535), rng.randint(-3, 3)))
+    return progs
+
+
+@cocotb.test()
+async def rls_programs(dut):
+    from sim.model import program as prog
+    from sim.model.estimator import CYCLES, Estimator
+
+    rng = random.Random(707)
+    progs = make_programs(rng, fqtb.env_int("N_PROGRAMS", 300))
+    est = Estimator()
+    bench = fqtb.ClockedBench(dut)
+    dut.rst.value = 1
+    dut.start_i.value = 0
+    await bench.start()
+    await bench.step()                      # edge 0: rst
+    dut.rst.value = 0
+    await bench.step()
+    bad = []
+    n_invalid = n_updates = n_resets = 0
+    for pi, (name, x1, x2, lam_k, kappa, dg) in enumerate(progs):
+        C = CYCLES[name]
+        S = bench.edge + 1 + rng.choice((0, 0, 1, 2, rng.randint(0, 30)))
+        await bench.goto(S - 1)
+        dut.start_i.value = 1
+        dut.entry_i.value = prog.ENTRY[name]
+        dut.x1_i.value = x1
+        dut.x2_i.value = x2
+        dut.lam_k_i.value = lam_k
+        dut.kappa_i.value = kappa
+        dut.dg_i.value = dg
+        await bench.goto(S)
+        # the inputs are latched on the start edge only: garbage afterwards
+        dut.start_i.value = 0
+        dut.entry_i.value = rng.randint(0, 511)
+        dut.x1_i.value = rng.randint(-32768, 32767)
+        dut.x2_i.value = rng.randint(-32768, 32767)
+        dut.lam_k_i.value = rng.randint(1, 23)
+        dut.kappa_i.value = rng.randint(0, 65535)
+        dut.dg_i.value = rng.randint(-3, 3)
+        if fqtb.uval(dut.busy_o) != 1:
+            bad.append(f"program {pi} ({name}) started on edge {S}: busy_o low after it")
+        if name == "update":
+            ok = est.run("update", x1=x1 << 15, x2=x2 << 15, lam=1 << (23 - lam_k))
+            n_updates += 1
+        else:
+            ok = est.run("reset", kappa=kappa << 15, gs1=1 << (24 - dg), gs2=1 << (24 - 2 * dg))
+            n_resets += 1
+        n_invalid += not ok
+        await bench.goto(S + C - 2)
+        b, d = fqtb.uval(dut.busy_o), fqtb.uval(dut.done_o)
+        if (b, d) != (1, 0):
+            bad.append(f"program {pi} ({name}) from edge {S}: after edge S+{C - 2} "
+                       f"busy={b} done={d}, expected 1 0")
+        await bench.goto(S + C - 1)
+        b, d = fqtb.uval(dut.busy_o), fqtb.uval(dut.done_o)
+        if (b, d) != (1, 1):
+            bad.append(f"program {pi} ({name}) from edge {S}: after edge S+{C - 1} "
+                       f"busy={b} done={d}, expected 1 1 (END retires on edge S+{C})")
+        await bench.goto(S + C)
+        b, d = fqtb.uval(dut.busy_o), fqtb.uval(dut.done_o)
+        if (b, d) != (0, 0):
+            bad.append(f"program {pi} ({name}) from edge {S}: after edge S+{C} "
+                       f"busy={b} done={d}, expected 0 0")
+        out = fqtb.uval(dut.out_o)
+        got_out = [((out >> (16 * i)) & 0xFFFF) - (((out >> (16 * i)) & 0x8000) << 1)
+                   for i in range(5)]
+        got = (fqtb.uval(dut.valid_o), got_out, fqtb.uval(dut.sat_o))
+        exp = (int(ok), list(est.out), int(est.sat))
+        if got != exp:
+            bad.append(f"program {pi} ({name} x=({x1},{x2}) lam_k={lam_k} kappa={kappa} "
+                       f"dg={dg}): (valid,out[m1,m2,c1,c12,c2],sat)={got}, model {exp}")
+        if len(bad) > 20:
+            break
+    assert not bad, f"{len(bad)} mismatches:\n" + "\n".join(bad[:20])
+    assert n_invalid > 0 and est.sat, "the sequence should reach invalid and saturating programs"
+    dut._log.info("rls_engine: %d updates, %d resets (%d invalid) equal; final theta %s",
+                  n_updates, n_resets, n_invalid, est.theta())
