@@ -1,5 +1,6 @@
-"""octant (Table 2) against sim.model.fastpath.octant. Latency 1: inputs on edge e, outputs
-after edge e. oct2_o is the base phase / 2048 of the model, neg_o its neg, j_o its j."""
+"""octant (Table 2) against sim.model.fastpath.octant. Latency 2 (rtl/octant.v): inputs on
+edge e, outputs after edge e + 1. oct2_o is the model's base phase / 2048, neg_o its neg,
+j_o its j."""
 import random
 
 import pytest
@@ -14,6 +15,8 @@ def test_octant(sim):
 
 # ---- cocotb side ------------------------------------------------------------------------
 import cocotb  # noqa: E402
+
+LATENCY = 2
 
 
 def directed():
@@ -83,11 +86,12 @@ async def octant_all(dut):
         edges.append(e)
         e += 1
     by_edge = dict(zip(edges, order))
-    for e in range(-1, edges[-1] + 3):
+    out_at = {e + LATENCY - 1: i for e, i in by_edge.items()}
+    for e in range(-1, edges[-1] + LATENCY + 2):
         if e >= 0:
             valid = fqtb.uval(dut.valid_o)
-            if e in by_edge:
-                i = by_edge[e]
+            if e in out_at:
+                i = out_at[e]
                 got = (fqtb.uval(dut.j_o), fqtb.uval(dut.oct2_o), fqtb.uval(dut.neg_o))
                 if valid != 1 or got != exp[i]:
                     bad.append(f"u1c={vec[i][0]} u2c={vec[i][1]}: valid={valid} "

@@ -64,20 +64,13 @@ module estimator #(
     wire [14:0] amax = (a1 > a2) ? a1 : a2;
     wire [14:0] peak_next = (amax > peak) ? amax : peak;
 
-    // gain for the next reset: largest g <= 3 with peak << g < 2**14 (2x headroom)
-    reg [1:0] g_new;
-    always @* begin
-        if (peak == 0)
-            g_new = g_eng;
-        else if (peak < 15'd2048)
-            g_new = 2'd3;
-        else if (peak < 15'd4096)
-            g_new = 2'd2;
-        else if (peak < 15'd8192)
-            g_new = 2'd1;
-        else
-            g_new = 2'd0;
-    end
+    // gain for the next reset: largest g <= 3 with peak << g < 2**14 (2x headroom).
+    // A continuous assignment: as an always @* block it stayed X in Icarus until peak or
+    // g_eng first changed, so the first reset loaded g_eng with X.
+    wire [1:0] g_new = (peak == 0)       ? g_eng :
+                       (peak < 15'd2048) ? 2'd3 :
+                       (peak < 15'd4096) ? 2'd2 :
+                       (peak < 15'd8192) ? 2'd1 : 2'd0;
 
     // normalised sample for the engine and its saturation
     wire signed [18:0] x1w = $signed({{3{u1_i[15]}}, u1_i}) <<< g_eng;

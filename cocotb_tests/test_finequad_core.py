@@ -1,0 +1,327 @@
+"""finequad_core, the whole pipeline, against sim.model.core.run (bit-true, every sample).
+
+Each scenario is a generated encoder recording (sim/siggen.py: s-curve moves, imperfect
+signals, 0.5 % noise) driven sample by sample with the model's timing contract
+(sim/model/core.py): registers 1..7 (interp, eps, lam_k, kappa, period, settle, gate) are
+written on edges 0..6 as the C++ harness does, sample k is strobed (s_valid high for one
+clock) on edge t_k, and its result must be on m_* after edge t_k + OUT_LATENCY (14, the
+latency in rtl/finequad_core.v) and m_valid high after exactly those edges. count, a, b and fault of
+every sample must equal the model's.
+
+Scenarios (one simulator process each, from power-up):
+  uniform    strobes every 36 clocks from edge 16 (the harness timing), TABLE_EXACT=1
+  gaps       random idle gaps between strobes (1 .. 60 clocks, bursts back to back),
+             small signals (input gain 2), rail spikes (clip, gain and correction
+             saturation), n = 256, periodic covariance resets, TABLE_EXACT=1
+  paper      TABLE_EXACT=0 (the paper's table), n = 7, strobes every 24 clocks
+  reset_req  reset requests written to register 0 (see below), TABLE_EXACT=1
+
+After the last sample the bench reads the registers back: ID (0x1f), the run-time registers
+(0x01..0x07), count (0x08), illegal count (0x09), updates (0x11), status (0x00: uncal and
+hold), gain and coefficients (0x0b..0x10) must equal the model's final state, and the
+sticky faults (0x0a) the OR of all fault words; writing ones to 0x0a clears those bits.
+The model's final bundle is that of a phantom sample strobed (in the model only) after every
+program has ended; a reset request on that phantom keeps it from starting an update.
+
+Reset requests (register 0, bit 0): the model (Config.resets) takes the index k of the sample
+whose estimator decision (edge t_k + PHASE_STAGE, sim.model.core.PHASE_STAGE) is the first
+to see the request. A write on edge w is seen by decisions on edges w + 1 and later, so it
+belongs to sample k exactly when t_(k-1) + PHASE_STAGE <= w <= t_k + PHASE_STAGE - 1. The
+test writes requests alternately on the latest edge of that window (t_k + PHASE_STAGE - 1)
+and on the earliest (t_(k-1) + PHASE_STAGE), during motion and during standstill.
+"""
+import os
+
+import pytest
+
+import fqtb
+
+CORE_SOURCES = ("finequad_core", "correct", "octant", "lut", "pulse", "counter",
+                "estimator", "rls_engine", "sat_round")
+# rtl/finequad_core.v (LATENCY): a sample strobed on edge t is on m_* after edge t + 14
+OUT_LATENCY = 14
+T_FIRST = 16                # first strobe edge (sim/harness/harness.cpp)
+REG_ORDER = ("interp", "eps", "lam_k", "kappa", "period", "settle", "gate")   # addr 1..7
+
+# samples per simulator: Icarus is some 20x slower than Verilator here
+SCENARIOS = {
+    "uniform": dict(exact=1, n={"icarus": 16000, "verilator": 60000},
+                    regs=dict(interp=100, eps=1638, lam_k=8, kappa=64 << 8, period=4096,
+                              settle=64, gate=64)),
+    "gaps": dict(exact=1, n={"icarus": 12000, "verilator": 30000},
+                 regs=dict(interp=256, eps=3000, lam_k=6, kappa=32 << 8, period=200,
+                           settle=16, gate=40)),
+    "paper": dict(exact=0, n={"icarus": 8000, "verilator": 30000},
+                  regs=dict(interp=7, eps=1638, lam_k=8, kappa=64 << 8, period=4096,
+                            settle=32, gate=64)),
+    "reset_req": dict(exact=1, n={"icarus": 8000, "verilator": 20000},
+                      regs=dict(interp=100, eps=1000, lam_k=9, kappa=100 << 8, period=0,
+                                settle=24, gate=48)),
+}
+
+
+@pytest.mark.parametrize("scenario", list(SCENARIOS))
+@pytest.mark.parametrize("sim", fqtb.SIMULATORS)
+def test_core(sim, scenario):
+    sc = SCENARIOS[scenario]
+    n = int(os.environ.get("FQ_CORE_SAMPLES", 0)) or sc["n"][sim]
+    fqtb.run_block(sim, "finequad_core", fqtb.sources(*CORE_SOURCES), "test_finequad_core",
+                   parameters=dict(TABLE_DIR=fqtb.qstr(fqtb.TABLE_DIR),
+                                   TABLE_EXACT=sc["exact"]),
+                   extra_env=dict(SCENARIO=scenario, SAMPLES=n), testcase="core_run")
+
+
+# ---- stimulus (used by the cocotb test; importable without a simulator) ---------------
+def recording(scenario, n):
+    """(u1, u2, strobe edges, reset request list [(sample index, write edge)])."""
+    import numpy as np
+    from sim import siggen
+
+    fs, pitch = 1e6, 20.0
+    T = n / fs
+    seed = {"uniform": 1, "gaps": 2, "paper": 3, "reset_req": 4}[scenario]
+    if scenario == "uniform":
+        moves = [(160, 0.5 * T, 0.05 * T), (-120, 0.25 * T, 0.6 * T)]
+        sig = siggen.Signal()
+    elif scenario == "gaps":
+        moves = [(150, 0.5 * T, 0.05 * T), (-100, 0.25 * T, 0.6 * T)]
+        sig = siggen.Signal(A1=0.2, A2=0.18, m1=0.012, m2=-0.01, phi=-0.05)
+    elif scenario == "paper":
+        moves = [(300, 0.6 * T, 0.05 * T)]
+        sig = siggen.Signal(A1=0.45, A2=0.5, m1=-0.02, m2=0.025, phi=0.1)
+    else:
+        moves = [(140, 0.4 * T, 0.05 * T), (60, 0.2 * T, 0.65 * T)]
+        sig = siggen.Signal(A1=0.5, A2=0.55)
+    x = np.zeros(n)
+    for dist, t_move, t_start in moves:
+        x = x + siggen.s_curve(n, fs, dist, t_move, t_start)
+    u1, u2, _ = siggen.encode(x, pitch, sig, seed=seed)
+    rng = np.random.default_rng(seed + 100)
+    if scenario == "gaps":
+        # rail spikes: clip flags, gain saturation while g = 1, offset/correction saturation
+        for _ in range(max(4, n // 800)):
+            k = int(rng.integers(n // 10, n - 10))
+            ln = int(rng.integers(1, 4))
+            u1[k:k + ln] = rng.choice([32767, -32768])
+            if rng.random() < 0.5:
+                u2[k:k + ln] = rng.choice([32767, -32768])
+        gaps = rng.choice([1, 1, 1, 2, 3, 5, 9, 14, 20, 30, 36, 45, 60], size=n)
+        t = T_FIRST + np.concatenate([[0], np.cumsum(gaps[:-1])])
+    else:
+        div = 24 if scenario == "paper" else 36
+        t = T_FIRST + div * np.arange(n, dtype=np.int64)
+    requests = []
+    if scenario == "reset_req":
+        from sim.model.core import PHASE_STAGE
+        ks = [n // 5, n // 2 + 7, int(n * 0.58), int(n * 0.97)]
+        for i, k in enumerate(ks):
+            # alternately the latest and the earliest write edge that belongs to sample k
+            w = int(t[k]) + PHASE_STAGE - 1 if i % 2 == 0 else int(t[k - 1]) + PHASE_STAGE
+            requests.append((k, w))
+    return u1.astype(np.int64), u2.astype(np.int64), t.astype(np.int64), requests
+
+
+def model_run(scenario, n):
+    """Model results for the recording plus the phantom sample (index n)."""
+    import numpy as np
+    from sim.model import core
+    from sim.model.estimator import CYCLES
+
+    sc = SCENARIOS[scenario]
+    u1, u2, t, requests = recording(scenario, n)
+    start_delay = getattr(core, "START_DELAY", 0)
+    t_ph = int(t[-1]) + core.PHASE_STAGE + start_delay + max(CYCLES.values()) + 16
+    cfg = core.Config(TABLE="exact" if sc["exact"] else "paper",
+                      resets=[k for k, _ in requests] + [n], **sc["regs"])
+    res = core.run(np.append(u1, u1[-1]), np.append(u2, u2[-1]), cfg,
+                   strobes=np.append(t, t_ph), trace=True)
+    return u1, u2, t, requests, t_ph, res
+
+
+# ---- cocotb side ------------------------------------------------------------------------
+import cocotb  # noqa: E402
+
+
+async def _watch(sig, log):
+    """Record every change of a 1-bit output as (time in ps, new value)."""
+    from cocotb.triggers import ValueChange
+    from cocotb.utils import get_sim_time
+    while True:
+        await ValueChange(sig)
+        log.append((get_sim_time(unit="ps"), fqtb.uval(sig)))
+
+
+def _intervals(edges):
+    out = []
+    for e in sorted(edges):
+        if out and out[-1][1] == e - 1:
+            out[-1][1] = e
+        else:
+            out.append([e, e])
+    return [tuple(x) for x in out]
+
+
+@cocotb.test()
+async def core_run(dut):
+    import numpy as np
+
+    scenario = fqtb.env_str("SCENARIO")
+    n = fqtb.env_int("SAMPLES")
+    sc = SCENARIOS[scenario]
+    u1, u2, t, requests, t_ph, res = model_run(scenario, n)
+    regs = sc["regs"]
+    log = dut._log
+    log.info("scenario %s: %d samples, last strobe on edge %d, %d model updates",
+             scenario, n, int(t[-1]), res["n_updates"])
+
+    # ---- schedule: slot e = between edge e and e + 1 -------------------------------------
+    strobe = {int(e): k for k, e in enumerate(t)}
+    reads = {int(e) + OUT_LATENCY: k for k, e in enumerate(t)}   # slot t_k + 13
+    reg_writes = {e: (a, regs[name]) for e, (a, name) in
+                  enumerate(zip(range(1, 8), REG_ORDER))}               # edges 0..6
+    for k, w in requests:
+        assert w not in reg_writes
+        reg_writes[w] = (0, 1)
+    slots = set()
+    for e in strobe:
+        slots.add(e - 1)
+        slots.add(e)
+    slots.update(reads)
+    for e in reg_writes:
+        slots.add(e - 1)
+        slots.add(e)
+    slots = sorted(slots)
+
+    got = np.zeros((n, 5), dtype=np.int64)          # m_valid, count, a, b, fault
+    bench = fqtb.ClockedBench(dut)
+    dut.rst.value = 0
+    dut.s_valid.value = 0
+    dut.s_u1.value = 0
+    dut.s_u2.value = 0
+    dut.reg_we.value = 0
+    dut.reg_addr.value = 0
+    dut.reg_wdata.value = 0
+    await bench.start()
+    vlog = []
+    cocotb.start_soon(_watch(dut.m_valid, vlog))
+    for s in slots:
+        await bench.goto(s)
+        k = reads.get(s)
+        if k is not None:
+            got[k] = (fqtb.uval(dut.m_valid), fqtb.sval(dut.m_count), fqtb.uval(dut.m_a),
+                      fqtb.uval(dut.m_b), fqtb.uval(dut.m_fault))
+        nxt = s + 1
+        k = strobe.get(nxt)
+        if k is not None:
+            dut.s_valid.value = 1
+            dut.s_u1.value = int(u1[k])
+            dut.s_u2.value = int(u2[k])
+        elif s in strobe:
+            dut.s_valid.value = 0
+        if nxt in reg_writes:
+            a, d = reg_writes[nxt]
+            dut.reg_we.value = 1
+            dut.reg_addr.value = a
+            dut.reg_wdata.value = d
+        elif s in reg_writes:
+            dut.reg_we.value = 0
+
+    # ---- output latency (a clear message when the pipeline depth changed) -----------------
+    first_rise = next((tm for tm, v in vlog if v == 1), None)
+    assert first_rise is not None, "m_valid never went high"
+    lat = (first_rise - bench.t0) // fqtb.PERIOD_PS - int(t[0])
+    assert lat == OUT_LATENCY, (f"the first sample (strobe edge {int(t[0])}) came out after "
+                                f"edge t + {lat}, the test expects t + {OUT_LATENCY}")
+
+    # ---- every sample --------------------------------------------------------------------
+    exp = np.stack([np.ones(n + 1, dtype=np.int64), res["count"], res["a"], res["b"],
+                    res["fault"]], axis=1)[:n]
+    diff = np.nonzero((got != exp).any(axis=1))[0]
+    if len(diff):
+        lines = []
+        for k in diff[:12]:
+            tr = {f: int(res[f][k]) for f in ("g", "m1", "m2", "c1", "c12", "c2", "u1c", "u2c",
+                                             "phase")}
+            lines.append(f"sample {k} (strobe edge {int(t[k])}, u=({int(u1[k])},{int(u2[k])})):"
+                         f" rtl (valid,count,a,b,fault)={tuple(int(x) for x in got[k])}, model "
+                         f"{tuple(int(x) for x in exp[k])}; model trace {tr}")
+        raise AssertionError(f"{scenario}: {len(diff)} of {n} samples differ, first:\n" +
+                             "\n".join(lines))
+
+    # ---- m_valid high after exactly the edges t_k + 13 -----------------------------------
+    await bench.goto(max(bench.edge, int(t[-1]) + OUT_LATENCY + 2))
+    high, rise = [], None
+    for tm, v in vlog:
+        e, r = divmod(tm - bench.t0, fqtb.PERIOD_PS)
+        assert r == 0, f"m_valid changed between clock edges (t={tm} ps)"
+        if v == 1 and rise is None:
+            rise = e
+        elif v == 0 and rise is not None:
+            high.append((rise, e - 1))
+            rise = None
+    assert rise is None
+    want = _intervals(int(e) + OUT_LATENCY for e in t)
+    if high != want:
+        extra = sorted(set(high) ^ set(want))[:6]
+        raise AssertionError(f"m_valid high intervals differ from the strobes + {OUT_LATENCY}: "
+                             f"{len(high)} vs {len(want)}, first differences {extra}")
+
+    # ---- registers after the run -----------------------------------------------------------
+    await bench.goto(t_ph + 2)
+
+    async def rd(addr):
+        dut.reg_addr.value = addr
+        await bench.settle()
+        return fqtb.uval(dut.reg_rdata)
+
+    async def wr(addr, data):
+        await bench.goto(bench.edge + 1)
+        dut.reg_we.value = 1
+        dut.reg_addr.value = addr
+        dut.reg_wdata.value = data
+        await bench.goto(bench.edge + 1)
+        dut.reg_we.value = 0
+
+    def u32(v):
+        return int(v) & 0xFFFFFFFF
+
+    ph = n                                  # the phantom's index in the model results
+    bad = []
+
+    def check(what, got_v, exp_v):
+        if got_v != exp_v:
+            bad.append(f"{what}: rtl {got_v:#x}, model {exp_v:#x}")
+
+    check("ID 0x1f", await rd(0x1F), 0x46510001)
+    masks = dict(interp=0x1FF, eps=0xFFFF, lam_k=0x1F, kappa=0xFFFF, period=0xFFFF,
+                 settle=0x3FF, gate=0x1FFF)
+    for a, name in zip(range(1, 8), REG_ORDER):
+        check(f"{name} 0x{a:02x}", await rd(a), regs[name] & masks[name])
+    check("count 0x08", await rd(0x08), u32(res["count"][n - 1]))
+    check("illegal count 0x09", await rd(0x09), u32(res["illegal_count"][n - 1]))
+    check("updates 0x11", await rd(0x11), u32(res["n_updates"]))
+    fault_ph = int(res["fault"][ph])
+    check("status 0x00 [1:0] (uncal, hold)", (await rd(0x00)) & 3,
+          ((fault_ph >> 4) & 1) | (((fault_ph >> 5) & 1) << 1))
+    check("gain 0x0b", await rd(0x0B), int(res["g"][ph]))
+    for a, f in zip(range(0x0C, 0x11), ("m1", "m2", "c1", "c12", "c2")):
+        check(f"{f} 0x{a:02x}", await rd(a), u32(res[f][ph]))
+    sticky = int(np.bitwise_or.reduce(res["fault"][:n]))
+    check("sticky faults 0x0a", await rd(0x0A), sticky)
+    # write 1 to clear: a read-only register first (no effect), then two steps
+    await wr(0x1F, 0)
+    check("ID 0x1f after a write", await rd(0x1F), 0x46510001)
+    await wr(0x0A, 0x15)
+    check("sticky after writing 0x15", await rd(0x0A), sticky & ~0x15)
+    await wr(0x0A, 0x00)
+    check("sticky after writing 0", await rd(0x0A), sticky & ~0x15)
+    await wr(0x0A, 0x3F)
+    check("sticky after writing 0x3f", await rd(0x0A), 0)
+    assert not bad, f"{scenario}: register read-back differs:\n" + "\n".join(bad)
+
+    f = res["fault"][:n]
+    cov = {name: int(((f >> bit) & 1).sum()) for name, bit in
+           (("clip", 0), ("nsat", 1), ("csat", 2), ("illegal", 3), ("uncal", 4), ("hold", 5))}
+    log.info("scenario %s: %d samples equal (fault bit counts %s), g %s, final count %d, "
+             "sticky %#x", scenario, n, cov, sorted(set(res["g"][:n].tolist())),
+             int(res["count"][n - 1]), sticky)
