@@ -143,7 +143,12 @@ def run(u1_code, u2_code, cfg: Config = Config(), strobes=None, trace=False):
         if k >= blk_hi:
             blk_lo = k
             blk_hi = min(n, k + 256)
-            b = ev_bundle[bisect.bisect_right(ev_edge, int(t[k])) - 1]
+            i = bisect.bisect_right(ev_edge, int(t[k]))
+            b = ev_bundle[i - 1]
+            if i < len(ev_edge):
+                # a program still running commits on edge ev_edge[i]: the block ends at
+                # the first sample that sees that commit
+                blk_hi = min(blk_hi, int(np.searchsorted(t, ev_edge[i], side="left")))
             blk_phase = _phase(u1r[k:blk_hi], u2r[k:blk_hi], b, lut)
         ph = int(blk_phase[k - blk_lo])
         step = ((ph - ph_last + 4096) & 8191) - 4096
