@@ -8,6 +8,7 @@ OUT     ?= $(BUILD)/out.csv
 INTERP  ?= 100
 TABLE   ?= exact
 VCD     ?=
+DIV     ?= 36
 RTL     := rtl/finequad_core.v rtl/correct.v rtl/octant.v rtl/lut.v rtl/pulse.v \
            rtl/counter.v rtl/estimator.v rtl/rls_engine.v rtl/sat_round.v
 TABLE_EXACT := $(if $(filter paper,$(TABLE)),0,1)
@@ -39,11 +40,11 @@ $(HARNESS): $(RTL) sim/harness/harness.cpp $(wildcard rtl/tables/*.hex) | deps
 	    -CFLAGS -DADC_W=16 -CFLAGS -O2 --top-module finequad_core \
 	    --Mdir $(BUILD)/rtlsim_$(TABLE) $(RTL) sim/harness/harness.cpp >/dev/null
 
-rtlsim: $(HARNESS) ## run the RTL (Verilator): IN=in.csv OUT=out.csv INTERP=n [TABLE=paper] [VCD=x.vcd]
-	$(HARNESS) --in $(IN) --out $(OUT) --interp $(INTERP) $(if $(VCD),--vcd $(VCD))
+rtlsim: $(HARNESS) ## run the RTL (Verilator): IN=in.csv OUT=out.csv INTERP=n [TABLE=paper] [DIV=clocks/sample] [VCD=x.vcd]
+	$(HARNESS) --in $(IN) --out $(OUT) --interp $(INTERP) --div $(DIV) $(if $(VCD),--vcd $(VCD))
 
 model: deps      ## run the bit-true model: IN=in.csv OUT=out.csv INTERP=n [TABLE=paper] [VCD=ref.vcd]
-	$(PY) -m sim.run_model --in $(IN) --out $(OUT) --interp $(INTERP) --table $(TABLE) \
+	$(PY) -m sim.run_model --in $(IN) --out $(OUT) --interp $(INTERP) --table $(TABLE) --div $(DIV) \
 	    $(if $(VCD),--vcd $(VCD))
 
 harnesses:

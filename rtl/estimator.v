@@ -21,7 +21,7 @@ module estimator #(
     parameter WARMUP = 64,
     // program entries (sim/model/program.py ENTRY)
     parameter [8:0] ENTRY_RESET = 9'd0,
-    parameter [8:0] ENTRY_UPDATE = 9'd21
+    parameter [8:0] ENTRY_UPDATE = 9'd32
 ) (
     input  wire               clk,
     input  wire               rst,
@@ -56,13 +56,42 @@ module estimator #(
     reg [12:0] ph_last = 0;
     reg        running_update = 1'b0;
 
-    // |u| saturated to 15 bits
+    // ---- decision inputs, registered one edge before the decision ---------------------------
+    // They depend on ph_last and g_eng, which change only on an edge where the engine
+    // starts; the sample after it then finds the engine busy, so the values computed
+    // one edge early are always the ones the decision would compute.
     wire [15:0] a1_full = u1_i[15] ? -u1_i : u1_i;
     wire [15:0] a2_full = u2_i[15] ? -u2_i : u2_i;
     wire [14:0] a1 = a1_full[15] ? 15'h7fff : a1_full[14:0];
     wire [14:0] a2 = a2_full[15] ? 15'h7fff : a2_full[14:0];
-    wire [14:0] amax = (a1 > a2) ? a1 : a2;
-    wire [14:0] peak_next = (amax > peak) ? amax : peak;
+    // u << g leaves 16 bits exactly when the top g+1 bits of u differ
+    function automatic ovf(input [3:0] top, input [1:0] g);   // top = u[15:12]
+        case (g)
+            2'd0: ovf = 1'b0;
+            2'd1: ovf = top[3] ^ top[2];
+            2'd2: ovf = !(&top[3:1] || !(|top[3:1]));
+            default: ovf = !(&top || !(|top));
+        endcase
+    endfunction
+    wire [12:0] dph = phase_i - ph_last;
+    reg        pre_valid = 1'b0, pre_xsat = 1'b0, pre_gate = 1'b0;
+    reg [14:0] pre_amax = 0;
+    reg signed [15:0] pre_u1 = 0, pre_u2 = 0;
+    reg [12:0] pre_phase = 0;
+    always @(posedge clk) begin
+        pre_valid <= smp_valid_i;
+        pre_u1    <= u1_i;
+        pre_u2    <= u2_i;
+        pre_phase <= phase_i;
+        pre_amax  <= (a1 > a2) ? a1 : a2;
+        pre_xsat  <= ovf(u1_i[15:12], g_eng) || ovf(u2_i[15:12], g_eng);
+        // |wrap13(dph)| >= gate  <=>  dph >= gate or dph <= -gate (two compares side by side)
+        pre_gate  <= ($signed({dph[12], dph}) >= $signed({1'b0, gate_i})) ||
+                     ($signed({dph[12], dph}) <= -$signed({1'b0, gate_i}));
+        if (rst)
+            pre_valid <= 1'b0;
+    end
+    wire [14:0] peak_next = (pre_amax > peak) ? pre_amax : peak;
 
     // gain for the next reset: largest g <= 3 with peak << g < 2**14 (2x headroom).
     // A continuous assignment: as an always @* block it stayed X in Icarus until peak or
@@ -72,37 +101,52 @@ module estimator #(
                        (peak < 15'd4096) ? 2'd2 :
                        (peak < 15'd8192) ? 2'd1 : 2'd0;
 
-    // normalised sample for the engine and its saturation
-    wire signed [18:0] x1w = $signed({{3{u1_i[15]}}, u1_i}) <<< g_eng;
-    wire signed [18:0] x2w = $signed({{3{u2_i[15]}}, u2_i}) <<< g_eng;
-    wire xsat = (x1w > 19'sd32767) || (x1w < -19'sd32768) ||
-                (x2w > 19'sd32767) || (x2w < -19'sd32768);
-    wire [12:0] dph = phase_i - ph_last;
-    wire [12:0] dph_abs = dph[12] ? -dph : dph;
-    wire gate_ok = dph_abs >= gate_i;
+    // normalised sample for the engine
+    wire signed [15:0] x1w = pre_u1 <<< g_eng;
+    wire signed [15:0] x2w = pre_u2 <<< g_eng;
     wire [15:0] limit = (first && period_i != 0 && period_i > WARMUP) ? WARMUP : period_i;
 
-    wire busy, done, valid;
+    // The decision is registered: the engine starts on the edge after it, and the
+    // estimator counts itself busy from the decision edge on.
+    wire done, valid, eng_busy;
     wire [79:0] outs;
+    reg  busy = 1'b0;
     wire pend = reset_pend | req_reset_i;
-    wire idle_smp = smp_valid_i && !busy;
+    wire idle_smp = pre_valid && !busy;
     wire do_reset = idle_smp && pend;
-    wire do_update = idle_smp && !pend && !xsat && gate_ok;
+    wire do_update = idle_smp && !pend && !pre_xsat && pre_gate;
     wire [4:0] lam_k = (lam_k_i == 0) ? 5'd1 : (lam_k_i > 5'd23) ? 5'd23 : lam_k_i;
+    reg        start_q = 1'b0;
+    reg  [8:0] entry_q = 0;
+    reg signed [15:0] x1_q = 0, x2_q = 0;
+    reg signed [2:0]  dg_q = 0;
+    always @(posedge clk) begin
+        start_q <= do_reset | do_update;
+        entry_q <= do_reset ? ENTRY_RESET : ENTRY_UPDATE;
+        x1_q    <= x1w;
+        x2_q    <= x2w;
+        dg_q    <= $signed({1'b0, g_new}) - $signed({1'b0, g_eng});
+        if (do_reset | do_update)
+            busy <= 1'b1;
+        else if (done)
+            busy <= 1'b0;
+        if (rst) begin
+            start_q <= 1'b0;
+            busy <= 1'b0;
+        end
+    end
 
     rls_engine #(.TABLE_DIR(TABLE_DIR)) u_engine (
         .clk(clk), .rst(rst),
-        .start_i(do_reset | do_update),
-        .entry_i(do_reset ? ENTRY_RESET : ENTRY_UPDATE),
-        .x1_i(x1w[15:0]), .x2_i(x2w[15:0]),
-        .lam_k_i(lam_k), .kappa_i(kappa_i),
-        .dg_i($signed({1'b0, g_new}) - $signed({1'b0, g_eng})),
-        .busy_o(busy), .done_o(done), .valid_o(valid), .out_o(outs), .sat_o(sat_o)
+        .start_i(start_q), .entry_i(entry_q), .x1_i(x1_q), .x2_i(x2_q),
+        .lam_k_i(lam_k), .kappa_i(kappa_i), .dg_i(dg_q),
+        .busy_o(eng_busy), .done_o(done), .valid_o(valid), .out_o(outs), .sat_o(sat_o)
     );
+    wire unused = &{1'b0, eng_busy, 1'b0};
 
     always @(posedge clk) begin
         // sample bookkeeping
-        if (smp_valid_i)
+        if (pre_valid)
             peak <= peak_next;
         reset_pend <= pend;
         if (do_reset) begin
@@ -112,10 +156,10 @@ module estimator #(
             upd <= 0;
             settle <= 0;
             running_update <= 1'b0;
-        end else if (idle_smp && !pend && xsat) begin
+        end else if (idle_smp && !pend && pre_xsat) begin
             reset_pend <= 1'b1;
         end else if (do_update) begin
-            ph_last <= phase_i;
+            ph_last <= pre_phase;
             upd <= upd + 1'b1;
             updates_o <= updates_o + 1'b1;
             running_update <= 1'b1;

@@ -9,7 +9,7 @@
 //        +---------- raw sample, delayed --------> estimator (Eqs. 3-8)   pulse (Eq. 12)
 //                                                  coefficient bundle ^       |
 //                                                                        counter (x4)
-// Latency: a sample strobed on edge t appears on m_* after edge t + 13.
+// Latency: a sample strobed on edge t appears on m_* after edge t + LATENCY (15).
 // Fault bits (m_fault): 0 clip, 1 gain saturation, 2 correction saturation,
 // 3 illegal A/B step (resolved), 4 not calibrated, 5 estimate held (last theta invalid).
 module finequad_core #(
@@ -43,6 +43,13 @@ module finequad_core #(
     output wire                      m_b,
     output wire [5:0]                m_fault
 );
+    // pipeline: stage 0 (edge t), correct t+1..t+5, octant t+6..t+7, lut phase t+9
+    // (estimator decision t+11), lut sines t+11, pulse t+12, counter t+13..t+15
+    localparam LATENCY = 15;
+    localparam PHASE_AT = 9;      // fine phase registered on edge t + PHASE_AT
+    localparam CORR_AT = 5;       // correct outputs registered on edge t + CORR_AT
+    localparam AB_AT = 12;        // pulse outputs registered on edge t + AB_AT
+
     // ---- registers ------------------------------------------------------------------------
     localparam [31:0] ID = 32'h46510001;        // "FQ", version 0.1
     reg [8:0]  r_interp = 9'd100;               // n
@@ -101,21 +108,22 @@ module finequad_core #(
     wire [31:0] e_updates;
     wire ph_valid;
     wire [12:0] phase;
-    // raw sample delayed to the phase stage (edge t+7)
-    reg signed [15:0] u1d [0:6];
-    reg signed [15:0] u2d [0:6];
+    // raw sample delayed to the phase stage (edge t + PHASE_AT)
+    reg signed [15:0] u1d [0:PHASE_AT-1];
+    reg signed [15:0] u2d [0:PHASE_AT-1];
     integer di;
     always @(posedge clk) begin
         u1d[0] <= u1r;
         u2d[0] <= u2r;
-        for (di = 1; di < 7; di = di + 1) begin
+        for (di = 1; di < PHASE_AT; di = di + 1) begin
             u1d[di] <= u1d[di-1];
             u2d[di] <= u2d[di-1];
         end
     end
     estimator #(.TABLE_DIR(TABLE_DIR), .G_INIT(G_INIT)) u_est (
         .clk(clk), .rst(rst),
-        .smp_valid_i(ph_valid), .u1_i(u1d[6]), .u2_i(u2d[6]), .phase_i(phase),
+        .smp_valid_i(ph_valid), .u1_i(u1d[PHASE_AT-1]), .u2_i(u2d[PHASE_AT-1]),
+        .phase_i(phase),
         .req_reset_i(req_reset), .lam_k_i(r_lam_k), .kappa_i(r_kappa),
         .period_i(r_period), .settle_i(r_settle), .gate_i(r_gate),
         .g_o(b_g), .m1_o(b_m1), .m2_o(b_m2), .c1_o(b_c1), .c12_o(b_c12), .c2_o(b_c2),
@@ -152,35 +160,39 @@ module finequad_core #(
         .cos_mag_i(l_cmag), .cos_neg_i(l_cneg), .sin_mag_i(l_smag), .sin_neg_i(l_sneg),
         .eps_i(r_eps), .valid_o(p_valid), .a_o(p_a), .b_o(p_b)
     );
-    // fine phase delayed from edge t+7 to t+10 (aligned with A/B)
-    reg [12:0] phd [0:2];
+    // fine phase delayed from edge t + PHASE_AT to t + AB_AT (aligned with A/B)
+    reg [12:0] phd [0:AB_AT-PHASE_AT-1];
+    integer pi;
     always @(posedge clk) begin
         phd[0] <= phase;
-        phd[1] <= phd[0];
-        phd[2] <= phd[1];
+        for (pi = 1; pi < AB_AT - PHASE_AT; pi = pi + 1)
+            phd[pi] <= phd[pi-1];
     end
     wire k_illegal;
     wire [31:0] k_ill_count;
     counter #(.COUNT_W(COUNT_W)) u_counter (
-        .clk(clk), .rst(rst), .valid_i(p_valid), .a_i(p_a), .b_i(p_b), .phase_i(phd[2]),
+        .clk(clk), .rst(rst), .valid_i(p_valid), .a_i(p_a), .b_i(p_b),
+        .phase_i(phd[AB_AT-PHASE_AT-1]),
         .n_i(r_interp), .valid_o(m_valid), .count_o(m_count), .a_o(m_a), .b_o(m_b),
         .illegal_o(k_illegal), .illegal_count_o(k_ill_count)
     );
 
     // ---- fault bits, carried with the sample -------------------------------------------------
-    // clip: from edge t; bundle flags: sampled on edge t+1 with the bundle; saturations
-    // from correct (edge t+4); illegal from the counter (edge t+13).
-    reg [12:0] clip_d = 0, uncal_d = 0, hold_d = 0;   // index k: edge t+1+k
-    reg [8:0]  nsat_d = 0, csat_d = 0;
+    // clip: registered on edge t; bundle flags: sampled on edge t+1 with the bundle;
+    // saturations from correct (edge t + CORR_AT); illegal from the counter (t + LATENCY).
+    // Index k of each delay line holds the value registered k+1 edges later.
+    reg [LATENCY-1:0] clip_d = 0, uncal_d = 0, hold_d = 0;
+    reg [LATENCY-CORR_AT-1:0] nsat_d = 0, csat_d = 0;
     always @(posedge clk) begin
-        clip_d  <= {clip_d[11:0], clip0};
-        uncal_d <= {uncal_d[11:0], b_uncal};
-        hold_d  <= {hold_d[11:0], b_hold};
-        nsat_d  <= {nsat_d[7:0], c_nsat};
-        csat_d  <= {csat_d[7:0], c_csat};
+        clip_d  <= {clip_d[LATENCY-2:0], clip0};
+        uncal_d <= {uncal_d[LATENCY-2:0], b_uncal};
+        hold_d  <= {hold_d[LATENCY-2:0], b_hold};
+        nsat_d  <= {nsat_d[LATENCY-CORR_AT-2:0], c_nsat};
+        csat_d  <= {csat_d[LATENCY-CORR_AT-2:0], c_csat};
     end
     wire unused = &{1'b0, reg_wdata[31:16], l_pn, 1'b0};
-    assign m_fault = {hold_d[12], uncal_d[12], k_illegal, csat_d[8], nsat_d[8], clip_d[12]};
+    assign m_fault = {hold_d[LATENCY-1], uncal_d[LATENCY-1], k_illegal,
+                      csat_d[LATENCY-CORR_AT-1], nsat_d[LATENCY-CORR_AT-1], clip_d[LATENCY-1]};
 
     // ---- register read-back --------------------------------------------------------------------
     always @* begin

@@ -19,22 +19,28 @@ module pulse #(
     output reg              a_o,
     output reg              b_o
 );
-    // signed values in u0.15 units: v = +-T << (16 - SIN_W)
-    wire signed [16:0] cv = cos_neg_i ? -$signed({2'b0, cos_mag_i, {(16-SIN_W){1'b0}}})
-                                      :  $signed({2'b0, cos_mag_i, {(16-SIN_W){1'b0}}});
-    wire signed [16:0] sv = sin_neg_i ? -$signed({2'b0, sin_mag_i, {(16-SIN_W){1'b0}}})
-                                      :  $signed({2'b0, sin_mag_i, {(16-SIN_W){1'b0}}});
-    wire signed [16:0] ep = $signed({1'b0, eps_i});
+    // With v = +-m (m the magnitude in u0.15) one unsigned comparison m >= eps decides:
+    //   v >= eps   <=>  (!neg && m >= eps) || (m == 0 && eps == 0)
+    //   v <= -eps  <=>  ( neg && m >= eps) || (m == 0 && eps == 0)   (used when not v >= eps)
+    wire [15:0] cm = {1'b0, cos_mag_i, {(16-SIN_W){1'b0}}};
+    wire [15:0] sm = {1'b0, sin_mag_i, {(16-SIN_W){1'b0}}};
+    wire c_ge = cm >= eps_i;
+    wire s_ge = sm >= eps_i;
+    wire zero_eps = (eps_i == 16'd0);
+    wire c_pos = (!cos_neg_i && c_ge) || (zero_eps && cm == 16'd0);
+    wire c_neg = cos_neg_i && c_ge;
+    wire s_pos = (!sin_neg_i && s_ge) || (zero_eps && sm == 16'd0);
+    wire s_neg = sin_neg_i && s_ge;
     always @(posedge clk) begin
         valid_o <= valid_i;
         if (valid_i) begin
-            if (cv >= ep)
+            if (c_pos)
                 a_o <= 1'b1;
-            else if (cv <= -ep)
+            else if (c_neg)
                 a_o <= 1'b0;
-            if (sv >= ep)
+            if (s_pos)
                 b_o <= 1'b1;
-            else if (sv <= -ep)
+            else if (s_neg)
                 b_o <= 1'b0;
         end
         if (rst) begin

@@ -10,12 +10,16 @@
 // Pipeline of an instruction in slot k of a program started on edge S:
 //   S+k    fetch      instr_q   <= rom[entry + k]
 //   S+k+1  read       rda/rdb   <= rf[a], rf[b]
-//   S+k+2  operands   opa/opb   (B: register or special input); NORM, CHK, seed lookup
-//   S+k+3  multiply   prod_q    <= opa * opb  (or the seed)
-//   S+k+4  accumulate acc_q     <= (clr ? 0 : acc_q) +- prod_q
-//   S+k+5  round      res_q     <= sat_round(acc_q, sh - dyn)
-//   S+k+6  write      rf[dst] / out[dst]; END: the program ends (busy_o falls)
-// A register written in slot k can be read from slot k + 6 on (program.HAZARD).
+//   S+k+2  operands   opa/opb   (B: register or special input); seed lookup
+//   S+k+3  multiply   four 16x16 partial products (DSP blocks); NORM, CHK; dz sampled
+//   S+k+4  product 1  {hh, ll} and hl + lh (or the seed)
+//   S+k+5  product 2  prod_q    <= {hh, ll} + ((hl + lh) << 16)
+//   S+k+6  accumulate acc[31:0]  <= (clr ? 0 : acc) +- prod_q (low half); shift sh - dyn
+//   S+k+7  accumulate acc[63:32] (high half, with the carry of the low half)
+//   S+k+8  round 1    t_q       <= acc >>> (shift - 1)
+//   S+k+9  round 2    r65_q     <= (t_q + 1) >>> 1
+//   S+k+10 write      rf[dst] / out[dst] <= saturated r65_q; END: the program ends
+// A register written in slot k can be read from slot k + 10 on (program.HAZARD).
 module rls_engine #(
     // folder of the $readmemh files (with trailing slash)
     parameter TABLE_DIR = "rtl/tables/",
@@ -117,135 +121,229 @@ module rls_engine #(
             default: opb = 32'sd0;
         endcase
     end
-    // leading zeros of rda (rda > 0), minus one: the left shift that puts the MSB at bit 30
-    reg [4:0] nz;
-    integer   bi;
-    always @* begin
-        nz = 5'd0;
-        for (bi = 0; bi <= 30; bi = bi + 1)
-            if (rda[bi])
-                nz = 5'd30 - bi[4:0];
-    end
-    wire a_pos = !rda[31] && (rda != 32'd0);
+
     reg [4:0]  dz_q = 0;
     reg signed [31:0] opa_q = 0, opb_q = 0;
+    reg [3:0]  nzb_q = 0;                 // bytes of opa_q that are not zero
     reg signed [31:0] seed_q = 0;       // s2.30
     reg [35:0] i2 = 0;
-    reg [4:0]  dz2 = 0;                   // dz seen by this instruction
     reg        v2 = 1'b0;
     reg        inval_q = 1'b0;
     wire [2:0] op1 = i1[2:0];
     always @(posedge clk) begin
         opa_q  <= rda;
+        nzb_q  <= {|rda[31:24], |rda[23:16], |rda[15:8], |rda[7:0]};
         opb_q  <= opb;
         seed_q <= {1'b0, seeds_rom[{op1 == OP_SEEDS, op1 == OP_SEEDS ? rda[30:25] : rda[29:24]}], 15'd0};
         i2     <= i1;
-        dz2    <= dz_q;
         v2     <= v1;
-        if (v1 && (op1 == OP_NORMR || op1 == OP_NORMS))
-            dz_q <= a_pos ? (op1 == OP_NORMS ? {nz[4:1], 1'b0} : nz) : 5'd0;
-        if (start_i)
-            inval_q <= 1'b0;
-        else if (v1 && (op1 == OP_NORMR || op1 == OP_NORMS || op1 == OP_CHK) && !a_pos)
-            inval_q <= 1'b1;
-        else if (v5 && i5[6] && i5[5] && res16_sat)
-            inval_q <= 1'b1;
         if (rst)
             v2 <= 1'b0;
     end
+    // NORM and CHK act one stage later, on opa_q: leading zeros of A (A > 0) minus one,
+    // the left shift that puts the MSB at bit 30. Every instruction samples dz_q on the
+    // same edge, so an instruction after a NORM sees its dz.
+    // (two levels: which byte holds the leading one -- nzb_q, registered with opa_q --
+    // then where in that byte)
+    function automatic [2:0] top8(input [7:0] x);
+        integer k;
+        begin
+            top8 = 3'd0;
+            for (k = 0; k < 8; k = k + 1)
+                if (x[k])
+                    top8 = k[2:0];
+        end
+    endfunction
+    reg [4:0] nz;
+    always @*
+        casez (nzb_q)
+            4'b1???: nz = 5'd6 - {2'd0, top8({1'b0, opa_q[30:24]})};
+            4'b01??: nz = 5'd14 - {2'd0, top8(opa_q[23:16])};
+            4'b001?: nz = 5'd22 - {2'd0, top8(opa_q[15:8])};
+            default: nz = 5'd30 - {2'd0, top8(opa_q[7:0])};
+        endcase
+    wire a_pos = !opa_q[31] && (|nzb_q);
+    wire [2:0] op2n = i2[2:0];
+    always @(posedge clk) begin
+        if (v2 && (op2n == OP_NORMR || op2n == OP_NORMS))
+            dz_q <= a_pos ? (op2n == OP_NORMS ? {nz[4:1], 1'b0} : nz) : 5'd0;
+        if (start_i)
+            inval_q <= 1'b0;
+        else if (v2 && (op2n == OP_NORMR || op2n == OP_NORMS || op2n == OP_CHK) && !a_pos)
+            inval_q <= 1'b1;
+        else if (wb7 && i7[6] && res16_sat)
+            inval_q <= 1'b1;
+    end
 
-    // ---- multiply ----------------------------------------------------------------------------
-    reg signed [63:0] prod_q = 0;
+    // ---- multiply: four registered 16x16 partial products, then their sum ---------------------
+    // (the low halves are unsigned: {1'b0, x[15:0]} makes each product a signed 17x16 that
+    // still fits one DSP block)
+    reg signed [31:0] pp_ll = 0, pp_lh = 0, pp_hl = 0, pp_hh = 0;
+    reg signed [31:0] seed3 = 0;
     reg [35:0] i3 = 0;
     reg [4:0]  dz3 = 0;
     reg        v3 = 1'b0;
-    wire [2:0] op2 = i2[2:0];
     always @(posedge clk) begin
-        // (kept as two statements: a ?: with an unsigned operand would make the product
-        // unsigned)
-        if (op2 == OP_SEEDR || op2 == OP_SEEDS)
-            prod_q <= $signed({{32{seed_q[31]}}, seed_q});
-        else
-            prod_q <= opa_q * opb_q;
+        pp_ll <= $signed({1'b0, opa_q[15:0]}) * $signed({1'b0, opb_q[15:0]});
+        pp_lh <= $signed({1'b0, opa_q[15:0]}) * $signed(opb_q[31:16]);
+        pp_hl <= $signed(opa_q[31:16]) * $signed({1'b0, opb_q[15:0]});
+        pp_hh <= $signed(opa_q[31:16]) * $signed(opb_q[31:16]);
+        seed3 <= seed_q;
         i3  <= i2;
-        dz3 <= dz2;
+        dz3 <= dz_q;
         v3  <= v2;
         if (rst)
             v3 <= 1'b0;
     end
-
-    // ---- accumulate ----------------------------------------------------------------------------
-    reg signed [63:0] acc_q = 0;
+    wire [2:0] op3 = i3[2:0];
+    wire       is_seed3 = (op3 == OP_SEEDR || op3 == OP_SEEDS);
+    // product, first half: hh and ll do not overlap (a concatenation), the middle terms add
+    reg signed [63:0] base_q = 0;
+    reg signed [32:0] mid_q = 0;
+    reg [35:0] i3b = 0;
+    reg [4:0]  dz3b = 0;
+    reg        v3b = 1'b0;
+    always @(posedge clk) begin
+        if (is_seed3) begin
+            base_q <= $signed({{32{seed3[31]}}, seed3});
+            mid_q  <= 33'sd0;
+        end else begin
+            base_q <= $signed({pp_hh, pp_ll});
+            mid_q  <= $signed({pp_hl[31], pp_hl}) + $signed({pp_lh[31], pp_lh});
+        end
+        i3b  <= i3;
+        dz3b <= dz3;
+        v3b  <= v3;
+        if (rst)
+            v3b <= 1'b0;
+    end
+    // product, second half
+    reg signed [63:0] prod_q = 0;
     reg [35:0] i4 = 0;
     reg [4:0]  dz4 = 0;
     reg        v4 = 1'b0;
-    wire [2:0] op3 = i3[2:0];
-    wire       seed3 = (op3 == OP_SEEDR || op3 == OP_SEEDS);
     always @(posedge clk) begin
-        if (v3 && (op3 == OP_MAC || seed3))
-            acc_q <= ((i3[3] || seed3) ? 64'sd0 : acc_q) + (i3[4] ? -prod_q : prod_q);
-        i4  <= i3;
-        dz4 <= dz3;
-        v4  <= v3;
+        prod_q <= base_q + $signed({{15{mid_q[32]}}, mid_q, 16'd0});
+        i4  <= i3b;
+        dz4 <= dz3b;
+        v4  <= v3b;
         if (rst)
             v4 <= 1'b0;
     end
 
-    // ---- round and saturate --------------------------------------------------------------------
-    // the shift, sh - dyn clamped to 0..63, is computed one stage early (sh4)
-    wire [5:0] sh3 = i3[14:9];
-    wire [1:0] dyn3 = i3[8:7];
-    wire [6:0] dyn_amt = (dyn3 == 2'd1) ? {2'd0, dz3} : (dyn3 == 2'd2) ? {3'd0, dz3[4:1]} : 7'd0;
-    wire signed [7:0] sh_raw = $signed({2'b00, sh3}) - $signed({1'b0, dyn_amt});
-    reg  [5:0] sh_eff = 0;
-    always @(posedge clk)
-        sh_eff <= sh_raw[7] ? 6'd0 : sh_raw[5:0];
-    wire signed [31:0] r32;
-    wire signed [15:0] r16;
-    wire sat32, sat16;
-    sat_round #(.IW(64), .OW(32), .SW(6)) u_rnd32 (.in_i(acc_q), .sh_i(sh_eff),
-                                                   .out_o(r32), .sat_o(sat32));
-    sat_round #(.IW(64), .OW(16), .SW(6)) u_rnd16 (.in_i(acc_q), .sh_i(sh_eff),
-                                                   .out_o(r16), .sat_o(sat16));
-    reg signed [31:0] res_q = 0;
-    reg signed [15:0] res16_q = 0;
-    reg        res32_sat = 1'b0, res16_sat = 1'b0;
-    reg [35:0] i5 = 0;
-    reg        v5 = 1'b0;
+    // ---- accumulate in two 32-bit halves (the high half one edge later, with the carry);
+    // the write-back shift sh - dyn (clamped to 0..63) alongside ---------------------------------
+    reg [31:0] acc_lo = 0, acc_hi = 0, acc_lo_d = 0, px_hi = 0;
+    reg        c_lo = 1'b0, en_hi = 1'b0, clr_hi = 1'b0;
+    reg [5:0]  sh_eff = 0, sh_eff_d = 0;
+    reg [35:0] i5 = 0, i5b = 0;
+    reg        v5 = 1'b0, v5b = 1'b0;
+    wire [2:0] op4 = i4[2:0];
+    wire       is_seed4 = (op4 == OP_SEEDR || op4 == OP_SEEDS);
+    wire       en4 = v4 && (op4 == OP_MAC || is_seed4);
+    wire       clr4 = i4[3] || is_seed4;
+    wire [63:0] px = prod_q ^ {64{i4[4]}};    // -prod = ~prod + 1: the +1 is the carry in
+    wire [32:0] lo_sum = {1'b0, clr4 ? 32'd0 : acc_lo} + {1'b0, px[31:0]} + {32'd0, i4[4]};
+    wire [1:0] dyn4 = i4[8:7];
+    wire [6:0] dyn_amt = (dyn4 == 2'd1) ? {2'd0, dz4} : (dyn4 == 2'd2) ? {3'd0, dz4[4:1]} : 7'd0;
+    wire signed [7:0] sh_raw = $signed({2'b00, i4[14:9]}) - $signed({1'b0, dyn_amt});
     always @(posedge clk) begin
-        res_q     <= r32;
-        res16_q   <= r16;
-        res32_sat <= sat32;
-        res16_sat <= sat16;
-        i5 <= i4;
-        v5 <= v4;
-        if (rst)
+        if (en4)
+            acc_lo <= lo_sum[31:0];
+        c_lo   <= en4 && lo_sum[32];
+        px_hi  <= px[63:32];
+        en_hi  <= en4;
+        clr_hi <= clr4;
+        if (en_hi)
+            acc_hi <= (clr_hi ? 32'd0 : acc_hi) + px_hi + {31'd0, c_lo};
+        acc_lo_d <= acc_lo;
+        sh_eff   <= sh_raw[7] ? 6'd0 : sh_raw[5:0];
+        sh_eff_d <= sh_eff;
+        i5  <= i4;
+        v5  <= v4;
+        i5b <= i5;
+        v5b <= v5;
+        if (rst) begin
             v5 <= 1'b0;
+            v5b <= 1'b0;
+            en_hi <= 1'b0;
+        end
     end
+    wire signed [63:0] acc_q = $signed({acc_hi, acc_lo_d});
+
+    // ---- round and saturate in two stages ------------------------------------------------------
+    // rnd_shr(v, s) = (v + 2**(s-1)) >> s = ((v >> (s-1)) + 1) >> 1 for s >= 1, and
+    // ((v << 1) + 1) >> 1 = v for s = 0: shift first, then a narrow increment.
+    reg signed [65:0] t_q = 0;
+    reg [35:0] i6 = 0;
+    reg        v6 = 1'b0;
+    always @(posedge clk) begin
+        if (sh_eff_d == 6'd0)
+            t_q <= $signed({acc_q[63], acc_q, 1'b0});
+        else
+            t_q <= $signed({{2{acc_q[63]}}, acc_q}) >>> (sh_eff_d - 1'b1);
+        i6 <= i5b;
+        v6 <= v5b;
+        if (rst)
+            v6 <= 1'b0;
+    end
+    // round 2: the increment as a carry-select (two 33-bit carry chains instead of one
+    // of 66). Whether the result fits 32 or 16 bits is found alongside, from t_q:
+    // r = (t_q + 1) >>> 1 fits OW bits when X = t_q[65:OW] + c is all sign copies, where
+    // c is the carry out of t_q[OW-1:0]; X + c is uniform for X in {0, -1} (c = 0) or
+    // X in {-1, -2} (c = 1). The sign of r is the sign of t_q.
+    wire [33:0] lo_inc = {1'b0, t_q[32:0]} + 34'd1;
+    wire [32:0] hi_inc = t_q[65:33] + 33'd1;
+    wire [65:0] t_inc = {lo_inc[33] ? hi_inc : t_q[65:33], lo_inc[32:0]};
+    wire c32 = &t_q[31:0];
+    wire c16 = &t_q[15:0];
+    wire fit32 = c32 ? ((&t_q[65:32]) || (&t_q[65:33] && !t_q[32]))
+                     : ((&t_q[65:32]) || !(|t_q[65:32]));
+    wire fit16 = c16 ? ((&t_q[65:16]) || (&t_q[65:17] && !t_q[16]))
+                     : ((&t_q[65:16]) || !(|t_q[65:16]));
+    reg signed [64:0] r65_q = 0;
+    reg        fit32_q = 1'b1, fit16_q = 1'b1;
+    reg [35:0] i7 = 0;
+    reg        v7 = 1'b0;
+    always @(posedge clk) begin
+        r65_q   <= t_inc[65:1];
+        fit32_q <= fit32;
+        fit16_q <= fit16;
+        i7 <= i6;
+        v7 <= v6;
+        if (rst)
+            v7 <= 1'b0;
+    end
+    wire signed [31:0] res_q = fit32_q ? r65_q[31:0]
+                                       : (r65_q[64] ? 32'sh80000000 : 32'sh7fffffff);
+    wire signed [15:0] res16_q = fit16_q ? r65_q[15:0]
+                                         : (r65_q[64] ? 16'sh8000 : 16'sh7fff);
+    wire res32_sat = !fit32_q;
+    wire res16_sat = !fit16_q;
 
     // ---- write ------------------------------------------------------------------------------
-    wire [2:0] op5 = i5[2:0];
-    wire       wb5 = v5 && i5[5];
-    wire [5:0] dst5 = i5[33:28];
+    wire [2:0] op7 = i7[2:0];
+    wire       wb7 = v7 && i7[5];
+    wire [5:0] dst7 = i7[33:28];
     always @(posedge clk) begin
-        if (wb5 && !i5[6]) begin
-            rfa[dst5] <= res_q;
-            rfb[dst5] <= res_q;
+        if (wb7 && !i7[6]) begin
+            rfa[dst7] <= res_q;
+            rfb[dst7] <= res_q;
         end
     end
     // END reaches this stage: the program ends on the coming edge. Every earlier
     // instruction has written by then, so out_o and valid_o are final.
     always @* begin
-        done_o  = v5 && op5 == OP_END;
+        done_o  = v7 && op7 == OP_END;
         valid_o = !inval_q;
     end
     integer oi;
     always @(posedge clk) begin
-        if (wb5 && i5[6])
+        if (wb7 && i7[6])
             for (oi = 0; oi < 5; oi = oi + 1)
-                if (dst5[2:0] == oi[2:0])
+                if (dst7[2:0] == oi[2:0])
                     out_o[16*oi +: 16] <= res16_q;
-        if (wb5 && !i5[6] && res32_sat)
+        if (wb7 && !i7[6] && res32_sat)
             sat_o <= 1'b1;
         if (start_i)
             busy_o <= 1'b1;
@@ -260,8 +358,7 @@ module rls_engine #(
         busy_o = 1'b0; out_o = 0; sat_o = 1'b0;
     end
 
-    wire unused = &{1'b0, i5[35:34], i5[27:7], sh_raw[6], dz4, i5[4:3], i4[35:15], i4[6:5],
-                    i3[35:5], i2[35:3], i1[35:28], i1[20:3], instr_q[35:27], instr_q[14:3],
-                    dst5[5:3], 1'b0};
+    wire unused = &{1'b0, i7[35:34], i7[27:7], i7[4:3], sh_raw[6], t_inc[0], r65_q[63:32],
+                    1'b0};
 endmodule
 `resetall

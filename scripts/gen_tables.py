@@ -15,14 +15,20 @@ from sim.model import program, tables  # noqa: E402
 SIN_WIDTHS = (8, 10, 12, 16)
 
 
+ROM_AW = 9   # rtl/rls_engine.v ROM_AW
+
+
 def files() -> dict:
+    if len(program.ROM) > (1 << ROM_AW):
+        sys.exit(f"gen_tables: error: estimator ROM of {len(program.ROM)} words exceeds "
+                 f"2**ROM_AW = {1 << ROM_AW} (rtl/rls_engine.v)")
     out = {}
     for kind in tables.KINDS:
         out[f"phase_{kind}.hex"] = tables.hexlines(tables.phase_table(kind), tables.PHT_W)
     for w in SIN_WIDTHS:
         out[f"sine_{w}.hex"] = tables.hexlines(tables.sine_table(w), w)
     out["seeds.hex"] = tables.hexlines(tables.seed_recip() + tables.seed_isqrt(), 16)
-    rom = program.ROM + [0] * (program.ROM_DEPTH - len(program.ROM))
+    rom = program.ROM + [0] * ((1 << ROM_AW) - len(program.ROM))
     out["rls_program.hex"] = tables.hexlines(rom, program.ROM_W)
     out["rls_regfile.hex"] = tables.hexlines(program.RF_INIT, 32)
     return out

@@ -64,12 +64,15 @@ def main(argv=None):
     ap.add_argument("--out", required=True)
     ap.add_argument("--interp", type=int, default=100)
     ap.add_argument("--table", choices=["exact", "paper"], default="exact")
+    ap.add_argument("--div", type=int, default=36, help="clocks per sample (default 36)")
     ap.add_argument("--vcd", help="write the reference VCD of the core's outputs")
     args = ap.parse_args(argv)
     if not 1 <= args.interp <= 511:
         sys.exit(f"model: error: --interp must be 1..511, got {args.interp}")
     u1, u2 = read_codes(args.inp)
-    cfg = core.Config(TABLE=args.table, interp=args.interp)
+    if args.div < 1:
+        sys.exit(f"model: error: --div must be >= 1, got {args.div}")
+    cfg = core.Config(TABLE=args.table, interp=args.interp, div=args.div)
     res = core.run(u1, u2, cfg, trace=bool(args.vcd))
     write_result(args.out, res)
     if args.vcd:

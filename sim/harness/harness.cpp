@@ -129,7 +129,7 @@ int main(int argc, char **argv) {
     const long regs[][2] = {{1, interp}, {2, eps}, {3, lam_k}, {4, kappa},
                             {5, period}, {6, settle}, {7, gate}};
     const long n = (long)u1.size();
-    const long last_edge = T0 + (n - 1) * div + 16;
+    const long last_edge = T0 + (n - 1) * div + 24;
     long next = 0, written = 0;
     top->clk = 0;
     top->rst = 0;

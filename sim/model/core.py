@@ -13,7 +13,8 @@ Clock-edge timing (the RTL implements exactly this; edges are numbered from 0):
     - otherwise      -> UPDATE program on this sample (Eqs. 5-8); after the period-th
                         update since the last reset (the first time: WARMUP), a reset
                         becomes pending.
-  A program started on edge s ends (END retires, busy clears) on edge s + CYCLES[prog];
+  A program decided on edge s starts on edge s + 1 and ends (END retires, busy clears)
+  on edge s + 1 + CYCLES[prog];
   samples arriving meanwhile are not used by the estimator (they still go through the
   fast path). At the end of an UPDATE, if theta was valid and at least `settle` updates
   have ended since the last reset, the new bundle {g, m1, m2, c1, c12, c2} is committed.
@@ -28,7 +29,8 @@ import numpy as np
 from . import fastpath as fp
 from .estimator import CYCLES, Estimator
 
-PHASE_STAGE = 8      # edges from the strobe to the estimator decision (rtl/finequad_core.v)
+PHASE_STAGE = 11     # edges from the strobe to the estimator decision (rtl/estimator.v)
+START_DELAY = 1      # the engine starts on the edge after the decision (registered)
 WARMUP = 64          # updates before the first automatic reset (picks the input gain)
 G_MAX = 3            # input gain 2**g, g in 0..3 (amplitudes down to ~6 % of full scale)
 FAULT_BITS = {
@@ -133,7 +135,7 @@ def run(u1_code, u2_code, cfg: Config = Config(), strobes=None, trace=False):
             reset_pend = False
             upd = 0
             settle = 0
-            busy_until = s + CYCLES["reset"]
+            busy_until = s + START_DELAY + CYCLES["reset"]
             continue
         peak = max(peak, a1, a2)
         x1, x2 = int(u1r[k]) << g_eng, int(u2r[k]) << g_eng
@@ -162,7 +164,7 @@ def run(u1_code, u2_code, cfg: Config = Config(), strobes=None, trace=False):
         if limit and upd >= limit:
             reset_pend = True
             first = False
-        busy_until = s + CYCLES["update"]
+        busy_until = s + START_DELAY + CYCLES["update"]
         if ok and settle >= cfg.settle:
             ev_bundle.append((g_eng, *est.out))
             uncal = 0

@@ -30,9 +30,10 @@ from dataclasses import dataclass, field
 # ---- opcodes and fields (rtl/estimator.v decodes the same) -----------------------------
 OP_NOP, OP_MAC, OP_NORMR, OP_NORMS, OP_SEEDR, OP_SEEDS, OP_CHK, OP_END = range(8)
 DYN_NONE, DYN_DZ, DYN_DZ2 = range(3)
+FIXED_ENTRY = {"reset": 0, "update": 32}   # rtl/estimator.v ENTRY_RESET, ENTRY_UPDATE
 ROM_W = 36                     # instruction word width (34 bits used)
 RF_DEPTH = 64                  # register file depth
-HAZARD = 6                     # a register written by the instruction in slot p may be
+HAZARD = 10                    # a register written by the instruction in slot p may be
                                # read by the instruction in slot p + HAZARD or later
 
 # Special B-operand inputs (index >= 64), latched by the engine at program start.
@@ -344,6 +345,10 @@ def build():
     regs = allocate(progs.values())
     rom, entry = [], {}
     for name, p in progs.items():
+        if name in FIXED_ENTRY:
+            if len(rom) > FIXED_ENTRY[name]:
+                raise ValueError(f"program before '{name}' overlaps its entry {FIXED_ENTRY[name]}")
+            rom += [encode(Instr(OP_NOP), regs)] * (FIXED_ENTRY[name] - len(rom))
         entry[name] = len(rom)
         rom += [encode(i, regs) for i in schedule(p)]
     init = [0] * RF_DEPTH

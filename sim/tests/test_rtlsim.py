@@ -11,26 +11,35 @@ from sim.run_model import write_codes
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 
 
-@pytest.mark.parametrize("table,interp,seed", [("exact", 100, 1), ("paper", 100, 2),
-                                               ("exact", 256, 3), ("exact", 7, 4)])
-def test_rtlsim_equals_model(tmp_path, table, interp, seed):
-    n = 40000
-    x = siggen.s_curve(n, 1e6, 60e3, 0.03, t_start=0.003)
-    x += siggen.s_curve(n, 1e6, -25e3, 0.005, t_start=0.034)
-    sig = siggen.Signal(A1=0.3 + 0.1 * seed, A2=0.28 + 0.1 * seed, noise=0.004 * seed)
+@pytest.mark.parametrize("table,interp,seed,div", [("exact", 100, 1, 36), ("paper", 100, 2, 36),
+                                                   ("exact", 256, 3, 36), ("exact", 7, 4, 36),
+                                                   ("exact", 100, 5, 1), ("paper", 50, 6, 3)])
+def test_rtlsim_equals_model(tmp_path, table, interp, seed, div):
+    """div = 1: a sample on every clock (the fast path's rate); every edge offset of the
+    estimator's hand-over relative to the samples occurs."""
+    # long enough in clocks for the estimator to calibrate (a commit needs ~330 updates
+    # of ~400 clocks) and to re-estimate many times afterwards
+    n = max(40000, 240000 // div)
+    fs = 1e6 * n / 40000
+    x = siggen.s_curve(n, fs, 60e3, 0.03, t_start=0.003)
+    x += siggen.s_curve(n, fs, -25e3, 0.005, t_start=0.034)
+    sig = siggen.Signal(A1=0.3 + 0.1 * (seed % 4), A2=0.28 + 0.1 * (seed % 4), noise=0.004 * seed)
     u1, u2, _ = siggen.encode(x, 4000.0, sig, seed=seed)
     write_codes(tmp_path / "in.csv", u1, u2)
     outs = {}
     for target in ("rtlsim", "model"):
         out = tmp_path / f"{target}.csv"
         subprocess.run(["make", "-s", "-C", str(ROOT), target, f"IN={tmp_path / 'in.csv'}",
-                        f"OUT={out}", f"INTERP={interp}", f"TABLE={table}"], check=True)
+                        f"OUT={out}", f"INTERP={interp}", f"TABLE={table}", f"DIV={div}"],
+                       check=True)
         outs[target] = np.loadtxt(out, delimiter=",", skiprows=1, dtype=np.int64)
     r, m = outs["rtlsim"], outs["model"]
     assert r.shape == (n, 4)
     diff = np.nonzero((r != m).any(axis=1))[0]
     assert len(diff) == 0, f"first difference at sample {diff[0]}: rtl {r[diff[0]]} model {m[diff[0]]}"
     assert np.abs(np.diff(r[:, 0])).max() > 0      # the counter moved
+    uncal = (r[:, 3] >> 4) & 1
+    assert uncal[0] == 1 and uncal[-1] == 0        # the coefficients were handed over
 
 
 def test_rtlsim_rejects_bad_input(tmp_path):
