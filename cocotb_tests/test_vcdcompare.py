@@ -202,14 +202,23 @@ def test_vcdref_timing_and_names(tmp_path):
     assert f"{SCOPE}.m_count" in names and f"{SCOPE}.u_lut.phase_o" in names
     v = VCDVCD(path)
     assert f"{SCOPE}.m_count[31:0]" in v.signals and f"{SCOPE}.m_valid" in v.signals
-    P, L = vcdref.PERIOD_PS, vcdref.LATENCY
+    tm = vcdref.rtl_timing()
+    P, L = vcdref.PERIOD_PS, tm["LATENCY"]
     rise = [t for t, x in v[f"{SCOPE}.m_valid"].tv if x == "1"]
     assert rise == [(16 + 5 * k + L) * P for k in range(n)]
     # div=5: one-cycle windows with gaps; phase_o is x in the gaps
     ph = v[f"{SCOPE}.u_lut.phase_o[12:0]"].tv
     assert ph[0] == (0, "x")
-    t_ph = 16 + vcdref.PHASE_AT
+    t_ph = 16 + tm["PHASE_AT"]
     assert ph[1] == (t_ph * P, format(int(res["phase"][0]), "b"))
     assert ph[2] == ((t_ph + 1) * P, "x")
     rc, out, err = run(path, path)
     assert rc == 0, out + err
+    # one cycle more latency on the ports: caught at sample 0's m_valid
+    late = dict(tm, LATENCY=L + 1)
+    path2 = str(tmp_path / "late.vcd")
+    vcdref.write(path2, res, cfg, timing=late)
+    rc, out, _ = run(path2, path, "--period-ps", P)
+    assert rc == 1
+    assert out.splitlines()[0].endswith(
+        f"first divergence at t={(16 + L) * P} ps (edge {16 + L}) in {SCOPE}.m_valid")

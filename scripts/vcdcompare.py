@@ -28,6 +28,7 @@ import argparse
 import os
 import re
 import sys
+from array import array
 from decimal import Decimal
 
 try:
@@ -115,20 +116,13 @@ class Vcd:
         return lambda v: _norm(v, w)
 
     def load(self, refs, mult):
-        """Store the value changes of refs in self.tv: {ref: [(time in common units,
-        value), ...]}, the last change per time only."""
-        data = self._parse(signals=list(refs), store_tvs=True)
+        """Store the value changes of refs in self.tv: {ref: (times, values)} in common
+        time units, the last change per time only. Collected through parser callbacks
+        into compact arrays (repeated values shared), not vcdvcd's per-change tuples."""
+        col = _Collect({r: self.normaliser(r) for r in refs}, mult)
+        self._parse(signals=list(refs), store_tvs=False, callbacks=col)
         for ref in refs:
-            norm = self.normaliser(ref)
-            out = []
-            for t, v in data[ref].tv:
-                t = t * mult
-                val = norm(v)
-                if out and out[-1][0] == t:
-                    out[-1] = (t, val)
-                else:
-                    out.append((t, val))
-            self.tv[ref] = out
+            self.tv[ref] = col.tv[col.ident[ref]]
 
     def stream(self, comparisons, mult, early=False):
         """Parse the whole file, feeding the value changes of the compared signals (this
@@ -216,7 +210,8 @@ class Comparison:
 
     def __init__(self, ref_name, rtl_name, ref_tv, width, strict_x):
         self.ref_name, self.rtl_name = ref_name, rtl_name
-        self.b, self.j = ref_tv, 0
+        self.bt, self.bv = ref_tv               # reference change times and values
+        self.j = 0
         self.width, self.strict_x = width, strict_x
         self.va = self.vb = None             # None: no value yet (x)
         self.first = None                    # (t, rtl value, ref value)
@@ -240,24 +235,57 @@ class Comparison:
 
     def rtl_change(self, t, v):
         """The RTL's value from time t on (the last change at t), times increasing."""
-        b, j = self.b, self.j
-        while j < len(b) and b[j][0] < t:
-            self.vb = b[j][1]
+        bt, bv, j = self.bt, self.bv, self.j
+        n = len(bt)
+        while j < n and bt[j] < t:
+            self.vb = bv[j]
             self.j = j = j + 1
-            self._check(b[j - 1][0])
-        if j < len(b) and b[j][0] == t:
-            self.vb = b[j][1]
+            self._check(bt[j - 1])
+        if j < n and bt[j] == t:
+            self.vb = bv[j]
             self.j = j + 1
         self.va = v
         self._check(t)
 
     def finish(self, until=None):
         """Compare the reference's remaining changes (up to time `until`)."""
-        b = self.b
-        while self.j < len(b) and (until is None or b[self.j][0] <= until):
-            self.vb = b[self.j][1]
+        bt, bv = self.bt, self.bv
+        while self.j < len(bt) and (until is None or bt[self.j] <= until):
+            self.vb = bv[self.j]
             self.j += 1
-            self._check(b[self.j - 1][0])
+            self._check(bt[self.j - 1])
+
+
+class _Collect(StreamParserCallbacks):
+    """vcdvcd callbacks storing value changes per identifier code as (array of times,
+    list of values)."""
+
+    def __init__(self, norm_of_ref, mult):
+        self.norm_of_ref, self.mult = norm_of_ref, mult
+        self.ident, self.norm, self.tv, self.cache = {}, {}, {}, {}
+
+    def enddefinitions(self, vcd, signals, cur_sig_vals):
+        for ref, norm in self.norm_of_ref.items():
+            i = vcd.references_to_ids[ref]
+            self.ident[ref] = i
+            self.norm[i] = norm
+            self.tv[i] = (array("q"), [])
+            self.cache[i] = {}
+
+    def value(self, vcd, time, value, identifier_code, cur_sig_vals):
+        t = time * self.mult
+        ts, vs = self.tv[identifier_code]
+        cache = self.cache[identifier_code]
+        v = cache.get(value)
+        if v is None:
+            v = self.norm[identifier_code](value)
+            if len(cache) < 4096:            # share repeated values, bounded
+                cache[value] = v
+        if ts and ts[-1] == t:
+            vs[-1] = v
+        else:
+            ts.append(t)
+            vs.append(v)
 
 
 class _Stop(Exception):
@@ -430,9 +458,9 @@ def run(args):
              for r, q in pairs]
     st = rtl.stream(comps, m_rtl, early=not args.all)
     tmax = st.tmax
-    for tv in ref.tv.values():
-        if tv:
-            tmax = max(tmax, tv[-1][0])
+    for ts, _ in ref.tv.values():
+        if ts:
+            tmax = max(tmax, ts[-1])
 
     def when(t):
         """Time t (in units of `base` fs, or raw ticks) as text in the RTL's time unit."""

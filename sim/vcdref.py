@@ -10,15 +10,18 @@ unit 1 ps, edge e (rising clk) at e * PERIOD_PS.
 
 Timing (rtl/finequad_core.v and its blocks; the harness never asserts rst): sample k is
 strobed on edge t_k = t0 + k * cfg.div and its results are registered on edge t_k + L,
-where L is the stage latency below (names as the RTL's localparams). All these signals
-change only on rising edges.
+where L is the stage latency below. The model computes values, not fast-path latencies,
+so these come from the core's declared pipeline: the localparams CORR_AT, PHASE_AT, AB_AT
+and LATENCY of rtl/finequad_core.v (rtl_timing()); the two lut-internal offsets are fixed by
+rtl/lut.v. A comparison therefore checks that the RTL's registers follow its declared
+latencies and hold the model's values. All these signals change only on rising edges.
 
-    CORR_AT  = 4                        correct: gain, offsets, products, round
-    PHASE_AT = core.PHASE_STAGE - 1     lut phase_o (the estimator decides one edge later)
-    OCT_AT   = PHASE_AT - 2             octant outputs (lut: +1 phase table, +2 phase_o)
-    PN_AT    = PHASE_AT + 2             lut pn_o and sines (+3 pn, +4 sine table)
-    AB_AT    = PHASE_AT + 3             pulse
-    LATENCY  = AB_AT + 3                counter, m_* ports
+    CORR_AT                 correct outputs (gain, offsets, products, round)
+    OCT_AT   = PHASE_AT - 2 octant outputs (lut: +1 phase table, +2 phase_o)
+    PHASE_AT                lut phase_o
+    PN_AT    = PHASE_AT + 2 lut pn_o and sines (+3 n * phase, +4 sine table)
+    AB_AT                   pulse
+    LATENCY                 counter, m_* ports
 
     signal                          L         kind
     s_valid                         0         valid       high for one cycle from edge t_k
@@ -58,6 +61,9 @@ Harness quirk reproduced: the harness dumps at time 0 before edge 0 and Verilato
 the second dump at time 0 (after edge 0), so a change on edge 0 first shows at
 PERIOD_PS / 2. Only s_valid with t0 = 0 can be affected.
 """
+import os
+import re
+
 import numpy as np
 from vcd import VCDWriter
 
@@ -68,18 +74,33 @@ T0 = 16                  # edge of the first strobe in the harness
 SCOPE = "TOP.finequad_core"
 X = -1                   # value code for 'x' in the event arrays
 
-# edges from the strobe to the register that holds each stage's result (module docstring)
-CORR_AT = 4
-PHASE_AT = core.PHASE_STAGE - 1
-OCT_AT = PHASE_AT - 2
-PN_AT = PHASE_AT + 2
-AB_AT = PHASE_AT + 3
-LATENCY = AB_AT + 3
-TIMING = dict(CORR_AT=CORR_AT, OCT_AT=OCT_AT, PHASE_AT=PHASE_AT, PN_AT=PN_AT, AB_AT=AB_AT,
-              LATENCY=LATENCY)
+RTL_TOP = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
+                       "rtl", "finequad_core.v")
+RTL_LOCALPARAMS = ("CORR_AT", "PHASE_AT", "AB_AT", "LATENCY")
+
+
+def rtl_timing(path=RTL_TOP):
+    """Edges from the strobe to each stage's result register: the localparams of
+    rtl/finequad_core.v, plus OCT_AT and PN_AT derived through rtl/lut.v's fixed stages."""
+    try:
+        with open(path) as f:
+            src = f.read()
+    except OSError as e:
+        raise FileNotFoundError(f"vcdref: cannot read the core's pipeline localparams from "
+                                f"'{path}' ({e.strerror}); pass timing= explicitly") from e
+    tm = {}
+    for k in RTL_LOCALPARAMS:
+        m = re.search(rf"\blocalparam\s+(?:integer\s+)?{k}\s*=\s*(\d+)\s*;", src)
+        if not m:
+            raise ValueError(f"vcdref: '{path}' declares no 'localparam {k} = <int>;'")
+        tm[k] = int(m.group(1))
+    tm["OCT_AT"] = tm["PHASE_AT"] - 2
+    tm["PN_AT"] = tm["PHASE_AT"] + 2
+    return tm
+
 
 # name (relative to SCOPE), width (int, or the Config field giving it), kind, latency (a
-# TIMING key, or 0), source: key of res, or a callable res -> array
+# key of rtl_timing(), or 0), source: key of res, or a callable res -> array
 SIGNALS = [
     ("s_valid", 1, "valid", 0, None),
     ("u_correct.valid_o", 1, "valid", "CORR_AT", None),
@@ -150,15 +171,16 @@ def write(path, res, cfg, t0=T0, period_ps=PERIOD_PS, strobes=None, signals=None
           timing=None):
     """Write the reference VCD of the core to `path`.
 
-    res: sim.model.core.run(..., trace=True) (without trace only the m_* ports and the
-    pulse/counter signals that need no trace arrays are written); cfg: core.Config (div,
+    res: sim.model.core.run(..., trace=True) (without trace, the signals needing a trace
+    array -- u1c, phase, illegal_count, ... -- are left out); cfg: core.Config (div,
     COUNT_W); strobes: the strobe edges if not t0 + k * cfg.div; signals: restrict to these
-    names (relative to TOP.finequad_core); timing: overrides of TIMING entries. Returns
-    the list of full signal names written."""
-    tm = dict(TIMING, **(timing or {}))
-    unknown = set(timing or {}) - set(TIMING)
-    if unknown:
-        raise KeyError(f"vcdref: unknown timing keys {sorted(unknown)}; known: {sorted(TIMING)}")
+    names (relative to TOP.finequad_core); timing: stage edges (keys of rtl_timing(), all
+    of them) instead of those read from rtl/finequad_core.v. Returns the list of full
+    signal names written."""
+    tm = rtl_timing() if timing is None else dict(timing)
+    need = set(RTL_LOCALPARAMS) | {"OCT_AT", "PN_AT"}
+    if set(tm) != need:
+        raise KeyError(f"vcdref: timing needs exactly the keys {sorted(need)}, got {sorted(tm)}")
     n = len(res["count"])
     t = (np.asarray(strobes, dtype=np.int64) if strobes is not None
          else t0 + cfg.div * np.arange(n, dtype=np.int64))
@@ -196,7 +218,7 @@ def write(path, res, cfg, t0=T0, period_ps=PERIOD_PS, strobes=None, signals=None
 
     comment = ("finequad_core reference from the bit-true model (sim/vcdref.py); "
                f"strobes t0={int(t[0]) if n else t0} div={cfg.div}, edge e at e*{period_ps} ps; "
-               f"result registers at strobe + {', '.join(f'{k}={v}' for k, v in tm.items())}; "
+               f"result registers at strobe + {', '.join(f'{k}={e}' for k, e in tm.items())}; "
                "x = not modelled (value only defined on the cycle carrying a sample)")
     with open(path, "w") as f:
         w = VCDWriter(f, timescale="1 ps", date="", comment=comment,
