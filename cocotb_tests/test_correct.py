@@ -1,7 +1,7 @@
 """correct: input gain and Eq. 9 against sim.model.fastpath.normalize + correct.
 
-Latency 4: a sample (with its coefficient bundle) presented on edge e is on the outputs
-after edge e + 3. Samples are streamed back to back (one per clock) and with idle gaps
+Latency 5 (rtl/correct.v): a sample (with its coefficient bundle) presented on edge e is on
+the outputs after edge e + 4. Samples are streamed back to back (one per clock) and with idle gaps
 (during which the data inputs carry garbage)."""
 import random
 
@@ -18,7 +18,7 @@ def test_correct(sim):
 # ---- cocotb side ------------------------------------------------------------------------
 import cocotb  # noqa: E402
 
-LATENCY = 4
+LATENCY = 5
 S16 = (-32768, 32767)
 BUNDLE0 = (0, 0, 0, 8192, 0, 8192)      # g, m1, m2, c1, c12, c2 (reset values)
 

@@ -4,7 +4,7 @@ Each scenario is a generated encoder recording (sim/siggen.py: s-curve moves, im
 signals, 0.5 % noise) driven sample by sample with the model's timing contract
 (sim/model/core.py): registers 1..7 (interp, eps, lam_k, kappa, period, settle, gate) are
 written on edges 0..6 as the C++ harness does, sample k is strobed (s_valid high for one
-clock) on edge t_k, and its result must be on m_* after edge t_k + OUT_LATENCY (14, the
+clock) on edge t_k, and its result must be on m_* after edge t_k + OUT_LATENCY (15, the
 latency in rtl/finequad_core.v) and m_valid high after exactly those edges. count, a, b and fault of
 every sample must equal the model's.
 
@@ -28,7 +28,9 @@ whose estimator decision (edge t_k + PHASE_STAGE, sim.model.core.PHASE_STAGE) is
 to see the request. A write on edge w is seen by decisions on edges w + 1 and later, so it
 belongs to sample k exactly when t_(k-1) + PHASE_STAGE <= w <= t_k + PHASE_STAGE - 1. The
 test writes requests alternately on the latest edge of that window (t_k + PHASE_STAGE - 1)
-and on the earliest (t_(k-1) + PHASE_STAGE), during motion and during standstill.
+and on the earliest (t_(k-1) + PHASE_STAGE), at samples where attributing the request to
+the neighbouring sample (k + 1, resp. k - 1) would change the model's outputs, so an
+off-by-one edge in the RTL cannot pass.
 """
 import os
 
@@ -38,23 +40,24 @@ import fqtb
 
 CORE_SOURCES = ("finequad_core", "correct", "octant", "lut", "pulse", "counter",
                 "estimator", "rls_engine", "sat_round")
-# rtl/finequad_core.v (LATENCY): a sample strobed on edge t is on m_* after edge t + 14
-OUT_LATENCY = 14
+# rtl/finequad_core.v (LATENCY): a sample strobed on edge t is on m_* after edge t + 15
+OUT_LATENCY = 15
 T_FIRST = 16                # first strobe edge (sim/harness/harness.cpp)
 REG_ORDER = ("interp", "eps", "lam_k", "kappa", "period", "settle", "gate")   # addr 1..7
 
-# samples per simulator: Icarus is some 20x slower than Verilator here
+# samples per simulator: Icarus simulates this core at some 10k clocks/s, Verilator with
+# cocotb some 20x faster
 SCENARIOS = {
-    "uniform": dict(exact=1, n={"icarus": 16000, "verilator": 60000},
+    "uniform": dict(exact=1, n={"icarus": 7000, "verilator": 40000},
                     regs=dict(interp=100, eps=1638, lam_k=8, kappa=64 << 8, period=4096,
                               settle=64, gate=64)),
-    "gaps": dict(exact=1, n={"icarus": 12000, "verilator": 30000},
+    "gaps": dict(exact=1, n={"icarus": 8000, "verilator": 30000},
                  regs=dict(interp=256, eps=3000, lam_k=6, kappa=32 << 8, period=200,
                            settle=16, gate=40)),
-    "paper": dict(exact=0, n={"icarus": 8000, "verilator": 30000},
+    "paper": dict(exact=0, n={"icarus": 6000, "verilator": 30000},
                   regs=dict(interp=7, eps=1638, lam_k=8, kappa=64 << 8, period=4096,
                             settle=32, gate=64)),
-    "reset_req": dict(exact=1, n={"icarus": 8000, "verilator": 20000},
+    "reset_req": dict(exact=1, n={"icarus": 5000, "verilator": 20000},
                       regs=dict(interp=100, eps=1000, lam_k=9, kappa=100 << 8, period=0,
                                 settle=24, gate=48)),
 }
@@ -112,13 +115,47 @@ def recording(scenario, n):
         t = T_FIRST + div * np.arange(n, dtype=np.int64)
     requests = []
     if scenario == "reset_req":
-        from sim.model.core import PHASE_STAGE
-        ks = [n // 5, n // 2 + 7, int(n * 0.58), int(n * 0.97)]
-        for i, k in enumerate(ks):
-            # alternately the latest and the earliest write edge that belongs to sample k
-            w = int(t[k]) + PHASE_STAGE - 1 if i % 2 == 0 else int(t[k - 1]) + PHASE_STAGE
-            requests.append((k, w))
+        requests = pick_requests(u1, u2, t)
     return u1.astype(np.int64), u2.astype(np.int64), t.astype(np.int64), requests
+
+
+def _config(scenario, resets):
+    from sim.model import core
+    sc = SCENARIOS[scenario]
+    return core.Config(TABLE="exact" if sc["exact"] else "paper", resets=list(resets),
+                       **sc["regs"])
+
+
+def pick_requests(u1, u2, t):
+    """Reset requests [(sample k, write edge w)] that the outputs can tell apart from the
+    neighbouring sample: one on the latest edge that belongs to k (t_k + PHASE_STAGE - 1,
+    one edge later would be sample k + 1), one on the earliest (t_(k-1) + PHASE_STAGE, one
+    edge earlier would be sample k - 1), alternately, during the moves (near 15 %, 30 %,
+    70 % and 80 % of the recording)."""
+    import numpy as np
+    from sim.model import core
+
+    n = len(u1)
+
+    def outputs(resets):
+        r = core.run(u1, u2, _config("reset_req", resets), strobes=t)
+        return np.stack([r["count"], r["a"], r["b"], r["fault"]])
+
+    chosen = []
+    for i, frac in enumerate((0.15, 0.3, 0.7, 0.8)):
+        latest = i % 2 == 0
+        base = [k for k, _ in chosen]
+        for k in range(int(n * frac), int(n * frac) + 100):
+            alt = k + 1 if latest else k - 1
+            if not (outputs(base + [k]) == outputs(base + [alt])).all():
+                w = int(t[k]) + core.PHASE_STAGE - 1 if latest else \
+                    int(t[k - 1]) + core.PHASE_STAGE
+                chosen.append((k, w))
+                break
+        else:
+            raise RuntimeError(f"no reset request near {frac} of the recording changes the "
+                               "outputs when moved by one sample")
+    return chosen
 
 
 def model_run(scenario, n):
@@ -127,12 +164,10 @@ def model_run(scenario, n):
     from sim.model import core
     from sim.model.estimator import CYCLES
 
-    sc = SCENARIOS[scenario]
     u1, u2, t, requests = recording(scenario, n)
     start_delay = getattr(core, "START_DELAY", 0)
     t_ph = int(t[-1]) + core.PHASE_STAGE + start_delay + max(CYCLES.values()) + 16
-    cfg = core.Config(TABLE="exact" if sc["exact"] else "paper",
-                      resets=[k for k, _ in requests] + [n], **sc["regs"])
+    cfg = _config(scenario, [k for k, _ in requests] + [n])
     res = core.run(np.append(u1, u1[-1]), np.append(u2, u2[-1]), cfg,
                    strobes=np.append(t, t_ph), trace=True)
     return u1, u2, t, requests, t_ph, res
