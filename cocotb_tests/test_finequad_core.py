@@ -82,28 +82,30 @@ def recording(scenario, n):
 
     fs, pitch = 1e6, 20.0
     T = n / fs
+    sc = n / 20000          # distances scale with the length: the same speeds for any n
     seed = {"uniform": 1, "gaps": 2, "paper": 3, "reset_req": 4}[scenario]
     if scenario == "uniform":
-        moves = [(160, 0.5 * T, 0.05 * T), (-120, 0.25 * T, 0.6 * T)]
+        moves = [(160, 0.5, 0.05), (-120, 0.25, 0.6)]       # (um, duration, start) / T
         sig = siggen.Signal()
     elif scenario == "gaps":
-        moves = [(150, 0.5 * T, 0.05 * T), (-100, 0.25 * T, 0.6 * T)]
+        moves = [(90, 0.5, 0.05), (-60, 0.25, 0.6)]
         sig = siggen.Signal(A1=0.2, A2=0.18, m1=0.012, m2=-0.01, phi=-0.05)
     elif scenario == "paper":
-        moves = [(300, 0.6 * T, 0.05 * T)]
+        moves = [(300, 0.6, 0.05)]
         sig = siggen.Signal(A1=0.45, A2=0.5, m1=-0.02, m2=0.025, phi=0.1)
     else:
-        moves = [(140, 0.4 * T, 0.05 * T), (60, 0.2 * T, 0.65 * T)]
+        moves = [(140, 0.4, 0.05), (60, 0.2, 0.65)]
         sig = siggen.Signal(A1=0.5, A2=0.55)
     x = np.zeros(n)
     for dist, t_move, t_start in moves:
-        x = x + siggen.s_curve(n, fs, dist, t_move, t_start)
+        x = x + siggen.s_curve(n, fs, dist * sc, t_move * T, t_start * T)
     u1, u2, _ = siggen.encode(x, pitch, sig, seed=seed)
     rng = np.random.default_rng(seed + 100)
     if scenario == "gaps":
-        # rail spikes: clip flags, gain saturation while g = 1, offset/correction saturation
-        for _ in range(max(4, n // 800)):
-            k = int(rng.integers(n // 10, n - 10))
+        # rail spikes in the second half (after the small signals got input gain 2): clip
+        # flags, gain saturation, offset/correction saturation
+        for _ in range(max(4, n // 1000)):
+            k = int(rng.integers(n // 2, n - 10))
             ln = int(rng.integers(1, 4))
             u1[k:k + ln] = rng.choice([32767, -32768])
             if rng.random() < 0.5:
