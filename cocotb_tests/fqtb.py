@@ -68,9 +68,19 @@ def param_tag(params: dict) -> str:
 VLT_RUNTIME = ("verilated", "verilated_vpi", "verilated_threads", "verilated_dpi")
 
 
+def _tool_versions() -> bytes:
+    """What a build depends on besides its sources: cocotb and the Verilator kit."""
+    import cocotb
+    v = [cocotb.__version__]
+    cfg = Path(os.environ.get("VERILATOR_ROOT", "")) / "include" / "verilated_config.h"
+    if cfg.is_file():
+        v.append(cfg.read_text())
+    return "\n".join(v).encode()
+
+
 def _vlt_key(build_dir: Path) -> str:
     import hashlib
-    h = hashlib.sha1()
+    h = hashlib.sha1(_tool_versions())
     for name in ("Vtop_classes.mk", "Vtop.mk"):
         f = build_dir / name
         if f.is_file():
@@ -128,6 +138,7 @@ def _patch_verilator(runner):
 def _stamp(sim, toplevel, srcs, parameters, build_args) -> str:
     import hashlib
     h = hashlib.sha1(repr((sim, toplevel, sorted(parameters.items()), build_args)).encode())
+    h.update(_tool_versions())
     for s in srcs:
         h.update(Path(s).read_bytes())
     return h.hexdigest()
