@@ -64,5 +64,17 @@ test: deps lint harnesses ## all tests: lint, table check, model tests, cocotb (
 	$(PY) scripts/gen_tables.py --check
 	$(PY) -m pytest -q sim/tests cocotb_tests
 
+VCDCMP  ?= $(BUILD)/vcdcompare
+SAMPLES ?= 20000
+VCDCMP_IN = $(if $(SAMPLES),$(VCDCMP)/in.csv,$(IN))
+
+vcdcompare: deps ## RTL VCD vs the model's reference VCD: IN=in.csv INTERP=n [TABLE=paper] [DIV=d] [SAMPLES=n, empty: all]
+	@mkdir -p $(VCDCMP)
+	@test -f $(IN) || { echo "vcdcompare: error: input '$(IN)' not found (run make demo or give IN=)" >&2; exit 2; }
+	$(if $(SAMPLES),head -n $$(( $(SAMPLES) + 1 )) $(IN) > $(VCDCMP_IN))
+	$(MAKE) --no-print-directory rtlsim IN=$(VCDCMP_IN) OUT=$(VCDCMP)/rtl.csv VCD=$(VCDCMP)/rtl.vcd
+	$(MAKE) --no-print-directory model IN=$(VCDCMP_IN) OUT=$(VCDCMP)/model.csv VCD=$(VCDCMP)/ref.vcd
+	$(PY) scripts/vcdcompare.py $(VCDCMP)/rtl.vcd $(VCDCMP)/ref.vcd --period-ps 27778
+
 clean:           ## remove build products
 	rm -rf $(BUILD) sim_build cocotb_tests/sim_build
