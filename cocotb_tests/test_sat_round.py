@@ -19,10 +19,8 @@ def test_sat_round(sim, iw, ow, sw):
 
 @pytest.mark.parametrize("sim", fqtb.SIMULATORS)
 def test_sat_round_shift_past_width(sim):
-    """KNOWN RTL BUG (kept visible, see sat_round_shift_past_width): with a shift amount
-    sh > IW the rounding constant 2**(sh-1) overflows the IW+1-bit adder, e.g. IW=12:
-    in=0, sh=13 gives out=-1 where the model gives 0. No instance of the core can shift
-    that far (rls_engine: IW=64, sh<=63; correct: IW=33, sh=13)."""
+    """Shift amounts beyond the input width (sh > IW): the rounding constant 2**(sh-1)
+    must not overflow the adder (IW=12: in=0, sh=13 once gave -1 instead of 0)."""
     fqtb.run_block(sim, "sat_round", fqtb.sources("sat_round"), "test_sat_round",
                    parameters=dict(IW=12, OW=8, SW=4), testcase="sat_round_shift_past_width")
 
@@ -107,12 +105,10 @@ async def sat_round_all(dut):
     await check(dut, [(v, sh) for v, sh in vec if sh <= iw])
 
 
-@cocotb.test(expect_fail=True)
+@cocotb.test()
 async def sat_round_shift_past_width(dut):
-    """sh > IW: known mismatch (the test passes while the RTL bug is there and fails, as a
-    reminder to drop expect_fail, once it is fixed)."""
+    """sh > IW agrees with the model."""
     iw, ow, sw = len(dut.in_i), len(dut.out_o), len(dut.sh_i)
-    if (1 << sw) - 1 <= iw:   # not an AssertionError: that would count as the expected one
-        raise RuntimeError("this parameter set cannot shift past the input width")
+    assert (1 << sw) - 1 > iw, "this parameter set cannot shift past the input width"
     vec = sat_vectors(iw, ow, sw) + vectors(iw, sw, 3000, seed=7)
     await check(dut, [(v, sh) for v, sh in vec if sh > iw])

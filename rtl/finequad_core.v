@@ -76,10 +76,9 @@ module finequad_core #(
                 default: ;
             endcase
         end
-        if (m_valid)
-            r_sticky <= r_sticky | m_fault;
-        if (reg_we && reg_addr == 5'h0a)
-            r_sticky <= (r_sticky | (m_valid ? m_fault : 6'd0)) & ~reg_wdata[5:0];
+        // write 1 to clear; a fault arriving on the same edge stays set
+        r_sticky <= (r_sticky & ~((reg_we && reg_addr == 5'h0a) ? reg_wdata[5:0] : 6'd0))
+                    | (m_valid ? m_fault : 6'd0);
         if (rst) begin
             r_interp <= 9'd100; r_eps <= 16'd1638; r_lam_k <= 5'd8; r_kappa <= 16'h4000;
             r_period <= 16'd4096; r_settle <= 10'd256; r_gate <= 13'd64;
