@@ -40,6 +40,7 @@ lint: deps       ## verilator --lint-only -Wall on the core
 	    /usr/bin/verilator --lint-only -Wall -Irtl --top-module finequad_core $(RTL); fi
 
 $(HARNESS): $(RTL) sim/harness/harness.cpp $(wildcard rtl/tables/*.hex) | deps
+	@mkdir -p $(BUILD)/rtlsim_$(TABLE)
 	$(VERILATOR) --cc --exe --build -O3 --trace -Wno-fatal -j 2 \
 	    -GTABLE_DIR='"$(CURDIR)/rtl/tables/"' -GTABLE_EXACT=$(TABLE_EXACT) \
 	    -CFLAGS -DADC_W=16 -CFLAGS -O2 --top-module finequad_core \
