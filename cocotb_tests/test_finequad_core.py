@@ -4,8 +4,8 @@ Each scenario is a generated encoder recording (sim/siggen.py: s-curve moves, im
 signals, 0.5 % noise) driven sample by sample with the model's timing contract
 (sim/model/core.py): registers 1..7 (interp, eps, lam_k, kappa, period, settle, gate) are
 written on edges 0..6 as the C++ harness does, sample k is strobed (s_valid high for one
-clock) on edge t_k, and its result must be on m_* after edge t_k + LATENCY (the localparam
-of rtl/finequad_core.v, 15 at the time of writing), with m_valid high after exactly those
+clock) on edge t_k, and its result must be on m_* after edge t_k + LATENCY (the constant
+of sim/model/core.py, which rtl/finequad_core.v declares), with m_valid high after exactly those
 edges. count, a, b and fault of every sample must equal the model's.
 
 Scenarios (one simulator process each, from power-up):
@@ -37,25 +37,13 @@ import os
 import pytest
 
 import fqtb
+from sim.model import core as core_model
 
 CORE_SOURCES = ("finequad_core", "correct", "octant", "lut", "pulse", "counter",
                 "estimator", "rls_engine", "sat_round")
 
 
-def declared_latency(default=15):
-    """The output latency the core declares (rtl/finequad_core.v: localparam LATENCY): a
-    sample strobed on edge t is on m_* after edge t + LATENCY. The test holds the RTL to
-    it exactly; reading it keeps the test in step when the pipeline is re-timed."""
-    import re
-    try:
-        src = (fqtb.RTL / "finequad_core.v").read_text()
-    except OSError:
-        return default
-    m = re.search(r"\blocalparam\s+(?:integer\s+)?LATENCY\s*=\s*(\d+)\s*;", src)
-    return int(m.group(1)) if m else default
-
-
-OUT_LATENCY = declared_latency()
+OUT_LATENCY = core_model.LATENCY   # sim/model/core.py: the pipeline timing the RTL must have
 T_FIRST = 16                # first strobe edge (sim/harness/harness.cpp)
 REG_ORDER = ("interp", "eps", "lam_k", "kappa", "period", "settle", "gate")   # addr 1..7
 

@@ -8,7 +8,6 @@ import subprocess
 import sys
 
 import numpy as np
-import pytest
 from vcd import VCDWriter
 from vcdvcd import VCDVCD
 

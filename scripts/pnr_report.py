@@ -5,7 +5,6 @@
 """
 import argparse
 import json
-import re
 import sys
 
 CELLS = {"LUTs": "ICESTORM_LC", "DSPs": "ICESTORM_DSP", "BRAMs": "ICESTORM_RAM",

@@ -11,10 +11,9 @@ unit 1 ps, edge e (rising clk) at e * PERIOD_PS.
 Timing (rtl/finequad_core.v and its blocks; the harness never asserts rst): sample k is
 strobed on edge t_k = t0 + k * cfg.div and its results are registered on edge t_k + L,
 where L is the stage latency below. The model computes values, not fast-path latencies,
-so these come from the core's declared pipeline: the localparams CORR_AT, PHASE_AT, AB_AT
-and LATENCY of rtl/finequad_core.v (rtl_timing()); the two lut-internal offsets are fixed by
-rtl/lut.v. A comparison therefore checks that the RTL's registers follow its declared
-latencies and hold the model's values. All these signals change only on rising edges.
+so these come from the pipeline timing constants of sim/model/core.py (rtl_timing()), which
+the RTL declares as localparams. A comparison therefore checks that the RTL's registers
+follow those latencies and hold the model's values. All these signals change only on rising edges.
 
     CORR_AT                 correct outputs (gain, offsets, products, round)
     OCT_AT   = PHASE_AT - 2 octant outputs (lut: +1 phase table, +2 phase_o)
@@ -61,8 +60,6 @@ Harness quirk reproduced: the harness dumps at time 0 before edge 0 and Verilato
 the second dump at time 0 (after edge 0), so a change on edge 0 first shows at
 PERIOD_PS / 2. Only s_valid with t0 = 0 can be affected.
 """
-import os
-import re
 
 import numpy as np
 from vcd import VCDWriter
@@ -74,29 +71,11 @@ T0 = 16                  # edge of the first strobe in the harness
 SCOPE = "TOP.finequad_core"
 X = -1                   # value code for 'x' in the event arrays
 
-RTL_TOP = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
-                       "rtl", "finequad_core.v")
-RTL_LOCALPARAMS = ("CORR_AT", "PHASE_AT", "AB_AT", "LATENCY")
-
-
-def rtl_timing(path=RTL_TOP):
-    """Edges from the strobe to each stage's result register: the localparams of
-    rtl/finequad_core.v, plus OCT_AT and PN_AT derived through rtl/lut.v's fixed stages."""
-    try:
-        with open(path) as f:
-            src = f.read()
-    except OSError as e:
-        raise FileNotFoundError(f"vcdref: cannot read the core's pipeline localparams from "
-                                f"'{path}' ({e.strerror}); pass timing= explicitly") from e
-    tm = {}
-    for k in RTL_LOCALPARAMS:
-        m = re.search(rf"\blocalparam\s+(?:integer\s+)?{k}\s*=\s*(\d+)\s*;", src)
-        if not m:
-            raise ValueError(f"vcdref: '{path}' declares no 'localparam {k} = <int>;'")
-        tm[k] = int(m.group(1))
-    tm["OCT_AT"] = tm["PHASE_AT"] - 2
-    tm["PN_AT"] = tm["PHASE_AT"] + 2
-    return tm
+def rtl_timing():
+    """Edges from the strobe to each stage's result register (sim/model/core.py, which
+    rtl/finequad_core.v declares as localparams and the tests hold it to)."""
+    return {k: getattr(core, k) for k in ("CORR_AT", "OCT_AT", "PHASE_AT", "PN_AT", "AB_AT",
+                                          "LATENCY")}
 
 
 # name (relative to SCOPE), width (int, or the Config field giving it), kind, latency (a
@@ -175,10 +154,10 @@ def write(path, res, cfg, t0=T0, period_ps=PERIOD_PS, strobes=None, signals=None
     array -- u1c, phase, illegal_count, ... -- are left out); cfg: core.Config (div,
     COUNT_W); strobes: the strobe edges if not t0 + k * cfg.div; signals: restrict to these
     names (relative to TOP.finequad_core); timing: stage edges (keys of rtl_timing(), all
-    of them) instead of those read from rtl/finequad_core.v. Returns the list of full
+    of them) instead of those of sim/model/core.py. Returns the list of full
     signal names written."""
     tm = rtl_timing() if timing is None else dict(timing)
-    need = set(RTL_LOCALPARAMS) | {"OCT_AT", "PN_AT"}
+    need = set(rtl_timing())
     if set(tm) != need:
         raise KeyError(f"vcdref: timing needs exactly the keys {sorted(need)}, got {sorted(tm)}")
     n = len(res["count"])

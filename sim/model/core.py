@@ -29,7 +29,16 @@ import numpy as np
 from . import fastpath as fp
 from .estimator import CYCLES, Estimator
 
-PHASE_STAGE = 11     # edges from the strobe to the estimator decision (rtl/estimator.v)
+# Pipeline timing of rtl/finequad_core.v: edges from a sample's strobe edge t to the edge
+# that registers each result. The RTL declares the same numbers (localparams of
+# finequad_core.v); the tests hold its behaviour to these, not to its source text.
+CORR_AT = 5          # correct: u1c, u2c, saturation flags
+OCT_AT = 7           # octant: j, oct2, neg
+PHASE_AT = 9         # lut: fine phase
+PN_AT = 11           # lut: n-th order phase and sines
+AB_AT = 12           # pulse: A, B
+LATENCY = 15         # counter: m_valid, m_count, m_a, m_b, m_fault
+PHASE_STAGE = PHASE_AT + 2   # the estimator's decision (inputs registered one edge first)
 START_DELAY = 1      # the engine starts on the edge after the decision (registered)
 WARMUP = 64          # updates before the first automatic reset (picks the input gain)
 G_MAX = 3            # input gain 2**g, g in 0..3 (amplitudes down to ~6 % of full scale)

@@ -50,7 +50,7 @@ def _compile(entry: str):
         if op in (prog.OP_NORMR, prog.OP_NORMS):
             even = "; dz -= dz & 1" if op == prog.OP_NORMS else ""
             lines.append(f"    v = {a}")
-            lines.append(f"    if v <= 0: invalid = 1; dz = 0")
+            lines.append("    if v <= 0: invalid = 1; dz = 0")
             lines.append(f"    else: dz = clz32(v) - 1{even}")
             continue
         if op == prog.OP_MAC:
@@ -72,12 +72,12 @@ def _compile(entry: str):
             lines.append(f"    w = ((acc + {_H64}) & {_M64}) - {_H64}")
             lines.append("    r = (w + (1 << (s - 1))) >> s if s else w")
             if f["out"]:
-                lines.append(f"    if r > 32767: r = 32767; invalid = 1")
-                lines.append(f"    elif r < -32768: r = -32768; invalid = 1")
+                lines.append("    if r > 32767: r = 32767; invalid = 1")
+                lines.append("    elif r < -32768: r = -32768; invalid = 1")
                 lines.append(f"    out[{f['dst']}] = r")
             else:
-                lines.append(f"    if r > 2147483647: r = 2147483647; sat = 1")
-                lines.append(f"    elif r < -2147483648: r = -2147483648; sat = 1")
+                lines.append("    if r > 2147483647: r = 2147483647; sat = 1")
+                lines.append("    elif r < -2147483648: r = -2147483648; sat = 1")
                 lines.append(f"    rf[{f['dst']}] = r")
     lines.append("    return acc, invalid, sat")
     from .tables import seed_recip, seed_isqrt
