@@ -28,6 +28,7 @@ module estimator #(
     input  wire               smp_valid_i,
     input  wire signed [15:0] u1_i,        // s1.15 raw (aligned) sample
     input  wire signed [15:0] u2_i,
+    input  wire [14:0]        amax_i,      // max(|u1|, |u2|) of this sample, saturated
     input  wire [12:0]        phase_i,     // u13 fine phase of this sample
     input  wire               req_reset_i, // reset P before the next update
     input  wire [4:0]         lam_k_i,     // lambda = 1/(1 + 2**-k)
@@ -60,10 +61,6 @@ module estimator #(
     // They depend on ph_last and g_eng, which change only on an edge where the engine
     // starts; the sample after it then finds the engine busy, so the values computed
     // one edge early are always the ones the decision would compute.
-    wire [15:0] a1_full = u1_i[15] ? -u1_i : u1_i;
-    wire [15:0] a2_full = u2_i[15] ? -u2_i : u2_i;
-    wire [14:0] a1 = a1_full[15] ? 15'h7fff : a1_full[14:0];
-    wire [14:0] a2 = a2_full[15] ? 15'h7fff : a2_full[14:0];
     // u << g leaves 16 bits exactly when the top g+1 bits of u differ
     function automatic ovf(input [3:0] top, input [1:0] g);   // top = u[15:12]
         case (g)
@@ -83,7 +80,7 @@ module estimator #(
         pre_u1    <= u1_i;
         pre_u2    <= u2_i;
         pre_phase <= phase_i;
-        pre_amax  <= (a1 > a2) ? a1 : a2;
+        pre_amax  <= amax_i;
         pre_xsat  <= ovf(u1_i[15:12], g_eng) || ovf(u2_i[15:12], g_eng);
         // |wrap13(dph)| >= gate  <=>  dph >= gate or dph <= -gate (two compares side by side)
         pre_gate  <= ($signed({dph[12], dph}) >= $signed({1'b0, gate_i})) ||

@@ -119,10 +119,20 @@ module finequad_core #(
             u2d[di] <= u2d[di-1];
         end
     end
+    // max(|u1|, |u2|) (saturated to 15 bits) for the estimator's peak detector, formed in
+    // two registered steps alongside the delay line so it arrives with the sample
+    wire [15:0] ab1 = u1d[PHASE_AT-3][15] ? -u1d[PHASE_AT-3] : u1d[PHASE_AT-3];
+    wire [15:0] ab2 = u2d[PHASE_AT-3][15] ? -u2d[PHASE_AT-3] : u2d[PHASE_AT-3];
+    reg  [14:0] abs1 = 0, abs2 = 0, amax = 0;
+    always @(posedge clk) begin
+        abs1 <= ab1[15] ? 15'h7fff : ab1[14:0];
+        abs2 <= ab2[15] ? 15'h7fff : ab2[14:0];
+        amax <= (abs1 > abs2) ? abs1 : abs2;
+    end
     estimator #(.TABLE_DIR(TABLE_DIR), .G_INIT(G_INIT)) u_est (
         .clk(clk), .rst(rst),
         .smp_valid_i(ph_valid), .u1_i(u1d[PHASE_AT-1]), .u2_i(u2d[PHASE_AT-1]),
-        .phase_i(phase),
+        .amax_i(amax), .phase_i(phase),
         .req_reset_i(req_reset), .lam_k_i(r_lam_k), .kappa_i(r_kappa),
         .period_i(r_period), .settle_i(r_settle), .gate_i(r_gate),
         .g_o(b_g), .m1_o(b_m1), .m2_o(b_m2), .c1_o(b_c1), .c12_o(b_c12), .c2_o(b_c2),

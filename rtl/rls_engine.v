@@ -222,13 +222,22 @@ module rls_engine #(
     reg [35:0] i4 = 0;
     reg [4:0]  dz4 = 0;
     reg        v4 = 1'b0;
+    // the accumulator's controls, decoded here so the accumulate stage is only an adder
+    wire [2:0] op3b = i3b[2:0];
+    wire       seed3b = (op3b == OP_SEEDR || op3b == OP_SEEDS);
+    reg        en4 = 1'b0, clr4 = 1'b0, neg4 = 1'b0;
     always @(posedge clk) begin
         prod_q <= base_q + $signed({{15{mid_q[32]}}, mid_q, 16'd0});
+        en4  <= v3b && (op3b == OP_MAC || seed3b);
+        clr4 <= i3b[3] || seed3b;
+        neg4 <= i3b[4];
         i4  <= i3b;
         dz4 <= dz3b;
         v4  <= v3b;
-        if (rst)
-            v4 <= 1'b0;
+        if (rst) begin
+            v4  <= 1'b0;
+            en4 <= 1'b0;
+        end
     end
 
     // ---- accumulate in two 32-bit halves (the high half one edge later, with the carry);
@@ -238,12 +247,8 @@ module rls_engine #(
     reg [5:0]  sh_eff = 0, sh_eff_d = 0;
     reg [35:0] i5 = 0, i5b = 0;
     reg        v5 = 1'b0, v5b = 1'b0;
-    wire [2:0] op4 = i4[2:0];
-    wire       is_seed4 = (op4 == OP_SEEDR || op4 == OP_SEEDS);
-    wire       en4 = v4 && (op4 == OP_MAC || is_seed4);
-    wire       clr4 = i4[3] || is_seed4;
-    wire [63:0] px = prod_q ^ {64{i4[4]}};    // -prod = ~prod + 1: the +1 is the carry in
-    wire [32:0] lo_sum = {1'b0, clr4 ? 32'd0 : acc_lo} + {1'b0, px[31:0]} + {32'd0, i4[4]};
+    wire [63:0] px = prod_q ^ {64{neg4}};     // -prod = ~prod + 1: the +1 is the carry in
+    wire [32:0] lo_sum = {1'b0, clr4 ? 32'd0 : acc_lo} + {1'b0, px[31:0]} + {32'd0, neg4};
     wire [1:0] dyn4 = i4[8:7];
     wire [6:0] dyn_amt = (dyn4 == 2'd1) ? {2'd0, dz4} : (dyn4 == 2'd2) ? {3'd0, dz4[4:1]} : 7'd0;
     wire signed [7:0] sh_raw = $signed({2'b00, i4[14:9]}) - $signed({1'b0, dyn_amt});
