@@ -175,8 +175,10 @@ module estimator #(
             hold_o <= !valid;
             settle <= (settle == 10'h3ff) ? settle : settle + 1'b1;
         end
+        // rst restarts the control state; theta in the engine's register file survives it,
+        // and so does g_eng, the gain theta is expressed in (the RESET program that runs
+        // first after rst keeps it, as the peak is empty)
         if (rst) begin
-            g_eng <= G_INIT;
             peak <= 0;
             reset_pend <= 1'b1;
             first <= 1'b1;
