@@ -8,11 +8,13 @@
 //   reset pending        -> RESET program: P = kappa I; gain g chosen from the peak |u|
 //                           since the last reset (theta rescaled to it); peak cleared
 //   u << g saturates     -> reset pending (clipped sample excluded from estimation)
+//   dither hold-off      -> skip (0..15 samples after each update, from an LFSR)
 //   |phase - phase at the last update| < gate -> skip (no new information)
 //   otherwise            -> UPDATE program (Eqs. 5-8) on this sample
 // Samples that arrive while the engine is busy are skipped by the estimator (they still
 // pass the fast path). When an UPDATE ends valid and at least `settle` updates have ended
-// since the last reset, the bundle {g, m1, m2, c1, c12, c2} is committed atomically.
+// since the last reset, and the updates since the last commit covered all eight octants,
+// the bundle {g, m1, m2, c1, c12, c2} is committed atomically.
 module estimator #(
     parameter TABLE_DIR = "rtl/tables/",
     // input gain after power-up, 0..3
@@ -101,7 +103,9 @@ module estimator #(
     // normalised sample for the engine
     wire signed [15:0] x1w = pre_u1 <<< g_eng;
     wire signed [15:0] x2w = pre_u2 <<< g_eng;
-    wire [15:0] limit = (first && period_i != 0 && period_i > WARMUP) ? WARMUP : period_i;
+    // the first reset after power-up comes after WARMUP updates whatever the period: it
+    // chooses the input gain
+    wire [15:0] limit = first ? WARMUP : period_i;
 
     // The decision is registered: the engine starts on the edge after it, and the
     // estimator counts itself busy from the decision edge on.
@@ -111,7 +115,14 @@ module estimator #(
     wire pend = reset_pend | req_reset_i;
     wire idle_smp = pre_valid && !busy;
     wire do_reset = idle_smp && pend;
-    wire do_update = idle_smp && !pend && !pre_xsat && pre_gate;
+    // dither: after each update the estimator lets 0..15 samples pass (LFSR), so that at
+    // speeds where the signal frequency is a simple fraction of the update rate the
+    // updates still spread over the whole circle
+    reg [15:0] lfsr = 16'hACE1;           // Galois, x^16 + x^14 + x^13 + x^11 + 1
+    reg [3:0]  skip = 4'd0;
+    reg [7:0]  oct_seen = 8'd0;              // octants of the updates since the last commit
+    wire do_skip = idle_smp && !pend && !pre_xsat && skip != 4'd0;
+    wire do_update = idle_smp && !pend && !pre_xsat && skip == 4'd0 && pre_gate;
     wire [4:0] lam_k = (lam_k_i == 0) ? 5'd1 : (lam_k_i > 5'd23) ? 5'd23 : lam_k_i;
     reg        start_q = 1'b0;
     reg  [8:0] entry_q = 0;
@@ -155,8 +166,13 @@ module estimator #(
             running_update <= 1'b0;
         end else if (idle_smp && !pend && pre_xsat) begin
             reset_pend <= 1'b1;
+        end else if (do_skip) begin
+            skip <= skip - 1'b1;
         end else if (do_update) begin
             ph_last <= pre_phase;
+            skip <= lfsr[3:0];
+            oct_seen <= oct_seen | (8'd1 << pre_phase[12:10]);
+            lfsr <= {1'b0, lfsr[15:1]} ^ (lfsr[0] ? 16'hB400 : 16'h0000);
             upd <= upd + 1'b1;
             updates_o <= updates_o + 1'b1;
             running_update <= 1'b1;
@@ -167,10 +183,11 @@ module estimator #(
         end
         // hand-over at the end of an update
         if (done && running_update) begin
-            if (valid && settle >= settle_i) begin
+            if (valid && settle >= settle_i && oct_seen == 8'hff) begin
                 {c2_o, c12_o, c1_o, m2_o, m1_o} <= outs;
                 g_o <= g_eng;
                 uncal_o <= 1'b0;
+                oct_seen <= 8'd0;
             end
             hold_o <= !valid;
             settle <= (settle == 10'h3ff) ? settle : settle + 1'b1;
@@ -185,6 +202,9 @@ module estimator #(
             upd <= 0;
             settle <= 0;
             ph_last <= 0;
+            skip <= 4'd0;
+            lfsr <= 16'hACE1;
+            oct_seen <= 8'd0;
             running_update <= 1'b0;
             g_o <= G_INIT;
             m1_o <= 0; m2_o <= 0; c1_o <= 16'sd8192; c12_o <= 0; c2_o <= 16'sd8192;

@@ -32,6 +32,8 @@ def main():
     ap.add_argument("--target-mhz", type=float, default=None)
     ap.add_argument("--bitstream")
     ap.add_argument("--json")
+    ap.add_argument("--require", action="store_true",
+                    help="exit 1 if a clock misses --target-mhz")
     a = ap.parse_args()
     res, fmax = parse(a.report)
     print("| resource | used | available | % |")
@@ -46,6 +48,8 @@ def main():
         print(f"bitstream: {a.bitstream}")
     if a.json:
         json.dump({"resources": res, "fmax_mhz": fmax}, open(a.json, "w"), indent=1)
+    if a.require and a.target_mhz and any(f < a.target_mhz for f in fmax.values()):
+        sys.exit(f"pnr_report: error: timing not met at {a.target_mhz:g} MHz")
 
 
 if __name__ == "__main__":

@@ -8,16 +8,23 @@ Clock-edge timing (the RTL implements exactly this; edges are numbered from 0):
     - reset pending  -> RESET program (P = kappa I, theta rescaled to the new input gain g,
                         chosen from the peak |u| since the last reset); peak cleared.
     - x = u << g saturates -> no start; a reset becomes pending (clipped sample excluded).
+    - within the dither hold-off -> no start (after each update the estimator lets
+                        0..15 samples pass, from an LFSR, so that at speeds where the
+                        signal frequency is a simple fraction of the update rate the
+                        updates still spread over the whole circle)
     - fine phase within `gate` of the phase at the last update -> no start (no new
                         information: standstill and creep do not wind the estimator up)
     - otherwise      -> UPDATE program on this sample (Eqs. 5-8); after the period-th
-                        update since the last reset (the first time: WARMUP), a reset
-                        becomes pending.
+                        update since the last reset, a reset becomes pending; after
+                        power-up the first reset comes after WARMUP updates, whatever the
+                        period (it chooses the input gain).
   A program decided on edge s starts on edge s + 1 and ends (END retires, busy clears)
   on edge s + 1 + CYCLES[prog];
   samples arriving meanwhile are not used by the estimator (they still go through the
-  fast path). At the end of an UPDATE, if theta was valid and at least `settle` updates
-  have ended since the last reset, the new bundle {g, m1, m2, c1, c12, c2} is committed.
+  fast path). At the end of an UPDATE, if theta was valid, at least `settle` updates
+  have ended since the last reset, and the updates since the last commit covered all
+  eight octants (so the fit is constrained all round, not by a short arc), the new
+  bundle {g, m1, m2, c1, c12, c2} is committed.
 * Sample k uses the bundle committed on edges <= t_k (each fast-path stage sees the
   bundle through a delay matched to its depth, so a sample never mixes two bundles).
 """
@@ -40,6 +47,7 @@ AB_AT = 12           # pulse: A, B
 LATENCY = 15         # counter: m_valid, m_count, m_a, m_b, m_fault
 PHASE_STAGE = PHASE_AT + 2   # the estimator's decision (inputs registered one edge first)
 START_DELAY = 1      # the engine starts on the edge after the decision (registered)
+LFSR_SEED = 0xACE1   # dither of the estimator's sample choice (see below)
 WARMUP = 64          # updates before the first automatic reset (picks the input gain)
 G_MAX = 3            # input gain 2**g, g in 0..3 (amplitudes down to ~6 % of full scale)
 FAULT_BITS = {
@@ -74,6 +82,11 @@ class Config:
 
 # Default bundle: centred circle of radius 0.5 (normalised): c1 = c2 = 2.0 in s4.12.
 BUNDLE0 = (0, 0, 0, 2 << 12, 0, 2 << 12)
+
+
+def lfsr_step(v: int) -> int:
+    """16-bit Galois LFSR (x^16 + x^14 + x^13 + x^11 + 1), as rtl/estimator.v."""
+    return (v >> 1) ^ (0xB400 if v & 1 else 0)
 
 
 def gsel(peak: int, g: int) -> int:
@@ -117,6 +130,9 @@ def run(u1_code, u2_code, cfg: Config = Config(), strobes=None, trace=False):
     settle = 0
     busy_until = -1
     ph_last = 0
+    skip = 0                      # samples the estimator still lets pass (dither)
+    cover = 0                     # octants of the updates since the last commit
+    lfsr = LFSR_SEED
     lam = 1 << (23 - min(max(cfg.lam_k, 1), 23))
     kappa = cfg.kappa << 15
     requests = set(cfg.resets)
@@ -151,6 +167,9 @@ def run(u1_code, u2_code, cfg: Config = Config(), strobes=None, trace=False):
         if not (-32768 <= x1 <= 32767 and -32768 <= x2 <= 32767):
             reset_pend = True
             continue
+        if skip:
+            skip -= 1
+            continue
         if k >= blk_hi:
             blk_lo = k
             blk_hi = min(n, k + 256)
@@ -166,17 +185,20 @@ def run(u1_code, u2_code, cfg: Config = Config(), strobes=None, trace=False):
         if abs(step) < cfg.gate:
             continue
         ph_last = ph
+        cover |= 1 << (ph >> 10)
+        skip, lfsr = lfsr & 15, lfsr_step(lfsr)
         ok = est.run("update", x1=x1 << 15, x2=x2 << 15, lam=lam)
         n_updates += 1
         upd += 1
-        limit = min(WARMUP, cfg.period) if first and cfg.period else cfg.period
+        limit = WARMUP if first else cfg.period
         if limit and upd >= limit:
             reset_pend = True
             first = False
         busy_until = s + START_DELAY + CYCLES["update"]
-        if ok and settle >= cfg.settle:
+        if ok and settle >= cfg.settle and cover == 0xFF:
             ev_bundle.append((g_eng, *est.out))
             uncal = 0
+            cover = 0
         else:
             ev_bundle.append(ev_bundle[-1])
         ev_flags.append((uncal, 0 if ok else 1))

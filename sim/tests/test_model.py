@@ -77,3 +77,40 @@ def test_core_works_from_10_to_95_percent_of_full_scale(amp, bits):
     s = metrics.summary(metrics.position_error_nm(r["count"], x, 100, 4000.0, start), fl, 4000.0)
     assert s["slips"] == 0
     assert s["ratio"] < 1.3, s
+
+
+@pytest.mark.parametrize("f_over_fs", [1 / 56, 1 / 42, 1 / 28, 3 / 56, 1 / 14])
+def test_constant_speed_where_signal_and_update_rates_alias(f_over_fs):
+    """At speeds where the signal frequency is a simple fraction of the estimator's
+    update rate, a fixed decimation would show the RLS only a few phases and it would
+    converge to a wrong ellipse; the dithered hold-off spreads the updates."""
+    from sim import metrics
+    from sim.model import core
+    n = 120000
+    x = siggen.constant_speed(n, 1e6, f_over_fs * 1e6 * 4000.0)
+    u1, u2, a = siggen.encode(x, 4000.0, siggen.Signal(), seed=3)
+    r = core.run(u1, u2, core.Config())
+    start = 30000
+    fl, _, _ = metrics.floor_nm(a[start:], siggen.Signal(), 4000.0, 100)
+    s = metrics.summary(metrics.position_error_nm(r["count"], x, 100, 4000.0, start), fl, 4000.0)
+    assert s["slips"] == 0
+    assert s["ratio"] < 1.3, s
+
+
+def test_servo_dither_over_a_short_arc_does_not_corrupt_the_correction():
+    """Holding position with +-600 nm of dither (+-54 degrees of a 4 um period) for 0.35 s:
+    the updates see only a short arc, the fit drifts, and it must not be applied (only
+    updates covering all eight octants since the last hand-over are)."""
+    from sim import metrics
+    from sim.model import core
+    fs, n = 1e6, 500000
+    t = np.arange(n) / fs
+    x = siggen.s_curve(n, fs, 0.2e6, 0.1, t_start=0.01)
+    x = x + np.where(t > 0.12, 600 * np.sin(2 * np.pi * 50 * (t - 0.12)), 0)
+    u1, u2, a = siggen.encode(x, 4000.0, siggen.Signal(), seed=5)
+    r = core.run(u1, u2, core.Config())
+    start = 400000
+    fl, _, _ = metrics.floor_nm(a[start:], siggen.Signal(), 4000.0, 100)
+    s = metrics.summary(metrics.position_error_nm(r["count"], x, 100, 4000.0, start), fl, 4000.0)
+    assert s["slips"] == 0
+    assert s["ratio"] < 1.3, s
