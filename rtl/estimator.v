@@ -34,7 +34,7 @@ module estimator #(
     input  wire [12:0]        phase_i,     // u13 fine phase of this sample
     input  wire               req_reset_i, // reset P before the next update
     input  wire [4:0]         lam_k_i,     // lambda = 1/(1 + 2**-k)
-    input  wire [15:0]        kappa_i,     // u8.8
+    input  wire [15:0]        kappa_i,     // u8.8 (0 is taken as 1/256)
     input  wire [15:0]        period_i,    // updates between resets, 0 = never
     input  wire [9:0]         settle_i,    // updates after a reset before a commit
     input  wire [12:0]        gate_i,      // u13 phase progress between updates
@@ -147,7 +147,7 @@ module estimator #(
     rls_engine #(.TABLE_DIR(TABLE_DIR)) u_engine (
         .clk(clk), .rst(rst),
         .start_i(start_q), .entry_i(entry_q), .x1_i(x1_q), .x2_i(x2_q),
-        .lam_k_i(lam_k), .kappa_i(kappa_i), .dg_i(dg_q),
+        .lam_k_i(lam_k), .kappa_i(kappa_i == 16'd0 ? 16'd1 : kappa_i), .dg_i(dg_q),
         .busy_o(eng_busy), .done_o(done), .valid_o(valid), .out_o(outs), .sat_o(sat_o)
     );
     wire unused = &{1'b0, eng_busy, 1'b0};

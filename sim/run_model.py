@@ -13,35 +13,41 @@ import numpy as np
 from sim.model import core
 
 
+def die(msg: str):
+    """Report bad input the way the RTL harness does: one line on stderr, exit code 2."""
+    print(f"model: error: {msg}", file=sys.stderr)
+    raise SystemExit(2)
+
+
 def read_codes(path: str, adc_w: int = 16):
     """Read a `u1,u2` CSV of signed ADC codes; errors name the file and line."""
     lo, hi = -(1 << (adc_w - 1)), (1 << (adc_w - 1)) - 1
     try:
         f = open(path, newline="")
     except OSError as e:
-        sys.exit(f"model: error: cannot open input '{path}': {e.strerror}")
+        die(f"cannot open input '{path}': {e.strerror}")
     with f:
         rows = csv.reader(f)
         header = next(rows, None)
         if header is None or [h.strip() for h in header] != ["u1", "u2"]:
-            sys.exit(f"model: error: {path}:1: header is {header!r}, expected 'u1,u2'")
+            die(f"{path}:1: header is {header!r}, expected 'u1,u2'")
         u1, u2 = [], []
         for ln, row in enumerate(rows, start=2):
             if not row or all(not c.strip() for c in row):
                 continue
             if len(row) != 2:
-                sys.exit(f"model: error: {path}:{ln}: expected two values 'u1,u2', got {row!r}")
+                die(f"{path}:{ln}: expected two values 'u1,u2', got {row!r}")
             try:
-                a, b = int(row[0], 0), int(row[1], 0)
+                a, b = int(row[0]), int(row[1])
             except ValueError:
-                sys.exit(f"model: error: {path}:{ln}: not an integer: {row!r}")
+                die(f"{path}:{ln}: not a decimal integer: {row!r}")
             if not (lo <= a <= hi and lo <= b <= hi):
-                sys.exit(f"model: error: {path}:{ln}: code out of the signed {adc_w}-bit "
+                die(f"{path}:{ln}: code out of the signed {adc_w}-bit "
                          f"range [{lo}, {hi}]: {row!r}")
             u1.append(a)
             u2.append(b)
     if not u1:
-        sys.exit(f"model: error: {path}: no samples after the header")
+        die(f"{path}: no samples after the header")
     return np.array(u1, dtype=np.int64), np.array(u2, dtype=np.int64)
 
 
@@ -69,15 +75,18 @@ def main(argv=None):
     ap.add_argument("--vcd", help="write the reference VCD of the core's outputs")
     args = ap.parse_args(argv)
     if not 1 <= args.interp <= 511:
-        sys.exit(f"model: error: --interp must be 1..511, got {args.interp}")
+        die(f"--interp must be 1..511, got {args.interp}")
     if not 12 <= args.adc_w <= 16:
-        sys.exit(f"model: error: --adc-w must be 12..16, got {args.adc_w}")
+        die(f"--adc-w must be 12..16, got {args.adc_w}")
     u1, u2 = read_codes(args.inp, args.adc_w)
     if args.div < 1:
-        sys.exit(f"model: error: --div must be >= 1, got {args.div}")
+        die(f"--div must be >= 1, got {args.div}")
     cfg = core.Config(TABLE=args.table, interp=args.interp, div=args.div, ADC_W=args.adc_w)
     res = core.run(u1, u2, cfg, trace=bool(args.vcd))
-    write_result(args.out, res)
+    try:
+        write_result(args.out, res)
+    except OSError as e:
+        die(f"cannot write '{args.out}': {e.strerror}")
     if args.vcd:
         from sim import vcdref
         vcdref.write(args.vcd, res, cfg)

@@ -37,8 +37,9 @@ static void die(const std::string &msg) {
 static long parse_long(const std::string &s, const std::string &what) {
     errno = 0;
     char *end = nullptr;
-    long v = std::strtol(s.c_str(), &end, 0);
-    if (errno || end == s.c_str() || *end != '\0') die(what + ": not an integer: '" + s + "'");
+    long v = std::strtol(s.c_str(), &end, 10);
+    if (errno || end == s.c_str() || *end != '\0')
+        die(what + ": not a decimal integer: '" + s + "'");
     return v;
 }
 

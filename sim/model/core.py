@@ -134,7 +134,7 @@ def run(u1_code, u2_code, cfg: Config = Config(), strobes=None, trace=False):
     cover = 0                     # octants of the updates since the last commit
     lfsr = LFSR_SEED
     lam = 1 << (23 - min(max(cfg.lam_k, 1), 23))
-    kappa = cfg.kappa << 15
+    kappa = max(cfg.kappa, 1) << 15            # KAPPA = 0 is taken as 1/256
     requests = set(cfg.resets)
     ev_edge = [-1]
     ev_bundle = [BUNDLE0]

@@ -47,10 +47,17 @@ def test_rtlsim_equals_model(tmp_path, table, interp, seed, div, adc_w):
     assert uncal[0] == 1 and uncal[-1] == 0        # the coefficients were handed over
 
 
-def test_rtlsim_rejects_bad_input(tmp_path):
+@pytest.mark.parametrize("target", ["rtlsim", "model"])
+@pytest.mark.parametrize("text,line,reason", [
+    ("u1,u2\n1,2\n3,40000\n", 3, "out of the signed 16-bit range"),
+    ("u1,u2\n1,2\n0x10,5\n", 3, "not a decimal integer"),
+    ("u1,u2\n1,2,3\n", 2, "expected two values"),
+    ("a,b\n1,2\n", 1, "expected 'u1,u2'"),
+])
+def test_bad_input_is_rejected_with_file_line_and_reason(tmp_path, target, text, line, reason):
     bad = tmp_path / "bad.csv"
-    bad.write_text("u1,u2\n1,2\n3,40000\n")
-    p = subprocess.run(["make", "-s", "-C", str(ROOT), "rtlsim", f"IN={bad}",
+    bad.write_text(text)
+    p = subprocess.run(["make", "-s", "-C", str(ROOT), target, f"IN={bad}",
                         f"OUT={tmp_path / 'o.csv'}"], capture_output=True, text=True)
     assert p.returncode != 0
-    assert "bad.csv:3" in p.stderr and "out of the signed 16-bit range" in p.stderr
+    assert f"bad.csv:{line}" in p.stderr and reason in p.stderr, p.stderr
