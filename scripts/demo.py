@@ -51,10 +51,8 @@ def score(res, x, a, sig, interp):
     start = int(cal[0])
     moved = np.nonzero(np.abs(x[start:] - x[start]) > PITCH_NM)[0]
     start += int(moved[0]) if len(moved) else 0
-    fl, noise, q = metrics.floor_nm(a[start:], sig, PITCH_NM, interp)
-    err = metrics.position_error_nm(res["count"], x, interp, PITCH_NM, start)
-    out = metrics.summary(err, fl, PITCH_NM)
-    out.update(scored_from_sample=start, floor_noise_nm=noise, q_nm=q)
+    out, err = metrics.score(res["count"], x, a, sig, PITCH_NM, interp, start)
+    out.update(scored_from_sample=start)
     return out, err
 
 

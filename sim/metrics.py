@@ -26,3 +26,13 @@ def summary(err_nm, floor, pitch_nm):
     rms = float(np.sqrt(np.mean(err_nm ** 2)))
     return dict(rms_nm=rms, peak_nm=float(np.max(np.abs(err_nm))), floor_nm=floor,
                 ratio=rms / floor, slips=int(np.sum(np.abs(err_nm) > pitch_nm / 8)))
+
+
+def score(count, x_nm, a, sig, pitch_nm, interp, start):
+    """summary() of the counter against the truth from sample `start` on, against the floor
+    of the same samples."""
+    fl, noise, q = floor_nm(a[start:], sig, pitch_nm, interp)
+    err = position_error_nm(count, x_nm, interp, pitch_nm, start)
+    out = summary(err, fl, pitch_nm)
+    out.update(floor_noise_nm=noise, q_nm=q)
+    return out, err

@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from sim import reference, siggen
+from sim import metrics, reference, siggen
 from sim.model import program
 from sim.model.estimator import Estimator
 
@@ -37,6 +37,12 @@ def test_estimator_matches_float_reference(amp):
     assert a1 * s == pytest.approx(sig.A1, rel=0.01)
 
 
+def assert_near_floor(r, x, a, sig, start, pitch=4000.0, interp=100, limit=1.3):
+    s, _ = metrics.score(r["count"], x, a, sig, pitch, interp, start)
+    assert s["slips"] == 0, s
+    assert s["ratio"] < limit, s
+
+
 def test_program_is_hazard_free():
     """Every register read comes HAZARD slots after the write that it depends on."""
     last_write = {}
@@ -61,7 +67,6 @@ def test_program_is_hazard_free():
 def test_core_works_from_10_to_95_percent_of_full_scale(amp, bits):
     """The whole core (bit-true model, proved equal to the RTL elsewhere) stays near the
     floor of METHOD.md with no slips, at the ends of the amplitude range."""
-    from sim import metrics
     from sim.model import core
     n = 250000
     x = siggen.s_curve(n, 1e6, 0.25e6, 0.1, t_start=0.01)
@@ -72,11 +77,7 @@ def test_core_works_from_10_to_95_percent_of_full_scale(amp, bits):
     r = core.run(u1, u2, core.Config(ADC_W=bits))
     cal = np.nonzero(((r["fault"] >> core.FAULT_BITS["uncal"]) & 1) == 0)[0]
     assert len(cal), "never calibrated"
-    start = int(cal[0]) + 20000
-    fl, _, _ = metrics.floor_nm(a[start:], sig, 4000.0, 100)
-    s = metrics.summary(metrics.position_error_nm(r["count"], x, 100, 4000.0, start), fl, 4000.0)
-    assert s["slips"] == 0
-    assert s["ratio"] < 1.3, s
+    assert_near_floor(r, x, a, sig, int(cal[0]) + 20000)
 
 
 @pytest.mark.parametrize("f_over_fs", [1 / 56, 1 / 42, 1 / 28, 3 / 56, 1 / 14])
@@ -84,24 +85,18 @@ def test_constant_speed_where_signal_and_update_rates_alias(f_over_fs):
     """At speeds where the signal frequency is a simple fraction of the estimator's
     update rate, a fixed decimation would show the RLS only a few phases and it would
     converge to a wrong ellipse; the dithered hold-off spreads the updates."""
-    from sim import metrics
     from sim.model import core
     n = 120000
     x = siggen.constant_speed(n, 1e6, f_over_fs * 1e6 * 4000.0)
     u1, u2, a = siggen.encode(x, 4000.0, siggen.Signal(), seed=3)
     r = core.run(u1, u2, core.Config())
-    start = 30000
-    fl, _, _ = metrics.floor_nm(a[start:], siggen.Signal(), 4000.0, 100)
-    s = metrics.summary(metrics.position_error_nm(r["count"], x, 100, 4000.0, start), fl, 4000.0)
-    assert s["slips"] == 0
-    assert s["ratio"] < 1.3, s
+    assert_near_floor(r, x, a, siggen.Signal(), 30000)
 
 
 def test_servo_dither_over_a_short_arc_does_not_corrupt_the_correction():
     """Holding position with +-600 nm of dither (+-54 degrees of a 4 um period) for 0.35 s:
     the updates see only a short arc, the fit drifts, and it must not be applied (only
     updates covering all eight octants since the last hand-over are)."""
-    from sim import metrics
     from sim.model import core
     fs, n = 1e6, 500000
     t = np.arange(n) / fs
@@ -109,8 +104,4 @@ def test_servo_dither_over_a_short_arc_does_not_corrupt_the_correction():
     x = x + np.where(t > 0.12, 600 * np.sin(2 * np.pi * 50 * (t - 0.12)), 0)
     u1, u2, a = siggen.encode(x, 4000.0, siggen.Signal(), seed=5)
     r = core.run(u1, u2, core.Config())
-    start = 400000
-    fl, _, _ = metrics.floor_nm(a[start:], siggen.Signal(), 4000.0, 100)
-    s = metrics.summary(metrics.position_error_nm(r["count"], x, 100, 4000.0, start), fl, 4000.0)
-    assert s["slips"] == 0
-    assert s["ratio"] < 1.3, s
+    assert_near_floor(r, x, a, siggen.Signal(), 400000)
