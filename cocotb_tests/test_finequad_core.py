@@ -96,7 +96,7 @@ def recording(scenario, n):
         moves = [(300, 0.6, 0.05)]
         sig = siggen.Signal(A1=0.45, A2=0.5, m1=-0.02, m2=0.025, phi=0.1)
     else:
-        moves = [(140, 0.4, 0.05), (60, 0.2, 0.65)]
+        moves = [(140, 0.4, 0.05), (160, 0.3, 0.6)]
         sig = siggen.Signal(A1=0.5, A2=0.55)
     x = np.zeros(n)
     for dist, t_move, t_start in moves:
@@ -130,12 +130,16 @@ def _config(scenario, resets):
                        **sc["regs"])
 
 
+# where in the recording the reset requests go (fractions of its length): early enough
+# that enough travel follows for a hand-over (settle updates and all eight octants)
+REQUEST_AT = (0.15, 0.3, 0.65, 0.75)
+
+
 def pick_requests(u1, u2, t):
     """Reset requests [(sample k, write edge w)] that the outputs can tell apart from the
     neighbouring sample: one on the latest edge that belongs to k (t_k + PHASE_STAGE - 1,
     one edge later would be sample k + 1), one on the earliest (t_(k-1) + PHASE_STAGE, one
-    edge earlier would be sample k - 1), alternately, during the moves (near 15 %, 30 %,
-    70 % and 80 % of the recording)."""
+    edge earlier would be sample k - 1), alternately, during the moves (REQUEST_AT)."""
     import numpy as np
     from sim.model import core
 
@@ -146,7 +150,7 @@ def pick_requests(u1, u2, t):
         return np.stack([r["count"], r["a"], r["b"], r["fault"]])
 
     chosen = []
-    for i, frac in enumerate((0.15, 0.3, 0.7, 0.8)):
+    for i, frac in enumerate(REQUEST_AT):
         latest = i % 2 == 0
         base = [k for k, _ in chosen]
         for k in range(int(n * frac), int(n * frac) + 100):
