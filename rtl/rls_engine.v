@@ -6,7 +6,8 @@
 // instruction semantics are documented there.
 //
 // Datapath: one 32x32 multiplier (4 iCE40 DSP blocks), 64-bit accumulator, register file
-// of 64 x 32 bits in two block-RAM copies (two read ports), sat_round write-back.
+// of 64 x 32 bits in two block-RAM copies (two read ports), and a two-stage rounding
+// write-back that saturates to 32 (register) or 16 bits (OUT), as sat_round would.
 // Pipeline of an instruction in slot k of a program started on edge S:
 //   S+k    fetch      instr_q   <= rom[entry + k]
 //   S+k+1  read       rda/rdb   <= rf[a], rf[b]

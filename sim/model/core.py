@@ -98,12 +98,16 @@ def gsel(peak: int, g: int) -> int:
     return 0
 
 
-def _phase(u1r, u2r, bundle, lut):
-    """Fast path up to the fine phase for a block of samples under one bundle."""
+def _front(u1r, u2r, bundle, lut):
+    """Fast path up to the fine phase (gain, Eq. 9, Table 2, phase table); the bundle
+    fields are scalars (one bundle for a block) or per-sample arrays."""
     g, m1, m2, c1, c12, c2 = bundle
-    u1c, u2c, _ = fp.correct(fp.normalize(u1r, g)[0], fp.normalize(u2r, g)[0],
-                             m1, m2, c1, c12, c2)
-    return lut.phase(*fp.octant(u1c, u2c))
+    u1n, ns1 = fp.normalize(u1r, g)
+    u2n, ns2 = fp.normalize(u2r, g)
+    u1c, u2c, csat = fp.correct(u1n, u2n, m1, m2, c1, c12, c2)
+    j, base, neg = fp.octant(u1c, u2c)
+    return dict(u1n=u1n, u2n=u2n, nsat=ns1 | ns2, u1c=u1c, u2c=u2c, csat=csat, j=j,
+                base=base, neg=neg, phase=lut.phase(j, base, neg))
 
 
 def strobe_edges(n, div, t0=16):
@@ -179,7 +183,7 @@ def run(u1_code, u2_code, cfg: Config = Config(), strobes=None, trace=False):
                 # a program still running commits on edge ev_edge[i]: the block ends at
                 # the first sample that sees that commit
                 blk_hi = min(blk_hi, int(np.searchsorted(t, ev_edge[i], side="left")))
-            blk_phase = _phase(u1r[k:blk_hi], u2r[k:blk_hi], b, lut)
+            blk_phase = _front(u1r[k:blk_hi], u2r[k:blk_hi], b, lut)["phase"]
         ph = int(blk_phase[k - blk_lo])
         step = ((ph - ph_last + 4096) & 8191) - 4096
         if abs(step) < cfg.gate:
@@ -211,24 +215,22 @@ def run(u1_code, u2_code, cfg: Config = Config(), strobes=None, trace=False):
     idx = np.searchsorted(np.asarray(ev_edge), t, side="right") - 1
     bund = np.asarray(ev_bundle, dtype=np.int64)[idx]
     flags = np.asarray(ev_flags, dtype=np.int64)[idx]
-    g, m1, m2, c1, c12, c2 = bund.T
-    u1n, ns1 = fp.normalize(u1r, g)
-    u2n, ns2 = fp.normalize(u2r, g)
-    u1c, u2c, csat = fp.correct(u1n, u2n, m1, m2, c1, c12, c2)
-    j, base, neg = fp.octant(u1c, u2c)
-    phase = lut.phase(j, base, neg)
+    fr = _front(u1r, u2r, bund.T, lut)
+    phase = fr["phase"]
     pn, cosn, sinn = lut.nth(phase, cfg.interp)
     a, b = fp.pulse(cosn, sinn, cfg.eps, cfg.SIN_W, a0=1, b0=1)
-    count, illegal, ill_cnt, dstep = fp.counter(a, b, phase, cfg.interp, cfg.COUNT_W)
+    count, illegal, ill_cnt, _ = fp.counter(a, b, phase, cfg.interp, cfg.COUNT_W)
     fault = ((clip1 | clip2).astype(np.int64) << FAULT_BITS["clip"]
-             | (ns1 | ns2).astype(np.int64) << FAULT_BITS["nsat"]
-             | csat.astype(np.int64) << FAULT_BITS["csat"]
+             | fr["nsat"].astype(np.int64) << FAULT_BITS["nsat"]
+             | fr["csat"].astype(np.int64) << FAULT_BITS["csat"]
              | illegal.astype(np.int64) << FAULT_BITS["illegal"]
              | flags[:, 0] << FAULT_BITS["uncal"]
              | flags[:, 1] << FAULT_BITS["hold"])
     res = dict(count=count, a=a, b=b, fault=fault, n_updates=n_updates)
     if trace:
-        res.update(u1c=u1c, u2c=u2c, phase=phase, pn=pn, cosn=cosn, sinn=sinn,
-                   g=g, m1=m1, m2=m2, c1=c1, c12=c12, c2=c2, illegal_count=ill_cnt,
-                   j=j, base=base, neg=neg, u1n=u1n, u2n=u2n)
+        g, m1, m2, c1, c12, c2 = bund.T
+        res.update({k: fr[k] for k in ("u1c", "u2c", "phase", "j", "base", "neg", "u1n",
+                                       "u2n")})
+        res.update(pn=pn, cosn=cosn, sinn=sinn, g=g, m1=m1, m2=m2, c1=c1, c12=c12, c2=c2,
+                   illegal_count=ill_cnt)
     return res

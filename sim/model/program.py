@@ -360,4 +360,3 @@ def build():
 
 
 ROM, ENTRY, RF_INIT, REGS = build()
-ROM_DEPTH = 1 << (len(ROM) - 1).bit_length()
