@@ -51,7 +51,8 @@ def score(res, x, a, sig, interp):
     start = int(cal[0])
     moved = np.nonzero(np.abs(x[start:] - x[start]) > PITCH_NM)[0]
     start += int(moved[0]) if len(moved) else 0
-    out, err = metrics.score(res["count"], x, a, sig, PITCH_NM, interp, start)
+    out, err, _ = metrics.score(res["count"], x, siggen.angle_var(a, sig), PITCH_NM, interp,
+                                start)
     out.update(scored_from_sample=start)
     return out, err
 
@@ -148,7 +149,7 @@ def plot(path, x, errs, summary, interp):
     for table, err in errs.items():
         s = summary[table]
         k = s["scored_from_sample"]
-        ax[1].plot(t[k:][::10], err[::10], lw=0.5,
+        ax[1].plot(t[k:][::10], err[k:][::10], lw=0.5,
                    label=f"{table}: RMS {s['rms_nm']:.1f} nm ({s['ratio']:.2f} x floor)")
     ax[1].set_ylabel("counter error (nm)")
     ax[1].set_xlabel("time (s)")

@@ -1,0 +1,125 @@
+"""The accuracy suite: named, seeded encoder recordings with their ground truth.
+
+Every scenario is a 4 um pitch scale sampled at 1 MS/s (the paper's slider), with the
+paper-like imperfections of siggen.Signal unless it says otherwise. It is scored from the
+first sample at which both `settle_s` seconds have passed and the stage has travelled
+`settle_periods` signal periods (the settling window, the same for every method), and
+`events` lists the samples of sudden parameter changes (convergence is reported after
+them).
+"""
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from . import siggen
+
+PITCH_NM = 4000.0
+FS = 1e6
+UM, MM = 1e3, 1e6                   # positions are in nm
+
+
+@dataclass
+class Scenario:
+    name: str
+    title: str
+    x: np.ndarray                   # true position, nm, one per sample
+    sig: siggen.Signal
+    seed: int = 1
+    settle_s: float = 0.01
+    settle_periods: float = 2.0
+    events: list = field(default_factory=list)
+
+    def codes(self):
+        """(u1, u2, angle): ADC codes and the true angle."""
+        return siggen.encode(self.x, PITCH_NM, self.sig, seed=self.seed)
+
+    def start(self):
+        """First scored sample."""
+        travel = np.concatenate([[0.0], np.cumsum(np.abs(np.diff(self.x)))])
+        k = np.nonzero(travel >= self.settle_periods * PITCH_NM)[0]
+        if len(k) == 0:
+            raise ValueError(f"scenario {self.name}: never travels {self.settle_periods} "
+                             f"signal periods")
+        return max(int(k[0]), int(round(self.settle_s * FS)))
+
+
+def _speed(f_over_fs):
+    """Stage speed (nm/s) for a signal frequency f/fs."""
+    return f_over_fs * FS * PITCH_NM
+
+
+def _move(dist, vmax, amax=1e9, jmax=1e11):
+    return ("move", dist, vmax, amax, jmax)
+
+
+def suite():
+    """The scenarios of `make bench-accuracy`, in table order."""
+    base = siggen.Signal()
+    s = []
+
+    x = siggen.constant_speed(200_000, FS, 2 * MM)
+    s.append(Scenario("constant", "constant speed 2 mm/s (f = 500 Hz)", x, base, seed=11))
+
+    x = siggen.moves(FS, [("dwell", 0.02), _move(0.5 * MM, 20 * MM), ("dwell", 0.05),
+                          _move(-0.3 * MM, 20 * MM), ("dwell", 0.03)])
+    s.append(Scenario("s_curve", "jerk-limited moves 0.5 mm / -0.3 mm, 20 mm/s, 1 m/s^2, "
+                      "with dwells", x, base, seed=12))
+
+    n = 300_000
+    x = siggen.constant_speed(n, FS, 5 * MM)
+    k = n // 2
+    sig = replace(base,
+                  A1=siggen.along(x, 0.60, 0.50),
+                  A2=siggen.jump(siggen.along(x, 0.54, 0.50), k, -0.03),
+                  m1=siggen.jump(siggen.along(x, 0.03, 0.01), k, 0.015),
+                  m2=siggen.along(x, -0.02, 0.0),
+                  phi=siggen.jump(siggen.along(x, 0.08, 0.12), k, 0.03))
+    s.append(Scenario("drift_jump", "5 mm/s; A1, A2, m1, m2, phi drift along 1.5 mm; at "
+                      "0.15 s m1 +1.5 % FS, A2 -3 % FS, phi +0.03 rad", x, sig, seed=13,
+                      events=[k]))
+
+    x = siggen.reversals(250_000, FS, 20 * UM, 20.0)
+    s.append(Scenario("reversals", "back and forth over 40 um at 20 Hz (2.5 mm/s peak, "
+                      "10 reversals)", x, base, seed=14))
+
+    x = siggen.moves(FS, [("dwell", 0.01), _move(1 * MM, 10 * MM), ("dwell", 0.01),
+                          _move(-1 * MM, 10 * MM)])
+    s.append(Scenario("harmonic3", "1 % third harmonic; moves of 1 mm at 10 mm/s", x,
+                      replace(base, h3=0.01), seed=15))
+
+    x = siggen.moves(FS, [("dwell", 0.01), _move(0.6 * MM, 10 * MM), ("dwell", 0.02),
+                          _move(-0.4 * MM, 10 * MM), ("dwell", 0.01)])
+    s.append(Scenario("adc12_fullscale", "12-bit ADC, A1 0.93 / A2 0.90 of full scale, "
+                      "0.1 % noise", x,
+                      replace(base, A1=0.93, A2=0.90, m1=0.02, m2=-0.015, phi=0.05,
+                              noise=0.001, adc_bits=12), seed=16))
+
+    x = siggen.moves(FS, [("dwell", 0.02), _move(0.2 * MM, 10 * MM), ("dwell", 1.0),
+                          _move(-0.2 * MM, 10 * MM), ("dwell", 0.02)])
+    s.append(Scenario("standstill", "1 s standstill between moves of 0.2 mm", x, base,
+                      seed=17))
+
+    x = siggen.constant_speed(500_000, FS, _speed(1e-5))
+    s.append(Scenario("creep", "creep at 40 um/s: 100 000 samples per signal period, "
+                      "scored after the first period", x, base, seed=18, settle_s=0.0,
+                      settle_periods=1.0))
+
+    x = siggen.constant_speed(200_000, FS, 2 * MM)
+    s.append(Scenario("noise2", "2 % noise, constant speed 2 mm/s", x,
+                      replace(base, noise=0.02), seed=19))
+
+    x = siggen.constant_speed(100_000, FS, _speed(0.3))
+    s.append(Scenario("highspeed", "signal frequency 0.3 fs (1.2 m/s, 300 kHz)", x, base,
+                      seed=20))
+    return s
+
+
+def by_name(names=None):
+    sc = suite()
+    if not names:
+        return sc
+    known = {x.name: x for x in sc}
+    bad = [n for n in names if n not in known]
+    if bad:
+        raise ValueError(f"unknown scenario(s) {', '.join(bad)}; known: {', '.join(known)}")
+    return [known[n] for n in names]
