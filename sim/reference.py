@@ -47,7 +47,11 @@ class Rls:
         h = self.P @ phi
         k = h / (self.lam + phi @ h)
         self.theta = self.theta + k * (1.0 - phi @ self.theta)
-        self.P = (self.P - np.outer(k, h)) / self.lam
+        P = (self.P - np.outer(k, h)) / self.lam
+        # symmetric by construction (the gateware updates one triangle): with forgetting,
+        # rounding's antisymmetric part grows as lambda**-t and makes P indefinite after
+        # some thousands of updates, even in double precision
+        self.P = (P + P.T) / 2
         return self.theta
 
 
@@ -71,6 +75,44 @@ def run(u1, u2, interp=100, lam_k=8, kappa=64.0, update_idx=None, period=4096):
             if period and ups % period == 0:
                 rls.reset()
         params[k] = p
+    c1, c2 = correct(u1, u2, params.T)
+    ang = np.unwrap(np.arctan2(c2, c1))
+    count = np.floor(ang * interp * 2 / np.pi).astype(np.int64)
+    return dict(angle=ang, count=count, params=params)
+
+
+def run_schedule(u1_code, u2_code, sched, interp=100, lam_k=8, kappa=64.0, adc_w=16,
+                 g0=0):
+    """The float twin of the gateware: the same estimator schedule as a bit-true model
+    run (core.run(...)["sched"]: which samples update, where P is reset and the input
+    gain changes, which updates are handed over and from which sample on), in double
+    precision, with atan2 and an ideal x4 count of the n-th order. The difference to the
+    gateware is then only its word lengths, tables and rounding."""
+    u1 = np.asarray(u1_code, float) / (1 << (adc_w - 1))
+    u2 = np.asarray(u2_code, float) / (1 << (adc_w - 1))
+    n = len(u1)
+    rls = Rls(lam_k, kappa, theta0=(4.0, 4.0, 0.0, 0.0, 0.0))
+    g = g0
+    cur = (0.5 / 2 ** g, 1.0, 0.0, 0.0, 0.0)   # the default bundle, in input units
+    starts, values = [0], [cur]
+    for kind, k, g_k, first in sched:
+        if kind == "reset":
+            dg = g_k - g
+            rls.theta[:3] *= 2.0 ** (-2 * dg)
+            rls.theta[3:] *= 2.0 ** (-dg)
+            rls.reset()
+            g = g_k
+            continue
+        rls.update(u1[k] * 2 ** g, u2[k] * 2 ** g)
+        if first is not None:
+            q = extract(rls.theta)
+            if q is not None:
+                a1, r, m1, m2, phi = q
+                s = 2.0 ** -g
+                starts.append(first)
+                values.append((a1 * s, r, m1 * s, m2 * s, phi))
+    idx = np.searchsorted(np.asarray(starts), np.arange(n), side="right") - 1
+    params = np.asarray(values)[idx]
     c1, c2 = correct(u1, u2, params.T)
     ang = np.unwrap(np.arctan2(c2, c1))
     count = np.floor(ang * interp * 2 / np.pi).astype(np.int64)

@@ -1,0 +1,171 @@
+#!/usr/bin/env python3
+"""Accuracy benchmark: the RTL and the baselines on the scenario suite, against the floor.
+
+    python3 scripts/bench_accuracy.py [--build build/bench] [--only NAME ...] [--no-rtl]
+
+For every scenario of sim/scenarios.py: generate the recording, run the RTL through
+`make rtlsim` (Verilator) and the bit-true model, check that they agree bit for bit, and
+score, through the same metrics (sim/metrics.py), these methods:
+
+  rtl        finequad, the gateware (the count register)
+  float      the float twin of finequad: the same estimator schedule in double precision
+             with atan2 and an ideal counter (sim/reference.py run_schedule); RTL / float
+             is the loss of the fixed-point design (word lengths, tables, rounding)
+  paper      the paper's method as printed, in float (sim/baselines.py paper_literal)
+  heydemann  offline ellipse fit on the whole record, then atan2
+  raw        atan2 of the uncorrected signals
+
+Prints the table, writes accuracy.json and accuracy.md into the build directory, and
+exits 1 if the RTL differs from the model anywhere (2 on bad arguments).
+"""
+import argparse
+import json
+import pathlib
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+ROOT = pathlib.Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+from sim import baselines, metrics, reference, scenarios, siggen  # noqa: E402
+from sim.model import core  # noqa: E402
+from sim.run_model import write_codes, write_result  # noqa: E402
+
+METHODS = ("rtl", "float", "paper", "heydemann", "raw")
+TARGET = 1.15
+
+
+def score(count, sc, a, var_a, interp):
+    s, err, _ = metrics.score(count, sc.x, var_a, scenarios.PITCH_NM, interp, sc.start(),
+                              a=a)
+    conv = [metrics.convergence_periods(err, sc.x, scenarios.PITCH_NM, s["floor_nm"], e,
+                                        window=200) for e in [0] + list(sc.events)]
+    s["convergence_periods"] = conv
+    return s
+
+
+def run_rtl(inp, out, interp, adc_w):
+    """`make rtlsim` in the background; returns the process."""
+    cmd = ["make", "--no-print-directory", "-C", str(ROOT), "rtlsim", f"IN={inp}",
+           f"OUT={out}", f"INTERP={interp}", f"ADC_W={adc_w}", "TABLE=exact"]
+    return subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+
+
+def bench(sc, d, interp, rtl):
+    u1, u2, a = sc.codes()
+    bits = sc.sig.adc_bits
+    d.mkdir(parents=True, exist_ok=True)
+    write_codes(d / "in.csv", u1, u2)
+    proc = run_rtl(d / "in.csv", d / "rtl.csv", interp, bits) if rtl else None
+    t0 = time.time()
+    cfg = core.Config(interp=interp, ADC_W=bits)
+    res = core.run(u1, u2, cfg)
+    write_result(d / "model.csv", res)
+    t_model = time.time() - t0
+    var_a = siggen.angle_var(a, sc.sig)
+    full = 1 << (bits - 1)
+    f1, f2 = u1 / full, u2 / full
+    counts = {
+        "float": reference.run_schedule(u1, u2, res["sched"], interp, cfg.lam_k,
+                                        cfg.kappa / 256, adc_w=bits)["count"],
+        "paper": baselines.paper_literal(f1, f2, interp)["count"],
+        "heydemann": baselines.heydemann(f1, f2, interp)[0],
+        "raw": baselines.raw_atan2(f1, f2, interp),
+    }
+    row = {"scenario": sc.name, "title": sc.title, "samples": len(u1),
+           "scored_from": sc.start(), "adc_bits": bits, "signal": siggen.describe(sc.sig),
+           "estimator_updates": res["n_updates"], "jumps_detected": len(res["jumps"]),
+           "model_seconds": round(t_model, 1)}
+    if proc is not None:
+        _, err = proc.communicate()
+        if proc.returncode != 0:
+            raise SystemExit(f"bench: error: make rtlsim failed on {sc.name}:\n{err}")
+        rtl_bytes = (d / "rtl.csv").read_bytes()
+        row["rtl_equals_model"] = rtl_bytes == (d / "model.csv").read_bytes()
+        rows = np.loadtxt(d / "rtl.csv", delimiter=",", skiprows=1, dtype=np.int64, ndmin=2)
+        counts["rtl"] = rows[:, 0]
+        row["method_rtl"] = "RTL (Verilator)"
+    else:
+        row["rtl_equals_model"] = None
+        counts["rtl"] = res["count"]
+        row["method_rtl"] = "bit-true model (RTL not run)"
+    for m in METHODS:
+        row[m] = score(counts[m], sc, a, var_a, interp)
+    row["fixed_point_loss"] = row["rtl"]["rms_nm"] / row["float"]["rms_nm"]
+    return row
+
+
+def fmt_conv(c):
+    return "/".join("-" if v is None else f"{v:.1f}" for v in c)
+
+
+def table(rows):
+    head = ("| scenario | method | RMS nm | floor nm | ratio | peak nm | slips | "
+            "convergence (periods) |")
+    lines = [head, "|" + "---|" * 8]
+    for r in rows:
+        for m in METHODS:
+            s = r[m]
+            name = r["scenario"] if m == "rtl" else ""
+            mark = ""
+            if m == "rtl":
+                ok = s["ratio"] <= TARGET and s["slips"] == 0
+                mark = " " + ("ok" if ok else "**over**")
+            lines.append(f"| {name} | {m}{mark} | {s['rms_nm']:.2f} | {s['floor_nm']:.2f} | "
+                         f"{s['ratio']:.3f} | {s['peak_nm']:.1f} | {s['slips']} | "
+                         f"{fmt_conv(s['convergence_periods'])} |")
+    return "\n".join(lines)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--build", default=str(ROOT / "build" / "bench"))
+    ap.add_argument("--only", nargs="*", help="scenario names (default: the whole suite)")
+    ap.add_argument("--interp", type=int, default=100)
+    ap.add_argument("--no-rtl", action="store_true", help="score the bit-true model only")
+    args = ap.parse_args()
+    if not 1 <= args.interp <= 511:
+        print(f"bench: error: --interp must be 1..511, got {args.interp}", file=sys.stderr)
+        raise SystemExit(2)
+    try:
+        suite = scenarios.by_name(args.only)
+    except ValueError as e:
+        print(f"bench: error: {e}", file=sys.stderr)
+        raise SystemExit(2)
+    build = pathlib.Path(args.build)
+    rows = []
+    t0 = time.time()
+    for sc in suite:
+        r = bench(sc, build / sc.name, args.interp, not args.no_rtl)
+        rows.append(r)
+        s = r["rtl"]
+        eq = {True: "RTL == model", False: "RTL != MODEL", None: "model only"}[
+            r["rtl_equals_model"]]
+        print(f"{sc.name:16s} {s['rms_nm']:6.2f} nm RMS, floor {s['floor_nm']:5.2f} nm, "
+              f"ratio {s['ratio']:.3f}, peak {s['peak_nm']:6.1f} nm, slips {s['slips']}, "
+              f"float twin {r['float']['ratio']:.3f}; {eq}", flush=True)
+    md = (f"n = {args.interp}, 4 um pitch, 1 MS/s; ratio = RMS / floor; convergence = "
+          f"signal periods of travel from the start / after each jump until every "
+          f"200-sample window stays within 2x the floor ('-': never)\n\n" + table(rows))
+    print()
+    print(md)
+    (build / "accuracy.md").write_text(md + "\n")
+    summary = {"interp": args.interp, "pitch_nm": scenarios.PITCH_NM, "fs_hz": scenarios.FS,
+               "target_ratio": TARGET, "seconds": round(time.time() - t0, 1),
+               "scenarios": rows}
+    (build / "accuracy.json").write_text(json.dumps(summary, indent=1))
+    over = [r["scenario"] for r in rows if r["rtl"]["ratio"] > TARGET or r["rtl"]["slips"]]
+    print(f"\nwrote {build / 'accuracy.json'} and {build / 'accuracy.md'} "
+          f"({time.time() - t0:.0f} s); RTL over {TARGET}x the floor or slipping: "
+          f"{', '.join(over) if over else 'none'}")
+    bad = [r["scenario"] for r in rows if r["rtl_equals_model"] is False]
+    if bad:
+        print(f"bench: error: RTL differs from the bit-true model on {', '.join(bad)}",
+              file=sys.stderr)
+        raise SystemExit(1)
+
+
+if __name__ == "__main__":
+    main()
