@@ -1,0 +1,80 @@
+#!/usr/bin/env python3
+"""Speed and resolution limits of an interpolator build (Eq. 13 of the paper, Nyquist).
+
+    python3 scripts/limits.py --pitch UM --fs HZ [--v M_PER_S | --interp N]
+                              [--edge-sep CLOCKS] [--fclk HZ]
+
+  --pitch     signal period of the scale, um (4 for the paper's slider)
+  --fs        sample rate of the ADC, Hz
+  --v         a speed, m/s: prints the highest interpolation factors at that speed
+  --interp    an interpolation factor n: prints the highest speeds for it
+  --edge-sep  minimum separation of A/B output edges, clocks (default 4)
+  --fclk      clock of the core, Hz (default 36e6)
+
+Limits (x4 counting: one count per quarter of an n-th order period, pitch / (4 n)):
+  paper's edge counter (Eq. 13): the n-th order sinusoid must move less than a quarter
+      period per sample: v < pitch fs / (4 n)   (N_n = 4 samples per n-th order period)
+  A/B outputs: at most one edge per edge-sep clocks: v <= pitch fclk / (4 n edge_sep)
+  internal fine-phase counter: the angle step per sample must stay below pi (Nyquist);
+      the core flags overspeed from 3/4 pi, so v < 3/8 pitch fs is the usable range,
+      independent of n.
+"""
+import argparse
+import sys
+
+
+def limits(pitch_um, fs, edge_sep=4, fclk=36e6, v=None, interp=None):
+    """Dict of the limits (speeds in m/s, factors as floats before rounding down)."""
+    p = pitch_um * 1e-6
+    out = {"counter_v_max": 3 / 8 * p * fs, "nyquist_v": p * fs / 2}
+    if interp is not None:
+        out["edge_counter_v_max"] = p * fs / (4 * interp)
+        out["ab_v_max"] = p * fclk / (4 * interp * edge_sep)
+    if v is not None:
+        out["edge_counter_n_max"] = p * fs / (4 * v)
+        out["ab_n_max"] = p * fclk / (4 * v * edge_sep)
+    return out
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--pitch", type=float, required=True, help="signal period, um")
+    ap.add_argument("--fs", type=float, required=True, help="sample rate, Hz")
+    g = ap.add_mutually_exclusive_group()
+    g.add_argument("--v", type=float, help="speed, m/s")
+    g.add_argument("--interp", type=int, help="interpolation factor n")
+    ap.add_argument("--edge-sep", type=int, default=4, help="A/B edge separation, clocks")
+    ap.add_argument("--fclk", type=float, default=36e6, help="core clock, Hz")
+    a = ap.parse_args(argv)
+    bad = [f"--{k} must be > 0, got {v}" for k, v in
+           (("pitch", a.pitch), ("fs", a.fs), ("edge-sep", a.edge_sep), ("fclk", a.fclk),
+            ("v", a.v), ("interp", a.interp)) if v is not None and v <= 0]
+    if a.fs is not None and a.fclk is not None and a.fs > a.fclk > 0:
+        bad.append(f"--fs ({a.fs:g} Hz) cannot exceed --fclk ({a.fclk:g} Hz): one sample "
+                   "per clock at most")
+    if bad:
+        print("limits: error: " + "; ".join(bad), file=sys.stderr)
+        return 2
+    r = limits(a.pitch, a.fs, a.edge_sep, a.fclk, a.v, a.interp)
+    print(f"pitch {a.pitch:g} um, fs {a.fs:g} Hz, A/B edge separation {a.edge_sep} clocks "
+          f"at {a.fclk / 1e6:g} MHz")
+    print(f"  internal counter (fine phase) tracks up to {r['counter_v_max']:.4g} m/s "
+          f"(overspeed flag from 3/4 pi per sample; Nyquist {r['nyquist_v']:.4g} m/s), "
+          f"at any n")
+    if a.interp is not None:
+        n = a.interp
+        print(f"  n = {n}: resolution {a.pitch * 1e3 / (4 * n):.4g} nm")
+        print(f"    paper's edge counter (Eq. 13) loses counts above "
+              f"{r['edge_counter_v_max']:.4g} m/s")
+        print(f"    A/B outputs keep up to {r['ab_v_max']:.4g} m/s (above: backlog, then "
+              f"overflow flag)")
+    if a.v is not None:
+        print(f"  at {a.v:g} m/s: highest n for the paper's edge counter "
+              f"{int(r['edge_counter_n_max'] + 1e-9)}, for the A/B outputs {int(r['ab_n_max'] + 1e-9)}"
+              + ("" if a.v < r["counter_v_max"] else
+                 "; the internal counter cannot follow this speed"))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

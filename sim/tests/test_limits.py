@@ -1,0 +1,38 @@
+"""scripts/limits.py: Eq. 13, the A/B edge rate and Nyquist."""
+import pathlib
+import subprocess
+import sys
+
+import pytest
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "scripts"))
+import limits  # noqa: E402
+
+
+def test_papers_example_and_round_trip():
+    # the issue's example: 4 um, n = 100, 1 MS/s -> the edge counter fails above 1 cm/s
+    r = limits.limits(4, 1e6, interp=100)
+    assert r["edge_counter_v_max"] == pytest.approx(0.01)
+    assert r["counter_v_max"] == pytest.approx(1.5) and r["nyquist_v"] == pytest.approx(2.0)
+    # A/B: 36 MHz / 4 clocks = 9 M edges/s = 4 n v / pitch
+    assert r["ab_v_max"] == pytest.approx(9e6 * 4e-6 / 400)
+    back = limits.limits(4, 1e6, v=r["ab_v_max"])
+    assert back["ab_n_max"] == pytest.approx(100)
+    assert back["edge_counter_n_max"] == pytest.approx(100 * 0.01 / r["ab_v_max"])
+
+
+def run(*args):
+    return subprocess.run([sys.executable, str(ROOT / "scripts" / "limits.py"), *args],
+                          capture_output=True, text=True)
+
+
+def test_cli_prints_the_limits_and_rejects_bad_input():
+    p = run("--pitch", "4", "--fs", "1e6", "--v", "0.01")
+    assert p.returncode == 0 and "highest n for the paper's edge counter 100," in p.stdout
+    p = run("--pitch", "4", "--fs", "1e6", "--interp", "100")
+    assert p.returncode == 0 and "loses counts above 0.01 m/s" in p.stdout
+    p = run("--pitch", "-4", "--fs", "1e6")
+    assert p.returncode == 2 and "--pitch must be > 0" in p.stderr
+    p = run("--pitch", "4", "--fs", "1e9")
+    assert p.returncode == 2 and "cannot exceed --fclk" in p.stderr
