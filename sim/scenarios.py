@@ -70,12 +70,12 @@ def suite():
     k = n // 2
     sig = replace(base,
                   A1=siggen.along(x, 0.60, 0.50),
-                  A2=siggen.jump(siggen.along(x, 0.54, 0.50), k, -0.03),
-                  m1=siggen.jump(siggen.along(x, 0.03, 0.01), k, 0.015),
+                  A2=siggen.jump(siggen.along(x, 0.54, 0.50), k, -0.05),
+                  m1=siggen.jump(siggen.along(x, 0.03, 0.01), k, 0.03),
                   m2=siggen.along(x, -0.02, 0.0),
-                  phi=siggen.jump(siggen.along(x, 0.08, 0.12), k, 0.03))
+                  phi=siggen.jump(siggen.along(x, 0.08, 0.12), k, 0.05))
     s.append(Scenario("drift_jump", "5 mm/s; A1, A2, m1, m2, phi drift along 1.5 mm; at "
-                      "0.15 s m1 +1.5 % FS, A2 -3 % FS, phi +0.03 rad", x, sig, seed=13,
+                      "0.15 s m1 +3 % FS, A2 -5 % FS, phi +0.05 rad", x, sig, seed=13,
                       events=[k]))
 
     x = siggen.reversals(250_000, FS, 20 * UM, 20.0)
