@@ -1,16 +1,33 @@
 `timescale 1ns / 1ps
 `default_nettype none
-// counter: x4 up/down counter of the A/B edges (sim/model/fastpath.py counter()).
-// Counts up when the phase increases (u1 leads u2). A/B show the n-th order quadrant
-// only modulo 4: a two-quadrant step (both channels change at once, illegal for a
-// quadrature decoder) is ambiguous and a four-quadrant step is invisible. The exact n-th
-// order step D = n * wrap13(phase - phase_prev) resolves both:
-//   dq  in {-1, 0, 1, 2}    A/B quadrant step
-//   k   = (D - 2048 dq + 4096) >>> 13           nearest multiple of four quadrants
-//   count += dq + 4 k; illegal when dq == 2 or k != 0 (flagged and counted)
-// Latency 3. The first valid sample only primes the state.
+// counter: position count of the n-th order, two modes (sim/model/fastpath.py counter()).
+// Counts up when the phase increases (u1 leads u2). Both modes share one accumulator
+//   S    s(COUNT_W+13), wraps; count_o = S >>> 13 (its top COUNT_W bits): one count is
+//        8192 units of S, i.e. S holds 4 n * phase in u13 units of the fundamental
+// and see every valid sample (phase_prev and the A/B quadrant are tracked in both modes).
+// After rst: S = 0, phase_prev = 0, quadrant_prev = 0 (A = B = 1, rtl/pulse.v's reset).
+//
+// mode_i = 0, "phase" (default): S += 4 * n * dph, dph = wrap13(phase - phase_prev)
+//   dph  s13, [-4096, 4095], 8192 per period of the fundamental
+//   D    s23 = dph * n (one DSP multiply; |D| <= 4096 * 511 < 2^21)
+//   The count follows the unwrapped phase exactly, with no count lost at any speed up to
+//   |dph| < 4096 (half a period per sample): S = 4 n Phi with Phi = wrap13(phase_0) +
+//   sum of the dph (phase_prev starts at 0, so the first sample adds 4 n wrap13(phase_0)),
+//   count = floor(4 n Phi / 8192), aligned to the absolute phase (modulo 4 n counts).
+//   Flag ("overspeed"): |dph| >= 3072 (3/4 pi or more per sample; near pi the direction
+//   of the step, hence the position, becomes ambiguous).
+// mode_i = 1, "edge" (the paper's counter, Sec. 2.3, for comparison): plain x4 quadrature
+//   decoder of A/B: S += 8192 * e, e = +1 / -1 per single-channel step (quadrant step
+//   dq = 1 / 3 modulo 4), 0 for no change. A step where both A and B change (dq = 2) is
+//   illegal: not counted (the count is lost), flagged. A four-quadrant step is invisible.
+//   S's 13 low bits are not touched, so switching modes keeps the count continuous.
+// The flag (illegal_o, pulsed with valid_o) is never raised on the first valid sample
+// after rst (its step is from the reset state, not from a sample); flagged samples are
+// counted in illegal_count_o (u32, wraps). Switch modes at standstill.
+// Latency 3: a sample on edge e (valid_i, a_i, b_i, phase_i, mode_i) is on the outputs
+// after edge e + 2; n_i is used on edge e + 1.
 module counter #(
-    // counter width (wraps)
+    // counter width (wraps), 16..32
     parameter COUNT_W = 32
 ) (
     input  wire                      clk,
@@ -19,24 +36,28 @@ module counter #(
     input  wire                      a_i,
     input  wire                      b_i,
     input  wire [12:0]               phase_i,    // u13 fine phase, aligned with A/B
-    input  wire [8:0]                n_i,
+    input  wire [8:0]                n_i,        // u9 n, 1..511
+    input  wire                      mode_i,     // 0 phase, 1 edge (x4 of A/B)
     output reg                       valid_o,
-    output reg  signed [COUNT_W-1:0] count_o,
+    output wire signed [COUNT_W-1:0] count_o,    // s(COUNT_W), wraps
     output reg                       a_o,
     output reg                       b_o,
-    output reg                       illegal_o,
+    output reg                       illegal_o,  // phase: overspeed; edge: lost step
     output reg  [31:0]               illegal_count_o
 );
+    localparam SW = COUNT_W + 13;                // accumulator S: s(COUNT_W).13
     // quadrant code: (1,1) 0, (0,1) 1, (0,0) 2, (1,0) 3
-    wire [1:0] qd = {~b_i, a_i ^ b_i};
-    reg  [1:0] qd_prev = 2'd0;
-    reg [12:0] ph_prev = 0;
-    reg        primed = 1'b0;
+    wire [1:0]  qd = {~b_i, a_i ^ b_i};
+    reg  [1:0]  qd_prev = 2'd0;
+    reg  [12:0] ph_prev = 13'd0;
+    reg         primed = 1'b0;
     // +1: steps
-    reg  [1:0] dq1 = 0;
-    reg signed [13:0] dph1 = 0;
-    reg        v1 = 1'b0, p1 = 1'b0, a1 = 1'b1, b1 = 1'b1;
-    wire [12:0] dph = phase_i - ph_prev;
+    wire [12:0] dph = phase_i - ph_prev;         // u13 difference = wrap13 as s13
+    wire        ovs = (dph >= 13'd3072) && (dph <= 13'd5120);   // |wrap13| >= 3072
+    reg  [1:0]  dq1 = 2'd0;                      // u2 quadrant step modulo 4
+    reg  signed [12:0] dph1 = 13'sd0;            // s13
+    reg         ovs1 = 1'b0, m1 = 1'b0;
+    reg         v1 = 1'b0, p1 = 1'b0, a1 = 1'b1, b1 = 1'b1;
     always @(posedge clk) begin
         if (valid_i) begin
             qd_prev <= qd;
@@ -44,53 +65,58 @@ module counter #(
             primed  <= 1'b1;
         end
         dq1  <= qd - qd_prev;
-        dph1 <= $signed({dph[12], dph});
+        dph1 <= $signed(dph);
+        ovs1 <= ovs;
+        m1 <= mode_i;
         v1 <= valid_i;
         p1 <= primed;
         a1 <= a_i;
         b1 <= b_i;
         if (rst) begin
+            qd_prev <= 2'd0;
+            ph_prev <= 13'd0;
             primed <= 1'b0;
             v1 <= 1'b0;
         end
     end
-    // +2: exact n-th order step
-    reg signed [23:0] d2 = 0;
-    reg signed [2:0]  dq2 = 0;
-    reg        v2 = 1'b0, p2 = 1'b0, a2 = 1'b1, b2 = 1'b1;
+    // +2: n-th order step (DSP), edge step, flag
+    reg  signed [22:0] d2 = 23'sd0;              // s23: D = dph * n
+    reg  signed [1:0]  e2 = 2'sd0;               // s2: edge step -1, 0, +1
+    reg         f2 = 1'b0, m2 = 1'b0;
+    reg         v2 = 1'b0, a2 = 1'b1, b2 = 1'b1;
     always @(posedge clk) begin
-        d2  <= dph1 * $signed({1'b0, n_i});
-        dq2 <= (dq1 == 2'd3) ? -3'sd1 : $signed({1'b0, dq1});
-        v2 <= v1; p2 <= p1; a2 <= a1; b2 <= b1;
+        d2 <= dph1 * $signed({1'b0, n_i});
+        e2 <= (dq1 == 2'd1) ? 2'sd1 : (dq1 == 2'd3) ? -2'sd1 : 2'sd0;
+        f2 <= p1 && (m1 ? (dq1 == 2'd2) : ovs1);
+        m2 <= m1;
+        v2 <= v1; a2 <= a1; b2 <= b1;
         if (rst)
             v2 <= 1'b0;
     end
-    // +3: count
-    wire signed [24:0] dqx = {{22{dq2[2]}}, dq2};
-    wire signed [24:0] kx = $signed({d2[23], d2}) - (dqx <<< 11) + 25'sd4096;
-    wire signed [11:0] k = kx[24:13];
-    wire signed [COUNT_W-1:0] inc = $signed({{(COUNT_W-3){dq2[2]}}, dq2}) +
-                                    $signed({{(COUNT_W-14){k[11]}}, k, 2'b00});
-    wire illegal = p2 && (dq2 == 3'sd2 || k != 0);
-    wire unused = &{1'b0, kx[12:0], 1'b0};
+    // +3: accumulate
+    reg  signed [SW-1:0] s_acc = 0;              // S, s(COUNT_W).13
+    wire signed [SW-1:0] inc_ph = {{(SW-25){d2[22]}}, d2, 2'b00};          // 4 D
+    wire signed [SW-1:0] inc_ed = {{(SW-15){e2[1]}}, e2, 13'd0};           // 8192 e
     always @(posedge clk) begin
         valid_o <= v2;
         a_o <= a2;
         b_o <= b2;
-        illegal_o <= v2 && illegal;
-        if (v2 && p2) begin
-            count_o <= count_o + inc;
-            if (illegal)
+        illegal_o <= v2 && f2;
+        if (v2) begin
+            s_acc <= s_acc + (m2 ? inc_ed : inc_ph);
+            if (f2)
                 illegal_count_o <= illegal_count_o + 1'b1;
         end
         if (rst) begin
             valid_o <= 1'b0;
-            count_o <= 0;
+            illegal_o <= 1'b0;
+            s_acc <= 0;
             illegal_count_o <= 0;
         end
     end
+    assign count_o = s_acc[SW-1:13];
     initial begin
-        valid_o = 1'b0; count_o = 0; a_o = 1'b1; b_o = 1'b1; illegal_o = 1'b0;
+        valid_o = 1'b0; a_o = 1'b1; b_o = 1'b1; illegal_o = 1'b0;
         illegal_count_o = 0;
     end
 endmodule
