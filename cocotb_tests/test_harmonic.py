@@ -1,21 +1,23 @@
 """harmonic (adaptive compensation of the fine phase) against sim.model.harmonic, bit for
-bit on every sample.
+bit on every sample; and the block inside finequad_core against sim.model.core.
 
-The stimulus is a fine-phase stream (units of 1/8192 period) from a moving stage with a
-periodic error and noise, in segments that open and close the learning gate: speeds
+The block stimulus is a fine-phase stream (units of 1/8192 period) from a moving stage with
+a periodic error and noise, in segments that open and close the learning gate: speeds
 inside the window (16..512 units/sample) and outside it (standstill, creep, reversals,
-overspeed), phase jumps that break the observer's lock, a large error with mu = 0 (the
-loop oscillates: update clamp and table saturation), and bursts of samples on every
-clock in the same bin (the forwarding of in-flight updates). Strobes are back to back,
-every few clocks or with random gaps; apply, learn and mu change at random edges (also
-while samples are in flight) and the table is cleared at random edges, among them the
-edges around a sample's arrival.
+overspeed), phase jumps that break the observer's lock, an error larger than the table's
+range (updates that would leave s16 are not made), and bursts of samples on every clock
+(a candidate's update is committed on the arrival of the 7th sample after it, on the
+same edge as that sample's read). Strobes are back to back, every few clocks or with
+random gaps; apply, learn and mu change at random edges (also while samples are in
+flight) and the table is cleared at random edges, among them every edge around a
+sample's arrival and edges during a running sweep.
 
 Timing contract (rtl/harmonic.v): a sample arrives on the edge a where valid_i is high;
-phase_o/valid_o are registered on edge a + 2; apply_i is sampled on edge a + 1, learn_i
-and mu_i on edge a + 5; a clear pulse sampled on edge w empties the tables for the samples
-arriving on edges >= w. valid_o must be high after exactly the edges a + 2, and
-updates_o must equal the model's count after the run.
+phase_o/valid_o are registered on edge a + 2; apply_i is sampled on edge a + 2, learn_i
+and mu_i on edge a + 5; a clear pulse sampled on edge w empties the table for the samples
+arriving on edges >= w, and those arriving on edges w .. w + 64 are passed through
+uncorrected (sim.model.harmonic.sweep_flags). valid_o must be high after exactly the edges
+a + 2.
 """
 import random
 
@@ -27,14 +29,14 @@ import fqtb
 @pytest.mark.parametrize("pattern", ["directed", "gaps", "b2b"])
 @pytest.mark.parametrize("sim", fqtb.SIMULATORS)
 def test_harmonic(sim, pattern):
-    n = {"icarus": 12000, "verilator": 60000}[sim]
+    n = {"icarus": 20000 if pattern == "directed" else 12000, "verilator": 60000}[sim]
     fqtb.run_block(sim, "harmonic", fqtb.sources("harmonic"), "test_harmonic",
                    extra_env=dict(PATTERN=pattern, SAMPLES=n), testcase="harmonic_stream")
 
 
 # ---- stimulus (importable without a simulator) ----------------------------------------------
 OUT_LAT = 2          # phase_o registered on edge a + 2
-APPLY_AT = 1         # apply_i sampled on edge a + 1
+APPLY_AT = 2         # apply_i sampled on edge a + 2
 LEARN_AT = 5         # learn_i, mu_i sampled on edge a + 5
 
 
@@ -95,12 +97,12 @@ def phases(n, rng):
 
 
 def directed(n):
-    """A stage at 20 units/sample (six samples per bin) with a large 4th-harmonic error
-    (120 units): mu = 3, then mu = 0 (the loop oscillates: update clamp, table
-    saturation), phase jumps (the observer loses track), learn and apply off spells,
-    clear pulses on every edge from 2 before to 7 after a sample's arrival, and a spell
-    of large noise (samples hop between bins). Strobes back to back, then every 2 or 3
-    clocks."""
+    """A stage at 20 units/sample (six samples per bin) with a 4th-harmonic error of 200
+    units (more than the table holds: the entries run into the s16 limits), mu 3..6,
+    phase jumps (the observer loses track), learn and apply off spells, clear pulses on
+    every edge from 2 before to 7 after a sample's arrival and during a sweep, and a
+    spell of large noise (samples hop between bins). Strobes back to back, then every 2
+    or 3 clocks."""
     import numpy as np
     k = np.arange(n)
     x = 100.0 + 20.0 * k
@@ -109,7 +111,7 @@ def directed(n):
     # noise of 40 units in [0.56 n, 0.68 n): samples hop back and forth between bins
     noise = np.where((k >= n * 56 // 100) & (k < n * 68 // 100),
                      40.0 * np.random.default_rng(5).standard_normal(n), 0.0)
-    ph = (np.round(x + 120.0 * np.sin(8 * np.pi * x / 8192) + noise) % 8192).astype(np.int64)
+    ph = (np.round(x + 200.0 * np.sin(8 * np.pi * x / 8192) + noise) % 8192).astype(np.int64)
     gaps = np.where(k < n // 2, 1, np.where(k % 3 == 0, 3, 2))
     edges = (12 + np.concatenate([[0], np.cumsum(gaps[:-1])])).tolist()
     ctrl = {0: (1, 1, 3)}
@@ -117,17 +119,17 @@ def directed(n):
     def at(frac, val, off=0):
         ctrl[edges[int(n * frac)] + off] = val
 
-    at(0.20, (1, 1, 0))           # mu = 0
-    at(0.40, (1, 1, 3), 3)        # mid-flight changes of mu
-    at(0.45, (1, 0, 3), 1)        # learn off
-    at(0.50, (0, 1, 2), 2)        # apply off, learning goes on
-    at(0.55, (1, 1, 4), 4)
-    at(0.85, (1, 1, 0), 5)
-    at(0.90, (1, 1, 5))
+    at(0.40, (1, 1, 5), 3)        # mid-flight changes of mu
+    at(0.45, (1, 0, 5), 1)        # learn off
+    at(0.50, (0, 1, 4), 2)        # apply off, learning goes on
+    at(0.55, (1, 1, 6), 4)
+    at(0.85, (1, 1, 3), 5)
+    at(0.90, (1, 1, 4))
     clears = []
     for i, off in enumerate(range(-2, 8)):
-        kk = int(n * (0.12 + 0.06 * i))
+        kk = int(n * (0.32 + 0.025 * i))
         clears.append(edges[kk] + off)
+    clears.append(clears[-1] + 30)                    # during the sweep
     return edges, ph.tolist(), ctrl, sorted(set(clears))
 
 
@@ -157,12 +159,12 @@ def schedule(pattern, n, seed):
                     gap = rng.choice([2, 3, 4, 5, 7, 8, 9, 13, 20, 36, 60])
         e += gap
     last = edges[-1]
-    # control changes: mostly apply = learn = 1 and mu in 2..8; mu = 0 in "bigerr" spells
+    # control changes: mostly apply = learn = 1, mu 3..6
     ctrl = {0: (1, 1, 4)}
     for _ in range(max(8, n // 400)):
         w = rng.randint(1, last)
         ctrl[w] = (int(rng.random() < 0.8), int(rng.random() < 0.85),
-                   rng.choice([0, 1, 2, 3, 4, 4, 5, 6, 6, 7, 8, 15]))
+                   rng.choice([3, 3, 4, 4, 4, 5, 6]))
     clears = set()
     for _ in range(max(4, n // 2000)):
         k = rng.randrange(8, n)
@@ -171,9 +173,10 @@ def schedule(pattern, n, seed):
 
 
 def model_inputs(edges, ctrl, clears):
-    """Per-sample apply, learn, mu and clear flags as the RTL samples them."""
+    """Per-sample apply, learn, mu, clear and blocked flags as the RTL samples them."""
     import bisect
     import numpy as np
+    from sim.model import harmonic as hm
     ce = sorted(ctrl)
 
     def at(e):
@@ -182,20 +185,16 @@ def model_inputs(edges, ctrl, clears):
     apply = np.array([at(a + APPLY_AT)[0] for a in edges], dtype=np.int64)
     learn = np.array([at(a + LEARN_AT)[1] for a in edges], dtype=np.int64)
     mu = np.array([at(a + LEARN_AT)[2] for a in edges], dtype=np.int64)
-    clear = np.zeros(len(edges), dtype=bool)
-    for w in clears:
-        k = bisect.bisect_left(edges, w)         # first sample arriving on an edge >= w
-        if k < len(edges):
-            clear[k] = True
-    return apply, learn, mu, clear
+    clear, blocked = hm.sweep_flags(edges, clears)
+    return apply, learn, mu, clear, blocked
 
 
 def expected(pattern, n, seed):
     from sim.model import harmonic as hm
     edges, ph, ctrl, clears = schedule(pattern, n, seed)
-    apply, learn, mu, clear = model_inputs(edges, ctrl, clears)
+    apply, learn, mu, clear, blocked = model_inputs(edges, ctrl, clears)
     h = hm.Harmonic()
-    out = h.run(ph, apply=apply, learn=learn, mu=mu, clear=clear)
+    out = h.run(ph, apply=apply, learn=learn, mu=mu, clear=clear, blocked=blocked)
     return edges, ph, ctrl, clears, out, h
 
 
@@ -237,7 +236,7 @@ async def harmonic_stream(dut):
     dut.phase_i.value = 0
     dut.apply_i.value = a0
     dut.learn_i.value = l0
-    dut.mu_i.value = m0
+    dut.mu_i.value = m0 - 3
     dut.clear_i.value = 0
     await bench.start()
     vlog = []
@@ -261,7 +260,7 @@ async def harmonic_stream(dut):
             a, lr, m = ctrl[nxt]
             dut.apply_i.value = a
             dut.learn_i.value = lr
-            dut.mu_i.value = m
+            dut.mu_i.value = m - 3
         dut.clear_i.value = int(nxt in clear_set)
     await bench.goto(bench.edge + 4)
 
@@ -270,8 +269,7 @@ async def harmonic_stream(dut):
         lines = [f"sample {k} (arrival edge {edges[k]}, phase {ph[k]}): rtl {got[k]}, "
                  f"model {int(exp[k])}" for k in bad[:12]]
         raise AssertionError(f"{len(bad)} of {n} samples differ, first:\n" + "\n".join(lines))
-    upd = fqtb.uval(dut.updates_o)
-    assert upd == h.learned & 0xFFFF, f"updates_o {upd}, model {h.learned & 0xFFFF}"
+    assert h.learned > n // 40, f"only {h.learned} updates: the stimulus hardly learns"
 
     # valid_o high after exactly the edges a + 2
     high = set()
@@ -294,8 +292,9 @@ async def harmonic_stream(dut):
 # ==== the block in the core: finequad_core against sim.model.core.run ==========================
 # A stage at 40 units/sample with a 1 % third harmonic; strobes back to back, then with
 # random gaps. HARM (0x12) is written during the run: mu = 3, a clear, apply off, learn
-# off, apply on again; count of every sample and the HARM read-back (updates) must equal
-# the model's. (The estimator calibrates meanwhile; the block sees whatever phase comes.)
+# off, apply on again with mu = 5; the count of every sample and the HARM read-back must
+# equal the model's. (The estimator calibrates meanwhile; the block sees whatever phase
+# comes.)
 CORE_SOURCES = ("finequad_core", "correct", "octant", "lut", "pulse", "counter",
                 "estimator", "rls_engine", "sat_round", "harmonic")
 HARM_ADDR = 0x12
@@ -309,6 +308,11 @@ def test_core_harmonic(sim):
                    extra_env=dict(SAMPLES=n), testcase="core_harmonic")
 
 
+def harm_value(apply, learn, mu, clear=0):
+    """HARM register word."""
+    return apply | learn << 1 | (mu - 3) << 4 | clear << 8
+
+
 def core_stimulus(n):
     """(u1, u2, strobe edges, HARM writes [(edge, value)])."""
     import numpy as np
@@ -320,15 +324,11 @@ def core_stimulus(n):
     gaps = np.where(np.arange(n) < n // 3, 1,
                     rng.choice([1, 1, 1, 2, 3, 5, 8, 13, 21, 36], size=n))
     t = 16 + np.concatenate([[0], np.cumsum(gaps[:-1])])
-
-    def val(apply, learn, mu, clear=0):
-        return apply | learn << 1 | mu << 4 | clear << 8
-
-    writes = [(int(t[int(n * 0.45)]) - 3, val(1, 1, 3)),
-              (int(t[int(n * 0.55)]) + 7, val(1, 1, 3, clear=1)),
-              (int(t[int(n * 0.70)]) + 11, val(0, 1, 4)),
-              (int(t[int(n * 0.80)]) + 15, val(1, 0, 4)),
-              (int(t[int(n * 0.90)]) + 12, val(1, 1, 5))]
+    writes = [(int(t[int(n * 0.45)]) - 3, harm_value(1, 1, 3)),
+              (int(t[int(n * 0.55)]) + 7, harm_value(1, 1, 3, clear=1)),
+              (int(t[int(n * 0.70)]) + 11, harm_value(0, 1, 4)),
+              (int(t[int(n * 0.80)]) + 15, harm_value(1, 0, 4)),
+              (int(t[int(n * 0.90)]) + 12, harm_value(1, 1, 5))]
     return u1.astype(np.int64), u2.astype(np.int64), t.astype(np.int64), writes
 
 
@@ -339,16 +339,16 @@ def core_config(t, writes):
     n = len(t)
     apply = np.ones(n, np.int64)
     learn = np.ones(n, np.int64)
-    mu = np.full(n, 6, np.int64)
+    mu = np.full(n, 4, np.int64)
     clears = []
     for w, v in writes:
-        a_new = t + core.PHASE_AT + 2 > w
+        a_new = t + core.PHASE_AT + 3 > w
         l_new = t + core.PHASE_AT + 6 > w
         apply[a_new] = v & 1
         learn[l_new] = (v >> 1) & 1
-        mu[l_new] = (v >> 4) & 15
+        mu[l_new] = ((v >> 4) & 3) + 3
         if v >> 8 & 1:
-            clears.append(int(np.argmax(t + core.PHASE_AT + 1 > w)))
+            clears.append(w)
     return core.Config(harm_apply=apply, harm_learn=learn, harm_mu=mu, harm_clears=clears)
 
 
@@ -363,6 +363,7 @@ async def core_harmonic(dut):
     log = dut._log
     log.info("core: %d samples, %d table updates, %d samples corrected", n, h.learned,
              int(np.sum(res["phase_c"] != res["phase"])))
+    assert h.learned > n // 40
     lat = core.LATENCY
     strobe = {int(e): k for k, e in enumerate(t)}
     reads = {int(e) + lat: k for k, e in enumerate(t)}
@@ -408,7 +409,6 @@ async def core_harmonic(dut):
     dut.reg_addr.value = HARM_ADDR
     await bench.settle()
     rd = fqtb.uval(dut.reg_rdata)
-    last = writes[-1][1]
-    exp = (h.learned & 0xFFFF) << 16 | (last & 0xF3)
-    assert rd == exp, f"HARM read-back {rd:#x}, model {exp:#x}"
+    exp = writes[-1][1] & 0x33
+    assert rd == exp, f"HARM read-back {rd:#x}, expected {exp:#x}"
     log.info("core: %d counts equal, HARM %#x", n, rd)

@@ -67,7 +67,7 @@ def test_harmonic3_counter_error_falls_to_the_floor(harmonic3):
     assert off["ratio"] > 1.2                   # the 1 % harmonic is there
     assert on["ratio"] < 1.03                   # and gone (scored from the first move on)
     assert on["slips"] == 0
-    assert r["harm"].learned > 100_000          # learning happened (speed gate open)
+    assert r["harm"].learned > 10_000           # learning happened (speed gate open)
 
 
 def test_harmonic3_fine_phase_periodic_error_below_1nm(harmonic3):
@@ -96,9 +96,9 @@ def test_harmonic3_correction_is_zero_mean(harmonic3):
     a negligible amount."""
     sc, a, r = harmonic3
     h = r["harm"]
-    corr = [((v << 6) - h.R) >> 14 for v in h.A]
+    corr = [(v - (h.R >> 6)) >> 8 for v in h.A]
     assert abs(np.mean(corr)) <= 0.5
-    assert max(abs(v) for v in h.H) < 32767    # nothing saturated
+    assert max(abs(v) for v in h.A) < 30000    # far from the s16 limits
     mv = moving(sc.x)
     m2 = mv[mv > len(sc.x) // 2]
     d = ((r["phase_c"] - r["phase"] + 4096) % 8192) - 4096
@@ -127,7 +127,7 @@ def test_harmonic_free_at_learning_speed_no_harm():
     off = _score(sc, a, _count_off(r))
     print(f"harmonic-free 10 mm/s: apply on {on['rms_nm']:.3f} nm, off {off['rms_nm']:.3f} nm,"
           f" table spread {(max(r['harm'].A) - min(r['harm'].A)) / 256:.2f} units")
-    assert r["harm"].learned > 50_000
+    assert r["harm"].learned > 5_000
     assert on["rms_nm"] < off["rms_nm"] + 0.1
 
 
@@ -150,8 +150,8 @@ def test_no_learning_at_standstill_creep_or_reversals():
     v = np.concatenate([np.full(60_000, 40.0), np.linspace(40.0, 0.0, 20_000)])
     ph, x = stream(v, len(v))
     h.run(ph)
-    assert h.learned > 40_000
-    a0, h0, r0, n0 = list(h.A), list(h.H), h.R, h.learned
+    assert h.learned > 4_000
+    a0, r0, n0 = list(h.A), h.R, h.learned
     pos = x[-1]
     dwell, _ = stream(0.0, 300_000, seed=1, x0=pos)
     creep, _ = stream(0.08, 200_000, seed=2, x0=pos)
@@ -160,8 +160,8 @@ def test_no_learning_at_standstill_creep_or_reversals():
     for name, s in (("dwell", dwell), ("creep", creep), ("reversals", rev)):
         out = h.run(s)
         assert h.learned == n0, name
-        assert h.A == a0 and h.H == h0 and h.R == r0, name
-        corr = ((np.asarray(a0)[s >> 7] << 6) - r0) >> 14
+        assert h.A == a0 and h.R == r0, name
+        corr = (np.asarray(a0)[s >> 7] - (r0 >> 6)) >> 8
         assert np.array_equal(out, (s - corr) % 8192), name     # still applied
 
 
@@ -178,10 +178,10 @@ def test_long_run_no_drift_no_saturation():
     spread = (max(h.A) - min(h.A)) / 256
     print(f"long run: {h.learned} updates, table mean {mean_units:.2f} units, spread "
           f"{spread:.1f} units")
-    assert h.learned > 1_500_000
+    assert h.learned > 150_000
     assert abs(mean_units) < 8
-    assert max(abs(v) for v in h.H) < 32767
-    assert 24 < spread < 32                     # the +-13-unit harmonic, learned
+    assert max(abs(v) for v in h.A) < 30000
+    assert 24 < spread < 36                     # the +-13-unit harmonic (and noise)
 
 
 def test_learning_off_and_clear():
@@ -194,7 +194,7 @@ def test_learning_off_and_clear():
     clr = np.zeros(100, bool)
     clr[0] = True
     out = h.run(ph[:100], learn=0, clear=clr)
-    assert not any(h.A) and not any(h.H) and h.R == -8192
+    assert not any(h.A) and h.R == -8192
     assert np.array_equal(out, ph[:100])
 
 
@@ -209,15 +209,15 @@ def test_apply_off_keeps_learning():
     assert h_off.A == h_on.A
 
 
-def test_observer_acquires_speeds_up_to_2000():
-    """From power-up at any speed up to 2000 units/sample the observer pulls in (gear
-    shifting) and holds track (C saturates)."""
-    for v in (20.0, 300.0, 1000.0, 2000.0, -700.0):
+def test_observer_acquires_speeds_up_to_1000():
+    """From power-up at any speed up to 1000 units/sample (twice the learning window)
+    the observer pulls in (its wide gear) and holds track (C saturates)."""
+    for v in (20.0, 300.0, 1000.0, -700.0):
         ph, _ = stream(v, 6000, sigma=5.0, seed=int(abs(v)))
         h = hm.Harmonic()
         _, tr = h.run(ph, learn=0, trace=True)
         assert tr["C"][-1] == hm.C_MAX, v
-        assert abs(h.V / 65536 - v) < 0.5, v
+        assert abs(h.V / (1 << hm.VF) - v) < 0.5, v
 
 
 def test_model_speed():
@@ -228,3 +228,19 @@ def test_model_speed():
     rate = len(ph) / (time.perf_counter() - t0)
     print(f"harmonic model: {rate / 1e3:.0f}k samples/s")
     assert rate > 150e3          # ~500k/s unloaded; a margin for busy machines
+
+
+def test_sweep_flags():
+    """A clear sampled on edge w: the table is empty from the first sample arriving on an
+    edge >= w; the samples arriving on edges w .. w + 64 are blocked."""
+    arr = np.array([10, 99, 100, 101, 130, 164, 165, 300])
+    clear, blocked = hm.sweep_flags(arr, [100])
+    assert clear.tolist() == [0, 0, 1, 0, 0, 0, 0, 0]
+    assert blocked.tolist() == [0, 0, 1, 1, 1, 1, 0, 0]
+    h = hm.Harmonic()
+    h.A[3] = 5000
+    h.R = 5000 - 8192
+    ph = np.full(len(arr), 3 << 7, np.int64)
+    out = h.run(ph, learn=0, clear=clear, blocked=blocked)
+    assert out[0] != ph[0] and out[1] != ph[1]           # corrected before the clear
+    assert np.array_equal(out[2:], ph[2:])               # blocked, then an empty table
