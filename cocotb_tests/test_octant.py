@@ -1,6 +1,8 @@
-"""octant (Table 2) against sim.model.fastpath.octant. Latency 2 (rtl/octant.v): inputs on
-edge e, outputs after edge e + 1. oct2_o is the model's base phase / 2048, neg_o its neg,
-j_o its j."""
+"""octant (Table 2) against sim.model.fastpath.octant, both table kinds. Latency 3
+(rtl/octant.v): inputs on edge e, outputs after edge e + 2 (j_o of the exact table is
+combinational from registers of edge e + 2). oct2_o is the model's base phase / 2048, neg_o
+its neg, j_o its j (exact: round(2048 |small| / |large|) through the reciprocal table and
+the carry-save multiply; paper: the small magnitude)."""
 import random
 
 import pytest
@@ -8,15 +10,18 @@ import pytest
 import fqtb
 
 
+@pytest.mark.parametrize("exact", [1, 0], ids=["EXACT1", "EXACT0"])
 @pytest.mark.parametrize("sim", fqtb.SIMULATORS)
-def test_octant(sim):
-    fqtb.run_block(sim, "octant", fqtb.sources("octant"), "test_octant")
+def test_octant(sim, exact):
+    fqtb.run_block(sim, "octant", fqtb.sources("octant"), "test_octant",
+                   parameters=dict(TABLE_DIR=fqtb.qstr(fqtb.TABLE_DIR), TABLE_EXACT=exact),
+                   extra_env=dict(TABLE_EXACT=exact))
 
 
 # ---- cocotb side ------------------------------------------------------------------------
 import cocotb  # noqa: E402
 
-LATENCY = 2
+LATENCY = 3
 
 
 def directed():
@@ -29,6 +34,13 @@ def directed():
     for x in vals:
         for y in vals:
             v.append((x, y))
+    # the reciprocal table's extremes: |large| at and around powers of two (m ~ 1 and ~ 2,
+    # every normalising shift), small = large, large - 1, half, tiny
+    for e in range(15):
+        for lg in {(1 << e) - 1, 1 << e, (1 << e) + 1}:
+            if 0 < lg <= 32767:
+                for sm in {lg, lg - 1, lg // 2, 1, 0}:
+                    v += [(lg, sm), (-sm, lg), (-lg, -sm), (sm, -lg)]
     # diagonal ties |x| == |y| and their neighbours, in all four quadrants
     for a in [1, 2, 7, 100, 4096, 11585, 16383, 16384, 32767]:
         for d in (-1, 0, 1):
@@ -67,10 +79,11 @@ async def octant_all(dut):
     import numpy as np
     from sim.model import fastpath as fp
 
-    rng = random.Random(303)
-    vec = directed() + random_vectors(rng, 4000)
+    exact = fqtb.env_int("TABLE_EXACT")
+    rng = random.Random(303 + exact)
+    vec = directed() + random_vectors(rng, 6000)
     a = np.array(vec, dtype=np.int64)
-    j, base, neg = fp.octant(a[:, 0], a[:, 1])
+    j, base, neg = fp.octant(a[:, 0], a[:, 1], "exact" if exact else "paper")
     exp = list(zip(j.tolist(), (base >> 11).tolist(), neg.tolist()))
     assert set((base & 2047).tolist()) == {0}
 

@@ -9,8 +9,11 @@
 //   +3  pn    = (n * phase) mod 8192                     u13, phase of the n-th order
 //   +4  cos(n a), sin(n a) as magnitude T[k] (u0.(SIN_W-1)) and sign
 //       (quadrant q = pn[12:11], k = pn[10:0], mirrored k for odd q, negative for q >= 2)
-// TABLE_EXACT = 1: rows through arcsin (no linearisation error, the default);
-// TABLE_EXACT = 0: the paper's uniform angle per row.
+// TABLE_EXACT = 1: j = round(2048 |small| / |large|) (rtl/octant.v), rows atan(j / 2048):
+//   no linearisation error, and the angle noise of atan2 (the default);
+// TABLE_EXACT = 0: j = round(2048 |small|), the paper's uniform angle per row.
+// j_i may be combinational (rtl/octant.v forms the exact address with its last add): it
+// only feeds the phase table's address here.
 module lut #(
     parameter TABLE_DIR = "rtl/tables/",
     parameter [0:0] TABLE_EXACT = 1'b1,
@@ -19,7 +22,7 @@ module lut #(
 ) (
     input  wire              clk,
     input  wire              valid_i,
-    input  wire [10:0]       j_i,
+    input  wire [10:0]       j_i,          // u11 octant-local address
     input  wire [1:0]        oct2_i,
     input  wire              neg_i,
     input  wire [8:0]        n_i,          // interpolation factor

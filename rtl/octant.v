@@ -1,49 +1,168 @@
 `timescale 1ns / 1ps
 `default_nettype none
 // octant: Table 2 of the paper. The octant comes from the signs of u1c, u2c and the
-// comparison of their magnitudes; the table address from the smaller magnitude
-// (the signal below sin(pi/4), Eq. 10). Mirrors sim/model/fastpath.py octant().
-// Latency 2.
-//   j     u11  address = min(2047, (|smag| + 4) >> 3): |smag| in steps of 1/2048
-//   oct2  u2   base phase oct2 * 2048 (u13 units, 8192 per period)
-//   neg   u1   phase = base - PH[j] (else base + PH[j])
-module octant (
+// comparison of their magnitudes (as the paper, for both tables); the table address from
+// the magnitudes. Mirrors sim/model/fastpath.py octant() and ratio().
+//   TABLE_EXACT = 1: the ratio t = |small| / |large| in [0, 1], the tangent of the
+//     octant-local angle (so both signals contribute: the angle noise is sigma/A at every
+//     angle, the Cramer-Rao bound, where the small signal alone gives sigma/(A cos a));
+//     the phase table holds atan. No divider: a reciprocal of the normalised |large| from
+//     a 512-word table (2 block RAMs), one multiply |small| * recip in carry-save form.
+//   TABLE_EXACT = 0: the smaller magnitude, linear (Eq. 10), bit for bit the paper's.
+// Latency 3: inputs registered on edge e; valid_o, oct2_o, neg_o registered on edge e+2,
+// j_o formed combinationally from registers of edge e+2 (TABLE_EXACT = 1: one 18-bit
+// carry-propagate add and the clip; it feeds the phase table's address in lut.v
+// directly) or a register of edge e+2 (TABLE_EXACT = 0).
+//   +1 ax, ay  u15   |u1c|, |u2c| in s2.14 units, saturated (|-32768| -> 32767)
+//      low     u1    ay <= ax: octants 0, 3, 4, 7; small = low ? ay : ax, large the other
+//      zx, zy  u4    leading zeros in 15 bits (0..14; 14 for 0) of the one's complement
+//                    magnitude (u1c < 0 ? ~u1c : u1c), formed beside the negation's carry
+//                    chain: lzc(ax), or lzc(ax) + 1 when u1c = -2**p (|u1c| - 1 = 2**p - 1)
+//   +2 zl      u4    zx or zy of the large magnitude (combinational)
+//      jp      u11   paper address min(2047, (small + 4) >> 3): small in steps of 1/2048
+//      ln      u16   large << zl: in [2**14, 2**15), or exactly 2**15 (the case above)
+//      rcp     u0.14 RECIP[ln[15] ? 511 : ln[13:5]] ~ 2**14 / m, m = ln / 2**14 in [1, 2]
+//                    (m = 2 takes the last bin, 1/1.999); always in [2**13, 2**14)
+//                    (recip.hex, sim/model/tables.py)
+//      sn      u14   min(2**14 - 1, (small << zl) >> 1): small on the normalised scale,
+//                    t = 2 sn / ln
+//   +3 pa, pb  u28   carry-save sum (bits 27:10 kept) of the 14 partial products
+//                    rcp[k] * (sn << k), bits 0..9 of each not formed, plus 0x9400
+//                    (2**15 rounds to 1/2048, 2**12 + 2**10 offset the mean truncation):
+//                    pa + pb = t * 2**27 (1 + O(2**-10)), below 2**28 for every input
+//      j_o     u11   min(2047, (pa + pb) >> 16) = round(2048 t), clipped
+//      oct2    u2    base phase oct2 * 2048 (u13 units, 8192 per period)
+//      neg     u1    phase = base - PH[j] (else base + PH[j])
+// Ties |u1c| == |u2c| take the low octant (t = 1, PH = 1024: the same phase either way).
+module octant #(
+    parameter TABLE_DIR = "rtl/tables/",
+    parameter [0:0] TABLE_EXACT = 1'b1
+) (
     input  wire               clk,
     input  wire               valid_i,
     input  wire signed [15:0] u1c_i,   // s2.14
     input  wire signed [15:0] u2c_i,   // s2.14
     output reg                valid_o,
-    output reg  [10:0]        j_o,
+    output wire [10:0]        j_o,
     output reg  [1:0]         oct2_o,
     output reg                neg_o
 );
-    // +1: magnitudes (saturated to 15 bits) and signs
+    reg [13:0] rcp_rom [0:511];
+    initial
+        $readmemh({TABLE_DIR, "recip.hex"}, rcp_rom);
+
+    function [3:0] lzc15;               // leading zeros in 15 bits, 14 for 0
+        input [14:0] v;
+        integer b;
+        begin
+            lzc15 = 4'd14;
+            for (b = 0; b < 15; b = b + 1)
+                if (v[b])
+                    lzc15 = 4'd14 - b[3:0];
+        end
+    endfunction
+
+    // +1: magnitudes (saturated to 15 bits), their comparison, signs, leading zeros
     wire [15:0] ax_f = u1c_i[15] ? -u1c_i : u1c_i;
     wire [15:0] ay_f = u2c_i[15] ? -u2c_i : u2c_i;
+    wire [14:0] ax_s = ax_f[15] ? 15'h7fff : ax_f[14:0];
+    wire [14:0] ay_s = ay_f[15] ? 15'h7fff : ay_f[14:0];
+    wire [14:0] ox = u1c_i[14:0] ^ {15{u1c_i[15]}};    // one's complement magnitude
+    wire [14:0] oy = u2c_i[14:0] ^ {15{u2c_i[15]}};
+    // ay_s <= ax_s without waiting for the saturation: sat(b) <= sat(a) exactly when
+    // b <= a or a >= 32767 (u1c in {32767, -32767, -32768}, decoded from the input)
+    wire        xbig = (u1c_i == 16'sh7fff) || (u1c_i == -16'sh7fff) || (u1c_i == -16'sh8000);
+    wire [16:0] dxy = {1'b0, ax_f} - {1'b0, ay_f};       // sign: ay_f > ax_f
     reg  [14:0] ax = 0, ay = 0;
+    reg  [3:0]  zx = 0, zy = 0;
+    reg         low = 1'b0;         // |u2c| <= |u1c|: octants 0, 3, 4, 7
     reg         xn = 1'b0, yn = 1'b0, v1 = 1'b0;
     always @(posedge clk) begin
-        ax <= ax_f[15] ? 15'h7fff : ax_f[14:0];
-        ay <= ay_f[15] ? 15'h7fff : ay_f[14:0];
-        xn <= u1c_i[15];
-        yn <= u2c_i[15];
-        v1 <= valid_i;
+        ax  <= ax_s;
+        ay  <= ay_s;
+        low <= !dxy[16] || xbig;
+        zx  <= lzc15(ox);
+        zy  <= lzc15(oy);
+        xn  <= u1c_i[15];
+        yn  <= u2c_i[15];
+        v1  <= valid_i;
     end
-    // +2: octant and address; both candidate addresses are formed side by side with the
-    // magnitude comparison, then selected
-    wire low = ay <= ax;                 // |u2c| <= |u1c|: octants 0, 3, 4, 7
-    wire [15:0] jx = ({1'b0, ax} + 16'd4) >> 3;
-    wire [15:0] jy = ({1'b0, ay} + 16'd4) >> 3;
-    wire [10:0] jxc = (jx[15:11] != 5'd0) ? 11'd2047 : jx[10:0];
-    wire [10:0] jyc = (jy[15:11] != 5'd0) ? 11'd2047 : jy[10:0];
+
+    // +2: octant; paper address; reciprocal look-up and the normalised small magnitude
+    wire [14:0] sm = low ? ay : ax;     // small
+    wire [14:0] lg = low ? ax : ay;     // large
+    wire [3:0]  zl = low ? zx : zy;
+    wire [15:0] jq = ({1'b0, sm} + 16'd4) >> 3;
+    wire [15:0] ln = {1'b0, lg} << zl;  // [2**14, 2**15] unless 0
+    wire [15:0] ns = {1'b0, sm} << zl;  // <= ln
+    wire [8:0]  ridx = ln[15] ? 9'h1ff : ln[13:5];
+    reg  [13:0] rcp = 0;
+    reg  [13:0] sn = 0;
+    reg  [10:0] jp = 0;
+    reg  [1:0]  oct2_q = 0;
+    reg         neg_q = 1'b0, v2 = 1'b0;
     always @(posedge clk) begin
-        j_o    <= low ? jyc : jxc;
-        oct2_o <= low ? (xn ? 2'd2 : 2'd0) : (yn ? 2'd3 : 2'd1);
-        neg_o  <= low ? (xn ^ yn) : !(xn ^ yn);
-        valid_o <= v1;
+        rcp    <= rcp_rom[ridx];
+        sn     <= ns[15] ? 14'h3fff : ns[14:1];
+        jp     <= (jq[15:11] != 5'd0) ? 11'd2047 : jq[10:0];
+        oct2_q <= low ? (xn ? 2'd2 : 2'd0) : (yn ? 2'd3 : 2'd1);
+        neg_q  <= low ? (xn ^ yn) : !(xn ^ yn);
+        v2     <= v1;
     end
+
+    // +3: sn * rcp as 14 partial products (shift-and-add, no DSP) reduced in carry-save
+    // form (six levels of 3:2 counters) to two vectors; bits below 10 are not formed
+    function [55:0] csa;                // {sum, carry} of three u28 vectors, mod 2**28
+        input [27:0] a, b, c;
+        begin
+            csa = {a ^ b ^ c, ((a & b) | (a & c) | (b & c)) << 1};
+        end
+    endfunction
+    localparam [27:0] TRUNC = 28'hffffc00;
+    localparam [27:0] ROUND = 28'h0009400;
+    wire [28*15-1:0] pp;                // partial products, pp[28k +: 28] = row k
+    genvar gk;
+    generate
+        for (gk = 0; gk < 14; gk = gk + 1) begin : g_pp
+            assign pp[28*gk +: 28] = rcp[gk] ? (({14'd0, sn} << gk) & TRUNC) : 28'd0;
+        end
+    endgenerate
+    assign pp[28*14 +: 28] = ROUND;
+    wire [27:0] a0, b0, a1, b1, a2, b2, a3, b3, a4, b4;     // 15 -> 10
+    assign {a0, b0} = csa(pp[28*0 +: 28], pp[28*1 +: 28], pp[28*2 +: 28]);
+    assign {a1, b1} = csa(pp[28*3 +: 28], pp[28*4 +: 28], pp[28*5 +: 28]);
+    assign {a2, b2} = csa(pp[28*6 +: 28], pp[28*7 +: 28], pp[28*8 +: 28]);
+    assign {a3, b3} = csa(pp[28*9 +: 28], pp[28*10 +: 28], pp[28*11 +: 28]);
+    assign {a4, b4} = csa(pp[28*12 +: 28], pp[28*13 +: 28], pp[28*14 +: 28]);
+    wire [27:0] c0, d0, c1, d1, c2, d2;                     // 10 -> 7 (b4 passes)
+    assign {c0, d0} = csa(a0, b0, a1);
+    assign {c1, d1} = csa(b1, a2, b2);
+    assign {c2, d2} = csa(a3, b3, a4);
+    wire [27:0] e0, f0, e1, f1;                             // 7 -> 5
+    assign {e0, f0} = csa(c0, d0, c1);
+    assign {e1, f1} = csa(d1, c2, d2);
+    wire [27:0] g0, h0, i0, i1, s0, s1;
+    assign {g0, h0} = csa(e0, f0, e1);                      // 5 -> 4
+    assign {i0, i1} = csa(g0, h0, f1);                      // 4 -> 3
+    assign {s0, s1} = csa(i0, i1, b4);                      // 3 -> 2
+    reg [17:0] pa = 0, pb = 0;          // bits 27:10 of the two vectors
+    reg [10:0] jp_q = 0;
+    always @(posedge clk) begin
+        pa      <= s0[27:10];
+        pb      <= s1[27:10];
+        jp_q    <= jp;
+        oct2_o  <= oct2_q;
+        neg_o   <= neg_q;
+        valid_o <= v2;
+    end
+    // j: the carry-propagate add (mod 2**28) and the clip at 2047 (t >= 2047.5 / 2048)
+    wire [17:0] psum = pa + pb;
+    wire [10:0] jr = psum[17] ? 11'd2047 : psum[16:6];
+    assign j_o = TABLE_EXACT ? jr : jp_q;
+
     initial begin
-        valid_o = 1'b0; j_o = 0; oct2_o = 0; neg_o = 1'b0;
+        valid_o = 1'b0; oct2_o = 0; neg_o = 1'b0;
     end
+    wire unused = &{1'b0, psum[5:0], s0[9:0], s1[9:0], ln[14], ln[4:0], ns[0], dxy[15:0], 1'b0};
 endmodule
 `resetall

@@ -25,6 +25,7 @@ def files() -> dict:
     out = {}
     for kind in tables.KINDS:
         out[f"phase_{kind}.hex"] = tables.hexlines(tables.phase_table(kind), tables.PHT_W)
+    out["recip.hex"] = tables.hexlines(tables.recip_table(), tables.RCP_W)
     for w in SIN_WIDTHS:
         out[f"sine_{w}.hex"] = tables.hexlines(tables.sine_table(w), w)
     out["seeds.hex"] = tables.hexlines(tables.seed_recip() + tables.seed_isqrt(), 16)

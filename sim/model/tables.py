@@ -4,12 +4,21 @@ One generator serves the RTL ($readmemh files written by scripts/gen_tables.py) 
 bit-true model, so the two can never hold different contents.
 
 Phase units: one signal period is PH_PERIOD = 2**PH_W = 8192 units (u13). One octant is
-1024 units; the phase table maps the octant-local address j (the small corrected signal,
-|s| in u0.11 steps of 1/2048 of the unit radius) to the octant-local phase.
+1024 units; the phase table maps the octant-local address j (u11, 2048 rows) to the
+octant-local phase. What j means depends on the table kind (rtl/octant.v):
+    - "exact": j = round(2048 |small| / |large|), the tangent of the octant-local angle
+      in steps of 1/2048 (both corrected signals are used, so the angle noise is the
+      Cramer-Rao bound sigma/A at every angle)
+    - "paper": j = round(2048 |small|), the small corrected signal in steps of 1/2048 of
+      the unit radius (Table 2, Eq. 10)
 
 * ``phase_table(kind)``: 2048 entries, PHT_W = 12 bits unsigned.
-    - "exact": round(asin(j/2048) * 8192 / (2 pi))   (METHOD.md "In hardware")
+    - "exact": round(atan(j/2048) * 8192 / (2 pi))   (row 2048 would be 1024, one octant)
     - "paper": round(j / (2048 sin(pi/4)) * 1024)      (uniform angle per row, Table 2)
+* ``recip_table()``: 512 entries, RCP_W = 14 bits unsigned (u0.14, 8196 .. 16368): the
+  reciprocal of the normalised large magnitude m = |large| << z / 2**14 in [1, 2), for the
+  bin i = floor((m - 1) * 512) the value that minimises the largest relative error over the
+  bin, 2 / (m_lo + m_hi) = 1024 / (1024 + i + 1/2), rounded: round(2**24 / (1025 + 2 i)).
 * ``sine_table(sin_w)``: quarter wave, 2048 entries, s1.(SIN_W-1) magnitudes
     T[k] = round((2**(SIN_W-1) - 1) * sin((k + 0.5) * (pi/2) / 2048)).
   The half-step offset makes the quarter wave symmetric (index ~k for the mirror).
@@ -26,15 +35,22 @@ ROWS = 1 << ADDR_W
 PHT_W = 12                # phase table word: 0 .. 2048 (u12)
 SINE_ROWS = PH_PERIOD // 4  # quarter wave: 2048 rows
 KINDS = ("exact", "paper")
+RCP_AW = 9                # reciprocal table address: 9 bits of the mantissa below its leading 1
+RCP_W = 14                # reciprocal table word: u0.14, always in [2**13, 2**14)
 
 
 def phase_table(kind: str = "exact") -> list[int]:
     if kind == "exact":
-        return [round(math.asin(min(1.0, j / ROWS)) * PH_PERIOD / (2 * math.pi))
-                for j in range(ROWS)]
+        return [round(math.atan(j / ROWS) * PH_PERIOD / (2 * math.pi)) for j in range(ROWS)]
     if kind == "paper":
         return [round(j / (ROWS * math.sin(math.pi / 4)) * OCT) for j in range(ROWS)]
     raise ValueError(f"table kind must be one of {KINDS}, got {kind!r}")
+
+
+def recip_table() -> list[int]:
+    """u0.14 reciprocals of the bins of m in [1, 2) (see the module docstring); exact
+    integer rounding (half up) of 2**24 / (1025 + 2 i)."""
+    return [((1 << 25) + (1025 + 2 * i)) // (2 * (1025 + 2 * i)) for i in range(1 << RCP_AW)]
 
 
 def sine_table(sin_w: int) -> list[int]:
