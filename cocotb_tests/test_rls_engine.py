@@ -137,12 +137,12 @@ async def rls_programs(dut):
                        f"busy={b} done={d}, expected 0 0")
         out = fqtb.uval(dut.out_o)
         got_out = [((out >> (16 * i)) & 0xFFFF) - (((out >> (16 * i)) & 0x8000) << 1)
-                   for i in range(5)]
+                   for i in range(len(est.out))]
         got = (fqtb.uval(dut.valid_o), got_out, fqtb.uval(dut.sat_o))
         exp = (int(ok), list(est.out), int(est.sat))
         if got != exp:
             bad.append(f"program {pi} ({name} x=({x1},{x2}) lam_k={lam_k} kappa={kappa} "
-                       f"dg={dg}): (valid,out[m1,m2,c1,c12,c2],sat)={got}, model {exp}")
+                       f"dg={dg}): (valid,out[m1,m2,c1,c12,c2,e],sat)={got}, model {exp}")
         if len(bad) > 20:
             break
     assert not bad, f"{len(bad)} mismatches:\n" + "\n".join(bad[:20])

@@ -9,7 +9,7 @@
 //
 // mode_i = 0, "phase" (default): S += 4 * n * dph, dph = wrap13(phase - phase_prev)
 //   dph  s13, [-4096, 4095], 8192 per period of the fundamental
-//   D    s23 = dph * n (one DSP multiply; |D| <= 4096 * 511 < 2^21)
+//   D    s23 = dph * n (shift-and-add in logic; |D| <= 4096 * 511 < 2^21)
 //   The count follows the unwrapped phase exactly, with no count lost at any speed up to
 //   |dph| < 4096 (half a period per sample): S = 4 n Phi with Phi = wrap13(phase_0) +
 //   sum of the dph (phase_prev starts at 0, so the first sample adds 4 n wrap13(phase_0)),
@@ -79,13 +79,38 @@ module counter #(
             v1 <= 1'b0;
         end
     end
-    // +2: n-th order step (DSP), edge step, flag
+    // +2: n-th order step, edge step, flag. D = dph * n as shift-and-add in logic (no DSP:
+    // the octant's ratio multiply has it): nine rows n[b] * (dph << b), sign-extended to
+    // s23, reduced by four levels of 3:2 counters to two vectors, then one carry add.
+    function [45:0] csa;                         // {sum, carry} of three s23, mod 2**23
+        input [22:0] a, b, c;
+        begin
+            csa = {a ^ b ^ c, ((a & b) | (a & c) | (b & c)) << 1};
+        end
+    endfunction
+    wire [23*9-1:0] rows;
+    genvar gb;
+    generate
+        for (gb = 0; gb < 9; gb = gb + 1) begin : g_rows
+            assign rows[23*gb +: 23] = n_i[gb] ? ({{10{dph1[12]}}, dph1} << gb) : 23'd0;
+        end
+    endgenerate
+    wire [22:0] ra0, rb0, ra1, rb1, ra2, rb2;                // 9 -> 6
+    assign {ra0, rb0} = csa(rows[0 +: 23], rows[23 +: 23], rows[46 +: 23]);
+    assign {ra1, rb1} = csa(rows[69 +: 23], rows[92 +: 23], rows[115 +: 23]);
+    assign {ra2, rb2} = csa(rows[138 +: 23], rows[161 +: 23], rows[184 +: 23]);
+    wire [22:0] rc0, rd0, rc1, rd1;                          // 6 -> 4
+    assign {rc0, rd0} = csa(ra0, rb0, ra1);
+    assign {rc1, rd1} = csa(rb1, ra2, rb2);
+    wire [22:0] re0, rf0, rs0, rs1;
+    assign {re0, rf0} = csa(rc0, rd0, rc1);                  // 4 -> 3
+    assign {rs0, rs1} = csa(re0, rf0, rd1);                  // 3 -> 2
     reg  signed [22:0] d2 = 23'sd0;              // s23: D = dph * n
     reg  signed [1:0]  e2 = 2'sd0;               // s2: edge step -1, 0, +1
     reg         f2 = 1'b0, m2 = 1'b0;
     reg         v2 = 1'b0, a2 = 1'b1, b2 = 1'b1;
     always @(posedge clk) begin
-        d2 <= dph1 * $signed({1'b0, n_i});
+        d2 <= $signed(rs0 + rs1);
         e2 <= (dq1 == 2'd1) ? 2'sd1 : (dq1 == 2'd3) ? -2'sd1 : 2'sd0;
         f2 <= p1 && (m1 ? (dq1 == 2'd2) : ovs1);
         m2 <= m1;

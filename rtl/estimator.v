@@ -11,15 +11,18 @@
 //   dither hold-off      -> skip (0..15 samples after each update, from an LFSR)
 //   |phase - phase at the last update| < gate -> skip (no new information)
 //   otherwise            -> UPDATE program (Eqs. 5-8) on this sample
+// After WARMUP updates from power-up the gain is checked (a reset only if it changes);
+// then a reset every period_i updates (0: never) or when the jump detector fires.
 // Samples that arrive while the engine is busy are skipped by the estimator (they still
 // pass the fast path). When an UPDATE ends valid and at least `settle` updates have ended
-// since the last reset, and the updates since the last commit covered all eight octants,
+// since the last reset, and the updates since the last commit and the last reset covered
+// all eight octants,
 // the bundle {g, m1, m2, c1, c12, c2} is committed atomically.
 module estimator #(
     parameter TABLE_DIR = "rtl/tables/",
     // input gain after power-up, 0..3
     parameter [1:0] G_INIT = 2'd0,
-    // updates before the first automatic reset (picks the gain)
+    // updates after power-up before the input gain is checked (reset if it changes)
     parameter WARMUP = 64,
     // program entries (sim/model/program.py ENTRY)
     parameter [8:0] ENTRY_RESET = 9'd0,
@@ -38,6 +41,8 @@ module estimator #(
     input  wire [15:0]        period_i,    // updates between resets, 0 = never
     input  wire [9:0]         settle_i,    // updates after a reset before a commit
     input  wire [12:0]        gate_i,      // u13 phase progress between updates
+    input  wire               jump_on_i,   // jump detector enabled
+    input  wire [10:0]        jump_min_i,  // its floor, s3.13 units of |e|
     // committed bundle
     output reg  [1:0]         g_o,         // input gain 2**g
     output reg  signed [15:0] m1_o,        // s1.15 offsets (normalised units)
@@ -48,6 +53,7 @@ module estimator #(
     output reg                uncal_o,     // no estimate committed yet
     output reg                hold_o,      // the last estimate was invalid (held)
     output reg  [31:0]        updates_o,   // updates run (wraps)
+    output reg  [15:0]        jumps_o,     // jumps detected (wraps)
     output wire               sat_o        // engine saturated a register (sticky)
 );
     reg [1:0]  g_eng = G_INIT;
@@ -100,17 +106,17 @@ module estimator #(
                        (peak < 15'd4096) ? 2'd2 :
                        (peak < 15'd8192) ? 2'd1 : 2'd0;
 
+    // the check after the warm-up compares g_new (the peak of the samples before this
+    // one) with g_eng
+
     // normalised sample for the engine
     wire signed [15:0] x1w = pre_u1 <<< g_eng;
     wire signed [15:0] x2w = pre_u2 <<< g_eng;
-    // the first reset after power-up comes after WARMUP updates whatever the period: it
-    // chooses the input gain
-    wire [15:0] limit = first ? WARMUP : period_i;
 
     // The decision is registered: the engine starts on the edge after it, and the
     // estimator counts itself busy from the decision edge on.
     wire done, valid, eng_busy;
-    wire [79:0] outs;
+    wire [95:0] outs;                      // {e, c2, c12, c1, m2, m1}
     reg  busy = 1'b0;
     wire pend = reset_pend | req_reset_i;
     wire idle_smp = pre_valid && !busy;
@@ -152,6 +158,33 @@ module estimator #(
     );
     wire unused = &{1'b0, eng_busy, 1'b0};
 
+    // ---- jump detector (sim/model/core.py) -----------------------------------------------
+    //   eabs  u15.5  |e| of the running update (OUT e, s3.13), saturated, 5 fraction bits
+    //   jf    u15.5  fast mean: jf += (eabs - jf) / 4
+    //   jl    u15.5  slow mean: jl += (eabs - jl) / 64 (frozen while disarmed after a jump)
+    //   trig: armed, enabled and jf_next > 4 jl + jump_min
+    // Pipelined over three edges: OUT e is written at the start of the UPDATE program,
+    // hundreds of edges before its END (done), and jf, jl, armed change only on done, so
+    // the registered values are settled when done uses them.
+    reg  [19:0] jf = 0, jl = 0;
+    reg         armed = 1'b0;
+    wire [15:0] e_out = outs[95:80];
+    wire [15:0] e_mag = e_out[15] ? -e_out : e_out;
+    reg  [19:0] eabs = 0;
+    reg  [19:0] jf_next = 0, jl_next = 0;
+    reg  [21:0] jthr = 0;
+    reg         trig = 1'b0;
+    wire signed [20:0] df = $signed({1'b0, eabs}) - $signed({1'b0, jf});
+    wire signed [20:0] dl = $signed({1'b0, eabs}) - $signed({1'b0, jl});
+    always @(posedge clk) begin
+        eabs    <= {(e_mag[15] ? 15'h7fff : e_mag[14:0]), 5'd0};
+        jf_next <= jf + {df[20], df[20:2]};
+        jl_next <= jl + {{6{dl[20]}}, dl[19:6]};
+        jthr    <= {jl, 2'b00} + {6'd0, jump_min_i, 5'd0};
+        trig    <= armed && jump_on_i && ({2'b00, jf_next} > jthr);
+    end
+    wire        unused_j = &{1'b0, df[1:0], dl[5:0], 1'b0};
+
     always @(posedge clk) begin
         // sample bookkeeping
         if (pre_valid)
@@ -163,6 +196,7 @@ module estimator #(
             reset_pend <= 1'b0;
             upd <= 0;
             settle <= 0;
+            oct_seen <= 8'd0;     // a hand-over needs all octants since the reset, too
             running_update <= 1'b0;
         end else if (idle_smp && !pend && pre_xsat) begin
             reset_pend <= 1'b1;
@@ -176,18 +210,37 @@ module estimator #(
             upd <= upd + 1'b1;
             updates_o <= updates_o + 1'b1;
             running_update <= 1'b1;
-            if (limit != 0 && upd + 1'b1 >= limit) begin
-                reset_pend <= 1'b1;
+            // after WARMUP updates from power-up the gain is checked, and P reset only if
+            // it changes (a reset throws the information away); then every period_i
+            if (first && upd + 1'b1 >= WARMUP) begin
+                reset_pend <= g_new != g_eng;
                 first <= 1'b0;
+            end else if (!first && period_i != 0 && upd + 1'b1 >= period_i) begin
+                reset_pend <= 1'b1;
             end
         end
-        // hand-over at the end of an update
+        // hand-over at the end of an update, and the jump detector: a sudden change of
+        // the signal shows as a mean |e| far above its long-run level; it resets P (the
+        // fit restarts from the current theta) and holds the hand-over until the updates
+        // since the jump cover all octants again. Not armed until the first commit.
         if (done && running_update) begin
-            if (valid && settle >= settle_i && oct_seen == 8'hff) begin
-                {c2_o, c12_o, c1_o, m2_o, m1_o} <= outs;
+            if (trig) begin
+                reset_pend <= 1'b1;
+                armed <= 1'b0;
+                oct_seen <= 8'd0;
+                jf <= jl;
+                jumps_o <= jumps_o + 1'b1;
+            end else begin
+                jf <= jf_next;
+                if (armed || uncal_o)
+                    jl <= jl_next;
+            end
+            if (valid && settle >= settle_i && oct_seen == 8'hff && !trig) begin
+                {c2_o, c12_o, c1_o, m2_o, m1_o} <= outs[79:0];
                 g_o <= g_eng;
                 uncal_o <= 1'b0;
                 oct_seen <= 8'd0;
+                armed <= 1'b1;
             end
             hold_o <= !valid;
             settle <= (settle == 10'h3ff) ? settle : settle + 1'b1;
@@ -206,6 +259,7 @@ module estimator #(
             lfsr <= 16'hACE1;
             oct_seen <= 8'd0;
             running_update <= 1'b0;
+            jf <= 0; jl <= 0; armed <= 1'b0; jumps_o <= 0;
             g_o <= G_INIT;
             m1_o <= 0; m2_o <= 0; c1_o <= 16'sd8192; c12_o <= 0; c2_o <= 16'sd8192;
             uncal_o <= 1'b1;
@@ -215,7 +269,7 @@ module estimator #(
     end
     initial begin
         g_o = G_INIT; m1_o = 0; m2_o = 0; c1_o = 16'sd8192; c12_o = 0; c2_o = 16'sd8192;
-        uncal_o = 1'b1; hold_o = 1'b0; updates_o = 0;
+        uncal_o = 1'b1; hold_o = 1'b0; updates_o = 0; jumps_o = 0;
     end
 endmodule
 `resetall

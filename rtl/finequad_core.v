@@ -9,9 +9,17 @@
 //        +---------- raw sample, delayed --------> estimator (Eqs. 3-8)   pulse (Eq. 12)
 //                                                  coefficient bundle ^       |
 //                                                                        counter (x4)
-// Latency: a sample strobed on edge t appears on m_* after edge t + LATENCY (15).
+// Latency: a sample strobed on edge t appears on m_* after edge t + LATENCY (16).
 // Fault bits (m_fault): 0 clip, 1 gain saturation, 2 correction saturation,
-// 3 illegal A/B step (resolved), 4 not calibrated, 5 estimate held (last theta invalid).
+// 3 counter (phase mode: overspeed, |phase step| >= 3/4 pi per sample; edge mode: both
+// A and B changed, step lost), 4 not calibrated, 5 estimate held (last theta invalid).
+// CTRL (0x00) write: bit 0 request a covariance reset (pulse), bit 3 counter mode
+// (0 phase: count = 4 n phase, 1 edge: the paper's x4 decoder of A/B; reset 0).
+// A CTRL write always writes bit 3: give the mode in use with a reset request.
+// STATUS (0x00) read: bit 0 uncal, 1 hold, 2 estimator saturated, 3 counter mode.
+// HARM (0x12): bit 0 apply, bit 1 learn, [5:4] mu - 3 (LMS step 2^-mu; reset 1, 1, 1:
+// mu 4); writing bit 8 = 1 clears the harmonic table (a 64-clock RAM sweep) for the
+// samples strobed on edges >= w - PHASE_AT (w the write edge). See rtl/harmonic.v.
 module finequad_core #(
     parameter TABLE_DIR = "rtl/tables/",
     // ADC word width, 12..16, two's complement, MSB-aligned to s1.15 internally
@@ -20,7 +28,7 @@ module finequad_core #(
     parameter SIN_W = 10,
     // counter width
     parameter COUNT_W = 32,
-    // 1: exact table (arcsin rows), 0: the paper's uniform table
+    // 1: exact table (address |small|/|large|, atan rows), 0: the paper's uniform table
     parameter [0:0] TABLE_EXACT = 1'b1,
     // input gain after power-up
     parameter [1:0] G_INIT = 2'd0
@@ -43,12 +51,12 @@ module finequad_core #(
     output wire                      m_b,
     output wire [5:0]                m_fault
 );
-    // pipeline: stage 0 (edge t), correct t+1..t+5, octant t+6..t+7, lut phase t+9
-    // (estimator decision t+11), lut sines t+11, pulse t+12, counter t+13..t+15
-    localparam LATENCY = 15;
-    localparam PHASE_AT = 9;      // fine phase registered on edge t + PHASE_AT
+    // pipeline: stage 0 (edge t), correct t+1..t+5, octant t+6..t+8, lut phase t+10
+    // (estimator decision t+12), lut sines t+12, pulse t+13, counter t+14..t+16
+    localparam LATENCY = 16;
+    localparam PHASE_AT = 10;     // fine phase registered on edge t + PHASE_AT
     localparam CORR_AT = 5;       // correct outputs registered on edge t + CORR_AT
-    localparam AB_AT = 12;        // pulse outputs registered on edge t + AB_AT
+    localparam AB_AT = 13;        // pulse outputs registered on edge t + AB_AT
 
     // ---- registers ------------------------------------------------------------------------
     localparam [31:0] ID = 32'h46510001;        // "FQ", version 0.1
@@ -56,16 +64,27 @@ module finequad_core #(
     reg [15:0] r_eps = 16'd1638;                // u0.15 (0.05)
     reg [4:0]  r_lam_k = 5'd8;                  // lambda = 1/(1 + 2**-k)
     reg [15:0] r_kappa = 16'h4000;              // u8.8 (64)
-    reg [15:0] r_period = 16'd4096;             // updates between resets (0: never)
-    reg [9:0]  r_settle = 10'd256;              // updates after a reset before a commit
+    reg [15:0] r_period = 16'd0;                // updates between resets (0: never)
+    reg [9:0]  r_settle = 10'd32;               // updates after a reset before a commit
     reg [12:0] r_gate = 13'd64;                 // u13 phase progress between updates
+    reg        r_jump_off = 1'b0;               // JUMP bit 15: jump detector disabled
+    reg [10:0] r_jump_min = 11'd41;             // JUMP [10:0]: its floor, s3.13 |e| units
     reg [5:0]  r_sticky = 6'd0;                 // sticky fault bits, write 1 to clear
+    reg        r_cmode = 1'b0;                  // CTRL bit 3: counter mode, 0 phase, 1 edge
+    reg        r_happly = 1'b1;                 // HARM bit 0: apply the harmonic correction
+    reg        r_hlearn = 1'b1;                 // HARM bit 1: learn the harmonic table
+    reg [1:0]  r_hmu = 2'd1;                    // HARM [5:4]: LMS step 2^-(3 + r_hmu)
+    reg        r_hclear = 1'b0;                 // HARM bit 8 written 1: clear (pulse)
     reg        req_reset = 1'b0;
     always @(posedge clk) begin
         req_reset <= 1'b0;
+        r_hclear <= 1'b0;
         if (reg_we) begin
             case (reg_addr)
-                5'h00: req_reset <= reg_wdata[0];
+                5'h00: begin
+                    req_reset <= reg_wdata[0];
+                    r_cmode <= reg_wdata[3];
+                end
                 5'h01: r_interp <= reg_wdata[8:0];
                 5'h02: r_eps <= reg_wdata[15:0];
                 5'h03: r_lam_k <= reg_wdata[4:0];
@@ -73,6 +92,16 @@ module finequad_core #(
                 5'h05: r_period <= reg_wdata[15:0];
                 5'h06: r_settle <= reg_wdata[9:0];
                 5'h07: r_gate <= reg_wdata[12:0];
+                5'h12: begin
+                    r_happly <= reg_wdata[0];
+                    r_hlearn <= reg_wdata[1];
+                    r_hmu <= reg_wdata[5:4];
+                    r_hclear <= reg_wdata[8];
+                end
+                5'h13: begin
+                    r_jump_off <= reg_wdata[15];
+                    r_jump_min <= reg_wdata[10:0];
+                end
                 default: ;
             endcase
         end
@@ -81,8 +110,10 @@ module finequad_core #(
                     | (m_valid ? m_fault : 6'd0);
         if (rst) begin
             r_interp <= 9'd100; r_eps <= 16'd1638; r_lam_k <= 5'd8; r_kappa <= 16'h4000;
-            r_period <= 16'd4096; r_settle <= 10'd256; r_gate <= 13'd64;
-            r_sticky <= 6'd0; req_reset <= 1'b0;
+            r_period <= 16'd0; r_settle <= 10'd32; r_gate <= 13'd64;
+            r_jump_off <= 1'b0; r_jump_min <= 11'd41;
+            r_sticky <= 6'd0; req_reset <= 1'b0; r_cmode <= 1'b0;
+            r_happly <= 1'b1; r_hlearn <= 1'b1; r_hmu <= 2'd1; r_hclear <= 1'b0;
         end
     end
 
@@ -105,6 +136,7 @@ module finequad_core #(
     wire signed [15:0] b_m1, b_m2, b_c1, b_c12, b_c2;
     wire b_uncal, b_hold, e_sat;
     wire [31:0] e_updates;
+    wire [15:0] e_jumps;
     wire ph_valid;
     wire [12:0] phase;
     // raw sample delayed to the phase stage (edge t + PHASE_AT)
@@ -135,6 +167,7 @@ module finequad_core #(
         .amax_i(amax), .phase_i(phase),
         .req_reset_i(req_reset), .lam_k_i(r_lam_k), .kappa_i(r_kappa),
         .period_i(r_period), .settle_i(r_settle), .gate_i(r_gate),
+        .jump_on_i(!r_jump_off), .jump_min_i(r_jump_min), .jumps_o(e_jumps),
         .g_o(b_g), .m1_o(b_m1), .m2_o(b_m2), .c1_o(b_c1), .c12_o(b_c12), .c2_o(b_c2),
         .uncal_o(b_uncal), .hold_o(b_hold), .updates_o(e_updates), .sat_o(e_sat)
     );
@@ -150,7 +183,7 @@ module finequad_core #(
     wire o_valid, o_neg;
     wire [10:0] o_j;
     wire [1:0] o_oct2;
-    octant u_octant (
+    octant #(.TABLE_DIR(TABLE_DIR), .TABLE_EXACT(TABLE_EXACT)) u_octant (
         .clk(clk), .valid_i(c_valid), .u1c_i(u1c), .u2c_i(u2c),
         .valid_o(o_valid), .j_o(o_j), .oct2_o(o_oct2), .neg_o(o_neg)
     );
@@ -169,20 +202,38 @@ module finequad_core #(
         .cos_mag_i(l_cmag), .cos_neg_i(l_cneg), .sin_mag_i(l_smag), .sin_neg_i(l_sneg),
         .eps_i(r_eps), .valid_o(p_valid), .a_o(p_a), .b_o(p_b)
     );
-    // fine phase delayed from edge t + PHASE_AT to t + AB_AT (aligned with A/B)
-    reg [12:0] phd [0:AB_AT-PHASE_AT-1];
-    integer pi;
-    always @(posedge clk) begin
-        phd[0] <= phase;
-        for (pi = 1; pi < AB_AT - PHASE_AT; pi = pi + 1)
-            phd[pi] <= phd[pi-1];
-    end
+    // harmonic compensation of the fine phase (rtl/harmonic.v, latency 3), from edge
+    // t + PHASE_AT to t + AB_AT (aligned with A/B); a longer gap is padded after it
+    localparam HARM_PAD = AB_AT - PHASE_AT - 3;
+    wire        h_valid;
+    wire [12:0] h_phase;
+    harmonic u_harmonic (
+        .clk(clk), .valid_i(ph_valid), .phase_i(phase),
+        .apply_i(r_happly), .learn_i(r_hlearn), .mu_i(r_hmu), .clear_i(r_hclear),
+        .valid_o(h_valid), .phase_o(h_phase)
+    );
+    wire [12:0] k_phase;
+    generate
+        if (HARM_PAD == 0) begin : g_nopad
+            assign k_phase = h_phase;
+        end else begin : g_pad
+            reg [12:0] phd [0:HARM_PAD-1];
+            integer pi;
+            always @(posedge clk) begin
+                phd[0] <= h_phase;
+                for (pi = 1; pi < HARM_PAD; pi = pi + 1)
+                    phd[pi] <= phd[pi-1];
+            end
+            assign k_phase = phd[HARM_PAD-1];
+        end
+    endgenerate
     wire k_illegal;
     wire [31:0] k_ill_count;
     counter #(.COUNT_W(COUNT_W)) u_counter (
         .clk(clk), .rst(rst), .valid_i(p_valid), .a_i(p_a), .b_i(p_b),
-        .phase_i(phd[AB_AT-PHASE_AT-1]),
-        .n_i(r_interp), .valid_o(m_valid), .count_o(m_count), .a_o(m_a), .b_o(m_b),
+        .phase_i(k_phase),
+        .n_i(r_interp), .mode_i(r_cmode),
+        .valid_o(m_valid), .count_o(m_count), .a_o(m_a), .b_o(m_b),
         .illegal_o(k_illegal), .illegal_count_o(k_ill_count)
     );
 
@@ -199,14 +250,14 @@ module finequad_core #(
         nsat_d  <= {nsat_d[LATENCY-CORR_AT-2:0], c_nsat};
         csat_d  <= {csat_d[LATENCY-CORR_AT-2:0], c_csat};
     end
-    wire unused = &{1'b0, reg_wdata[31:16], l_pn, 1'b0};
+    wire unused = &{1'b0, reg_wdata[31:16], l_pn, h_valid, 1'b0};
     assign m_fault = {hold_d[LATENCY-1], uncal_d[LATENCY-1], k_illegal,
                       csat_d[LATENCY-CORR_AT-1], nsat_d[LATENCY-CORR_AT-1], clip_d[LATENCY-1]};
 
     // ---- register read-back --------------------------------------------------------------------
     always @* begin
         case (reg_addr)
-            5'h00: reg_rdata = {29'd0, e_sat, b_hold, b_uncal};
+            5'h00: reg_rdata = {28'd0, r_cmode, e_sat, b_hold, b_uncal};
             5'h01: reg_rdata = {23'd0, r_interp};
             5'h02: reg_rdata = {16'd0, r_eps};
             5'h03: reg_rdata = {27'd0, r_lam_k};
@@ -224,6 +275,9 @@ module finequad_core #(
             5'h0f: reg_rdata = {{16{b_c12[15]}}, b_c12};
             5'h10: reg_rdata = {{16{b_c2[15]}}, b_c2};
             5'h11: reg_rdata = e_updates;
+            5'h12: reg_rdata = {26'd0, r_hmu, 2'd0, r_hlearn, r_happly};
+            5'h13: reg_rdata = {16'd0, r_jump_off, 4'd0, r_jump_min};
+            5'h14: reg_rdata = {16'd0, e_jumps};
             5'h1f: reg_rdata = ID;
             default: reg_rdata = 32'd0;
         endcase

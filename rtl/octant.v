@@ -7,11 +7,11 @@
 //     octant-local angle (so both signals contribute: the angle noise is sigma/A at every
 //     angle, the Cramer-Rao bound, where the small signal alone gives sigma/(A cos a));
 //     the phase table holds atan. No divider: a reciprocal of the normalised |large| from
-//     a 512-word table (2 block RAMs), one multiply |small| * recip in carry-save form.
+//     a 512-word table (2 block RAMs), one multiply |small| * recip (a DSP block).
 //   TABLE_EXACT = 0: the smaller magnitude, linear (Eq. 10), bit for bit the paper's.
 // Latency 3: inputs registered on edge e; valid_o, oct2_o, neg_o registered on edge e+2,
-// j_o formed combinationally from registers of edge e+2 (TABLE_EXACT = 1: one 18-bit
-// carry-propagate add and the clip; it feeds the phase table's address in lut.v
+// j_o formed combinationally from registers of edge e+2 (TABLE_EXACT = 1: the rounding
+// add and the clip on the product; it feeds the phase table's address in lut.v
 // directly) or a register of edge e+2 (TABLE_EXACT = 0).
 //   +1 ax, ay  u15   |u1c|, |u2c| in s2.14 units, saturated (|-32768| -> 32767)
 //      low     u1    ay <= ax: octants 0, 3, 4, 7; small = low ? ay : ax, large the other
@@ -26,11 +26,8 @@
 //                    (recip.hex, sim/model/tables.py)
 //      sn      u14   min(2**14 - 1, (small << zl) >> 1): small on the normalised scale,
 //                    t = 2 sn / ln
-//   +3 pa, pb  u28   carry-save sum (bits 27:10 kept) of the 14 partial products
-//                    rcp[k] * (sn << k), bits 0..9 of each not formed, plus 0x9400
-//                    (2**15 rounds to 1/2048, 2**12 + 2**10 offset the mean truncation):
-//                    pa + pb = t * 2**27 (1 + O(2**-10)), below 2**28 for every input
-//      j_o     u11   min(2047, (pa + pb) >> 16) = round(2048 t), clipped
+//   +3 p       u28   sn * rcp = t * 2**27 (1 + O(2**-10)), below 2**28 for every input
+//      j_o     u11   min(2047, (p + 2**15) >> 16) = round(2048 t), clipped
 //      oct2    u2    base phase oct2 * 2048 (u13 units, 8192 per period)
 //      neg     u1    phase = base - PH[j] (else base + PH[j])
 // Ties |u1c| == |u2c| take the low octant (t = 1, PH = 1024: the same phase either way).
@@ -110,59 +107,25 @@ module octant #(
         v2     <= v1;
     end
 
-    // +3: sn * rcp as 14 partial products (shift-and-add, no DSP) reduced in carry-save
-    // form (six levels of 3:2 counters) to two vectors; bits below 10 are not formed
-    function [55:0] csa;                // {sum, carry} of three u28 vectors, mod 2**28
-        input [27:0] a, b, c;
-        begin
-            csa = {a ^ b ^ c, ((a & b) | (a & c) | (b & c)) << 1};
-        end
-    endfunction
-    localparam [27:0] TRUNC = 28'hffffc00;
-    localparam [27:0] ROUND = 28'h0009400;
-    wire [28*15-1:0] pp;                // partial products, pp[28k +: 28] = row k
-    genvar gk;
-    generate
-        for (gk = 0; gk < 14; gk = gk + 1) begin : g_pp
-            assign pp[28*gk +: 28] = rcp[gk] ? (({14'd0, sn} << gk) & TRUNC) : 28'd0;
-        end
-    endgenerate
-    assign pp[28*14 +: 28] = ROUND;
-    wire [27:0] a0, b0, a1, b1, a2, b2, a3, b3, a4, b4;     // 15 -> 10
-    assign {a0, b0} = csa(pp[28*0 +: 28], pp[28*1 +: 28], pp[28*2 +: 28]);
-    assign {a1, b1} = csa(pp[28*3 +: 28], pp[28*4 +: 28], pp[28*5 +: 28]);
-    assign {a2, b2} = csa(pp[28*6 +: 28], pp[28*7 +: 28], pp[28*8 +: 28]);
-    assign {a3, b3} = csa(pp[28*9 +: 28], pp[28*10 +: 28], pp[28*11 +: 28]);
-    assign {a4, b4} = csa(pp[28*12 +: 28], pp[28*13 +: 28], pp[28*14 +: 28]);
-    wire [27:0] c0, d0, c1, d1, c2, d2;                     // 10 -> 7 (b4 passes)
-    assign {c0, d0} = csa(a0, b0, a1);
-    assign {c1, d1} = csa(b1, a2, b2);
-    assign {c2, d2} = csa(a3, b3, a4);
-    wire [27:0] e0, f0, e1, f1;                             // 7 -> 5
-    assign {e0, f0} = csa(c0, d0, c1);
-    assign {e1, f1} = csa(d1, c2, d2);
-    wire [27:0] g0, h0, i0, i1, s0, s1;
-    assign {g0, h0} = csa(e0, f0, e1);                      // 5 -> 4
-    assign {i0, i1} = csa(g0, h0, f1);                      // 4 -> 3
-    assign {s0, s1} = csa(i0, i1, b4);                      // 3 -> 2
-    reg [17:0] pa = 0, pb = 0;          // bits 27:10 of the two vectors
+    // +3: p = sn * rcp, the full u28 product (one DSP block: the counter's step multiply
+    // is shift-and-add in logic, so the octant's wider one gets the multiplier)
+    reg [27:0] p = 0;
     reg [10:0] jp_q = 0;
     always @(posedge clk) begin
-        pa      <= s0[27:10];
-        pb      <= s1[27:10];
+        p       <= sn * rcp;
         jp_q    <= jp;
         oct2_o  <= oct2_q;
         neg_o   <= neg_q;
         valid_o <= v2;
     end
-    // j: the carry-propagate add (mod 2**28) and the clip at 2047 (t >= 2047.5 / 2048)
-    wire [17:0] psum = pa + pb;
-    wire [10:0] jr = psum[17] ? 11'd2047 : psum[16:6];
+    // j: round to 1/2048 and clip at 2047 (t >= 2047.5 / 2048)
+    wire [28:0] psum = {1'b0, p} + 29'h8000;
+    wire [10:0] jr = (psum[28:27] != 2'b00) ? 11'd2047 : psum[26:16];
     assign j_o = TABLE_EXACT ? jr : jp_q;
 
     initial begin
         valid_o = 1'b0; oct2_o = 0; neg_o = 1'b0;
     end
-    wire unused = &{1'b0, psum[5:0], s0[9:0], s1[9:0], ln[14], ln[4:0], ns[0], dxy[15:0], 1'b0};
+    wire unused = &{1'b0, psum[15:0], ln[14], ln[4:0], ns[0], dxy[15:0], 1'b0};
 endmodule
 `resetall

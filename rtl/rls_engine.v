@@ -40,7 +40,7 @@ module rls_engine #(
     output reg                busy_o,
     output reg                done_o,      // the program ends on the coming edge
     output reg                valid_o,     // with done_o: no invalid flag was raised
-    output reg  [16*5-1:0]    out_o,       // OUT registers {c2, c12, c1, m2, m1}, 16 bit each
+    output reg  [16*6-1:0]    out_o,       // OUT registers {e, c2, c12, c1, m2, m1}, 16 bit each
     output reg                sat_o        // sticky: a register write saturated
 );
     localparam OP_MAC = 3'd1, OP_NORMR = 3'd2, OP_NORMS = 3'd3,
@@ -346,7 +346,7 @@ module rls_engine #(
     integer oi;
     always @(posedge clk) begin
         if (wb7 && i7[6])
-            for (oi = 0; oi < 5; oi = oi + 1)
+            for (oi = 0; oi < 6; oi = oi + 1)
                 if (dst7[2:0] == oi[2:0])
                     out_o[16*oi +: 16] <= res16_q;
         if (wb7 && !i7[6] && res32_sat)

@@ -10,7 +10,7 @@ seed=${2:-1}
 mhz=33          # the PLL of rtl/boards/top_icebreaker.v
 mkdir -p "$out"
 rtl="rtl/boards/top_icebreaker.v rtl/finequad_core.v rtl/correct.v rtl/octant.v rtl/lut.v \
-     rtl/pulse.v rtl/counter.v rtl/estimator.v rtl/rls_engine.v rtl/sat_round.v"
+     rtl/pulse.v rtl/counter.v rtl/estimator.v rtl/rls_engine.v rtl/sat_round.v rtl/harmonic.v"
 for t in yosys nextpnr-ice40 icepack; do
     command -v $t >/dev/null || { echo "bitstream: error: $t not found (apt-get install yosys nextpnr-ice40 fpga-icestorm)" >&2; exit 2; }
 done

@@ -2,7 +2,7 @@
 """Run the bit-true model on a CSV of ADC codes (same interface as `make rtlsim`).
 
     python3 -m sim.run_model --in in.csv --out out.csv [--interp N] [--table exact|paper]
-        [--div D] [--adc-w W] [--vcd ref.vcd]
+        [--div D] [--adc-w W] [--count-mode M] [--vcd ref.vcd]
 """
 import argparse
 import csv
@@ -72,16 +72,21 @@ def main(argv=None):
     ap.add_argument("--table", choices=["exact", "paper"], default="exact")
     ap.add_argument("--div", type=int, default=36, help="clocks per sample (default 36)")
     ap.add_argument("--adc-w", type=int, default=16, help="ADC word width, 12..16")
+    ap.add_argument("--count-mode", type=int, default=0,
+                    help="counter mode (CTRL bit 3): 0 phase (default), 1 edge (x4 of A/B)")
     ap.add_argument("--vcd", help="write the reference VCD of the core's outputs")
     args = ap.parse_args(argv)
     if not 1 <= args.interp <= 511:
         die(f"--interp must be 1..511, got {args.interp}")
     if not 12 <= args.adc_w <= 16:
         die(f"--adc-w must be 12..16, got {args.adc_w}")
+    if args.count_mode not in (0, 1):
+        die(f"--count-mode must be 0 or 1, got {args.count_mode}")
     u1, u2 = read_codes(args.inp, args.adc_w)
     if args.div < 1:
         die(f"--div must be >= 1, got {args.div}")
-    cfg = core.Config(TABLE=args.table, interp=args.interp, div=args.div, ADC_W=args.adc_w)
+    cfg = core.Config(TABLE=args.table, interp=args.interp, div=args.div, ADC_W=args.adc_w,
+                      count_mode=args.count_mode)
     res = core.run(u1, u2, cfg, trace=bool(args.vcd))
     try:
         write_result(args.out, res)

@@ -2,7 +2,9 @@
 // sample out. No Python runs per clock. Built and run by `make rtlsim`.
 //
 //   rtlsim --in in.csv --out out.csv [--interp N] [--eps E] [--lam-k K] [--kappa Q]
-//          [--period P] [--settle S] [--gate G] [--div D] [--vcd out.vcd]
+//          [--period P] [--settle S] [--gate G] [--jump J] [--count-mode M] [--div D] [--vcd out.vcd]
+//
+// --count-mode: CTRL bit 3, 0 phase (count = 4 n phase, default), 1 edge (x4 of A/B).
 //
 // The VCD holds every signal of the design (Verilator --trace); it grows by about
 // 27 MB per 1000 samples at 36 clocks per sample, so dump short excerpts.
@@ -80,8 +82,8 @@ static void read_csv(const std::string &path, std::vector<int> &u1, std::vector<
 
 int main(int argc, char **argv) {
     std::string in, out, vcd;
-    long interp = 100, eps = 1638, lam_k = 8, kappa = 0x4000, period = 4096, settle = 256,
-         gate = 64, div = 36;
+    long interp = 100, eps = 1638, lam_k = 8, kappa = 0x4000, period = 0, settle = 32,
+         gate = 64, div = 36, count_mode = 0, jump = 41;
     for (int i = 1; i < argc; i++) {
         std::string a = argv[i];
         auto val = [&](const char *name) -> std::string {
@@ -99,6 +101,8 @@ int main(int argc, char **argv) {
         else if (a == "--settle") settle = parse_long(val("--settle"), "--settle");
         else if (a == "--gate") gate = parse_long(val("--gate"), "--gate");
         else if (a == "--div") div = parse_long(val("--div"), "--div");
+        else if (a == "--jump") jump = parse_long(val("--jump"), "--jump");
+        else if (a == "--count-mode") count_mode = parse_long(val("--count-mode"), "--count-mode");
         else if (a.rfind("+verilator", 0) == 0) continue;
         else die("unknown argument '" + a + "'");
     }
@@ -111,6 +115,9 @@ int main(int argc, char **argv) {
     if (period < 0 || period > 65535) die("--period must be 0..65535");
     if (settle < 0 || settle > 1023) die("--settle must be 0..1023");
     if (gate < 0 || gate > 4096) die("--gate must be 0..4096");
+    if (count_mode < 0 || count_mode > 1) die("--count-mode must be 0 or 1");
+    if (jump < 0 || jump > 65535 || (jump & 0x7800))
+        die("--jump must be the JUMP register: bit 15 off, bits 10..0 floor");
 
     std::vector<int> u1, u2;
     read_csv(in, u1, u2);
@@ -128,8 +135,11 @@ int main(int argc, char **argv) {
         top->trace(tfp.get(), 99);
         tfp->open(vcd.c_str());
     }
+    // CTRL (0) last: bit 3 the counter mode, bit 0 (covariance reset request) clear
     const long regs[][2] = {{1, interp}, {2, eps}, {3, lam_k}, {4, kappa},
-                            {5, period}, {6, settle}, {7, gate}};
+                            {5, period}, {6, settle}, {7, gate}, {0x13, jump},
+                            {0, count_mode << 3}};
+    const long n_regs = (long)(sizeof regs / sizeof regs[0]);
     const long n = (long)u1.size();
     const long last_edge = T0 + (n - 1) * div + 24;
     long next = 0, written = 0;
@@ -139,8 +149,8 @@ int main(int argc, char **argv) {
     if (tfp) tfp->dump(0);
     for (long e = 0; e <= last_edge; e++) {
         // inputs for edge e
-        top->reg_we = (e < 7);
-        if (e < 7) {
+        top->reg_we = (e < n_regs);
+        if (e < n_regs) {
             top->reg_addr = regs[e][0];
             top->reg_wdata = (uint32_t)regs[e][1];
         }

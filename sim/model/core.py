@@ -14,19 +14,29 @@ Clock-edge timing (the RTL implements exactly this; edges are numbered from 0):
                         updates still spread over the whole circle)
     - fine phase within `gate` of the phase at the last update -> no start (no new
                         information: standstill and creep do not wind the estimator up)
-    - otherwise      -> UPDATE program on this sample (Eqs. 5-8); after the period-th
-                        update since the last reset, a reset becomes pending; after
-                        power-up the first reset comes after WARMUP updates, whatever the
-                        period (it chooses the input gain).
+    - otherwise      -> UPDATE program on this sample (Eqs. 5-8). After WARMUP updates
+                        from power-up the input gain is checked and a reset becomes
+                        pending only if it would change; then after every period-th
+                        update since the last reset (period 0: never, the default).
   A program decided on edge s starts on edge s + 1 and ends (END retires, busy clears)
   on edge s + 1 + CYCLES[prog];
   samples arriving meanwhile are not used by the estimator (they still go through the
   fast path). At the end of an UPDATE, if theta was valid, at least `settle` updates
-  have ended since the last reset, and the updates since the last commit covered all
-  eight octants (so the fit is constrained all round, not by a short arc), the new
+  have ended since the last reset, and the updates since the last commit and the last
+  reset covered all eight octants (so the fit is constrained all round, not by a short arc), the new
   bundle {g, m1, m2, c1, c12, c2} is committed.
+  Jump detector, also at the end of an UPDATE: with |e| the update's a-priori residual
+  (OUT E, s3.13, saturated to 15 bits; u15.5 below), jf a fast (1/4) and jl a slow (1/64)
+  running mean of |e|: if armed (a commit since power-up or the last jump) and
+  jf_next > 4 jl + jump_min, a reset becomes pending, the octant coverage restarts, the
+  detector disarms and jf = jl (no commit on this update); otherwise jf = jf_next and,
+  while armed or uncalibrated, jl follows |e|. A commit arms it.
 * Sample k uses the bundle committed on edges <= t_k (each fast-path stage sees the
   bundle through a delay matched to its depth, so a sample never mixes two bundles).
+* The counter counts the fine phase after the harmonic compensation (sim/model/
+  harmonic.py, rtl/harmonic.v, between edges t + PHASE_AT and t + AB_AT): a function of
+  the samples alone, except the table clears (Config.harm_clears), which are timed in
+  edges (a 64-clock RAM sweep).
 """
 import bisect
 from dataclasses import dataclass, field
@@ -34,17 +44,18 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import fastpath as fp
+from . import harmonic
 from .estimator import CYCLES, Estimator
 
 # Pipeline timing of rtl/finequad_core.v: edges from a sample's strobe edge t to the edge
 # that registers each result. The RTL declares the same numbers (localparams of
 # finequad_core.v); the tests hold its behaviour to these, not to its source text.
 CORR_AT = 5          # correct: u1c, u2c, saturation flags
-OCT_AT = 7           # octant: j, oct2, neg
-PHASE_AT = 9         # lut: fine phase
-PN_AT = 11           # lut: n-th order phase and sines
-AB_AT = 12           # pulse: A, B
-LATENCY = 15         # counter: m_valid, m_count, m_a, m_b, m_fault
+OCT_AT = 8           # octant: j (exact table: combinational from edge t + 8), oct2, neg
+PHASE_AT = 10        # lut: fine phase
+PN_AT = 12           # lut: n-th order phase and sines
+AB_AT = 13           # pulse: A, B
+LATENCY = 16         # counter: m_valid, m_count, m_a, m_b, m_fault
 PHASE_STAGE = PHASE_AT + 2   # the estimator's decision (inputs registered one edge first)
 START_DELAY = 1      # the engine starts on the edge after the decision (registered)
 LFSR_SEED = 0xACE1   # dither of the estimator's sample choice (see below)
@@ -54,8 +65,8 @@ FAULT_BITS = {
     "clip": 0,       # an input code sits on an ADC rail
     "nsat": 1,       # u << g saturated in the fast path
     "csat": 2,       # offset removal or correction saturated
-    "illegal": 3,    # A/B skipped a quadrant (both changed) or a whole n-th order period:
-                     # counted, and the count resolved from the fine phase
+    "illegal": 3,    # counter: phase mode, overspeed (|phase step| >= 3/4 pi per sample);
+                     # edge mode, A/B both changed (the step is lost); counted (0x09)
     "uncal": 4,      # no estimate committed yet: default coefficients in use
     "hold": 5,       # the last estimate was invalid: last valid coefficients held
 }
@@ -70,14 +81,29 @@ class Config:
     COUNT_W: int = 32
     G_INIT: int = 0
     interp: int = 100        # n, 1..511
+    count_mode: int = 0      # CTRL bit 3: counter mode, 0 phase (4 n phase, nothing
+                             # lost below half a period per sample), 1 edge (x4 of A/B)
     eps: int = 1638          # u0.15 hysteresis (0.05)
     lam_k: int = 8           # lambda = 1/(1 + 2**-k), k in 1..23
     kappa: int = 64 << 8     # u8.8
-    period: int = 4096       # updates between covariance resets (0: never)
-    settle: int = 256        # updates after a reset before coefficients are applied
+    period: int = 0          # updates between covariance resets (0: never)
+    jump_on: int = 1         # jump detector: a reset when the mean |e| of the last few
+    jump_min: int = 41       # updates exceeds 4x its long-run mean + jump_min (s3.13)
+    settle: int = 32         # updates after a reset before coefficients are applied
     gate: int = 64           # u13 phase progress needed between updates (1/128 period)
     div: int = 36            # clocks per sample when strobes are uniform
     resets: list = field(default_factory=list)   # sample indices of reset requests
+    harm_apply: int = 1      # HARM (0x12) bit 0: apply the harmonic correction to the
+                             # counter's phase (sim/model/harmonic.py)
+    harm_learn: int = 1      # HARM bit 1: learn the table (speed-gated)
+    harm_mu: int = 4         # LMS step 2^-mu, 3..6 (HARM [5:4] = mu - 3)
+    harm_clears: list = field(default_factory=list)   # edges w of HARM writes with bit 8
+                             # (clear): the samples strobed on edges t_k >= w - PHASE_AT
+                             # see an empty table; those strobed on w - PHASE_AT .. w + 64
+                             # - PHASE_AT are not corrected (the RAM is swept)
+    # (harm_apply/learn/mu may also be per-sample arrays: the values the RTL samples on
+    # edges t_k + PHASE_AT + 3 (apply) and t_k + PHASE_AT + 6 (learn, mu); a register
+    # written on edge w is sampled on the edges after w)
 
 
 # Default bundle: centred circle of radius 0.5 (normalised): c1 = c2 = 2.0 in s4.12.
@@ -105,7 +131,7 @@ def _front(u1r, u2r, bundle, lut):
     u1n, ns1 = fp.normalize(u1r, g)
     u2n, ns2 = fp.normalize(u2r, g)
     u1c, u2c, csat = fp.correct(u1n, u2n, m1, m2, c1, c12, c2)
-    j, base, neg = fp.octant(u1c, u2c)
+    j, base, neg = fp.octant(u1c, u2c, lut.kind)
     return dict(u1n=u1n, u2n=u2n, nsat=ns1 | ns2, u1c=u1c, u2c=u2c, csat=csat, j=j,
                 base=base, neg=neg, phase=lut.phase(j, base, neg))
 
@@ -145,6 +171,10 @@ def run(u1_code, u2_code, cfg: Config = Config(), strobes=None, trace=False):
     ev_flags = [(1, 0)]           # (uncal, hold)
     uncal = 1
     n_updates = 0
+    sched = []                    # the estimator's programs, for the float reference
+    jf = jl = 0                   # jump detector: fast and slow mean |e|, u15.5
+    armed = False                 # a commit since power-up or the last jump
+    jumps = []
     blk_lo = blk_hi = 0           # fine phase of samples [blk_lo, blk_hi) under one bundle
     blk_phase = None
     for k in range(n):
@@ -159,13 +189,16 @@ def run(u1_code, u2_code, cfg: Config = Config(), strobes=None, trace=False):
             g_new = gsel(peak, g_eng)
             dg = g_new - g_eng
             est.run("reset", kappa=kappa, gs1=1 << (24 - dg), gs2=1 << (24 - 2 * dg))
+            sched.append(("reset", k, g_new, None))
             g_eng = g_new
             peak = 0
             reset_pend = False
             upd = 0
             settle = 0
+            cover = 0             # a hand-over needs all octants since the reset, too
             busy_until = s + START_DELAY + CYCLES["reset"]
             continue
+        peak_before = peak        # the warm-up's gain check sees the samples before this
         peak = max(peak, a1, a2)
         x1, x2 = int(u1r[k]) << g_eng, int(u2r[k]) << g_eng
         if not (-32768 <= x1 <= 32767 and -32768 <= x2 <= 32767):
@@ -179,7 +212,7 @@ def run(u1_code, u2_code, cfg: Config = Config(), strobes=None, trace=False):
             blk_hi = min(n, k + 256)
             i = bisect.bisect_right(ev_edge, int(t[k]))
             b = ev_bundle[i - 1]
-            if i < len(ev_edge):
+            if i < len(ev_edge) and ev_bundle[i] != ev_bundle[i - 1]:
                 # a program still running commits on edge ev_edge[i]: the block ends at
                 # the first sample that sees that commit
                 blk_hi = min(blk_hi, int(np.searchsorted(t, ev_edge[i], side="left")))
@@ -194,22 +227,42 @@ def run(u1_code, u2_code, cfg: Config = Config(), strobes=None, trace=False):
         ok = est.run("update", x1=x1 << 15, x2=x2 << 15, lam=lam)
         n_updates += 1
         upd += 1
-        limit = WARMUP if first else cfg.period
-        if limit and upd >= limit:
-            reset_pend = True
+        if first and upd >= WARMUP:
+            # the gain check after the warm-up: reset only if the input gain changes
+            reset_pend = gsel(peak_before, g_eng) != g_eng
             first = False
+        elif not first and cfg.period and upd >= cfg.period:
+            reset_pend = True
         busy_until = s + START_DELAY + CYCLES["update"]
-        if ok and settle >= cfg.settle and cover == 0xFF:
-            ev_bundle.append((g_eng, *est.out))
+        # jump detector on the a-priori residual |e| of this update (s3.13)
+        eabs = min(abs(est.out[5]), 32767) << 5
+        jf_next = jf + ((eabs - jf) >> 2)
+        trig = armed and cfg.jump_on and jf_next > (jl << 2) + (cfg.jump_min << 5)
+        if trig:
+            reset_pend = True
+            armed = False
+            cover = 0
+            jf = jl
+            jumps.append(k)
+        else:
+            jf = jf_next
+            if armed or uncal:
+                jl += (eabs - jl) >> 6
+        if ok and settle >= cfg.settle and cover == 0xFF and not trig:
+            ev_bundle.append((g_eng, *est.out[:5]))
+            sched.append(("update", k, g_eng, busy_until))
             uncal = 0
             cover = 0
+            armed = True
         else:
             ev_bundle.append(ev_bundle[-1])
+            sched.append(("update", k, g_eng, None))
         ev_flags.append((uncal, 0 if ok else 1))
         ev_edge.append(busy_until)
         settle = min(settle + 1, 1023)
-        # samples from the first one that sees this commit need their phase recomputed
-        blk_hi = min(blk_hi, int(np.searchsorted(t, busy_until, side="left")))
+        # samples from the first one that sees a new bundle need their phase recomputed
+        if ev_bundle[-1] != ev_bundle[-2]:
+            blk_hi = min(blk_hi, int(np.searchsorted(t, busy_until, side="left")))
 
     # ---- fast path, vectorised over samples -------------------------------------------
     idx = np.searchsorted(np.asarray(ev_edge), t, side="right") - 1
@@ -219,18 +272,30 @@ def run(u1_code, u2_code, cfg: Config = Config(), strobes=None, trace=False):
     phase = fr["phase"]
     pn, cosn, sinn = lut.nth(phase, cfg.interp)
     a, b = fp.pulse(cosn, sinn, cfg.eps, cfg.SIN_W, a0=1, b0=1)
-    count, illegal, ill_cnt, _ = fp.counter(a, b, phase, cfg.interp, cfg.COUNT_W)
+    # harmonic compensation between the fine phase and the counter (rtl/harmonic.v)
+    harm = None
+    if np.any(cfg.harm_learn):
+        # the block's arrival edge is t + PHASE_AT + 1, its clear input is high on w + 1
+        clr, blk = harmonic.sweep_flags(t + PHASE_AT + 1, [w + 1 for w in cfg.harm_clears])
+        phase_c, harm = harmonic.run(phase, apply=cfg.harm_apply, learn=cfg.harm_learn,
+                                     mu=cfg.harm_mu, clear=clr, blocked=blk)
+    else:
+        phase_c = phase          # nothing learned from power-up: an empty table
+    count, illegal, ill_cnt, _ = fp.counter(a, b, phase_c, cfg.interp, cfg.COUNT_W,
+                                            cfg.count_mode)
     fault = ((clip1 | clip2).astype(np.int64) << FAULT_BITS["clip"]
              | fr["nsat"].astype(np.int64) << FAULT_BITS["nsat"]
              | fr["csat"].astype(np.int64) << FAULT_BITS["csat"]
              | illegal.astype(np.int64) << FAULT_BITS["illegal"]
              | flags[:, 0] << FAULT_BITS["uncal"]
              | flags[:, 1] << FAULT_BITS["hold"])
-    res = dict(count=count, a=a, b=b, fault=fault, n_updates=n_updates)
+    res = dict(jumps=jumps, count=count, a=a, b=b, fault=fault, n_updates=n_updates,
+               sched=[(kind, k, g, None if e is None else int(np.searchsorted(t, e)))
+                      for kind, k, g, e in sched])
     if trace:
         g, m1, m2, c1, c12, c2 = bund.T
         res.update({k: fr[k] for k in ("u1c", "u2c", "phase", "j", "base", "neg", "u1n",
                                        "u2n")})
         res.update(pn=pn, cosn=cosn, sinn=sinn, g=g, m1=m1, m2=m2, c1=c1, c12=c12, c2=c2,
-                   illegal_count=ill_cnt)
+                   illegal_count=ill_cnt, phase_c=phase_c, harm=harm)
     return res

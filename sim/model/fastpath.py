@@ -9,16 +9,18 @@ exactly what the RTL computes. Formats (sI.F: I integer bits including the sign)
   c       s4.12   correction coefficients c1, c12, c2           (bundle)
   d       s1.15   u_n - m, saturated                            (rtl/correct.v)
   uc      s2.14   corrected signals u1c, u2c (unit circle = 1)  (rtl/correct.v, Eq. 9)
-  j       u11     octant-local table address                    (rtl/octant.v, Table 2)
+  j       u11     octant-local table address: exact table       (rtl/octant.v, Table 2)
+                  |small|/|large| in steps of 1/2048, paper table
+                  |small| in steps of 1/2048 of the unit radius
   phase   u13     fine phase of the signal, 8192 per period     (rtl/lut.v)
   pn      u13     n * phase mod 8192: phase of the n-th order   (rtl/lut.v, Table 1)
   cosn/sinn s1.(SIN_W-1) n-th order sinusoids from the table    (rtl/lut.v)
   a, b    u1      pulses with hysteresis eps (u0.15)            (rtl/pulse.v, Eq. 12)
-  count   s32     x4 up/down counter                            (rtl/counter.v)
+  count   s32     count of the n-th order (phase or x4 A/B)     (rtl/counter.v)
 """
 import numpy as np
 
-from .tables import ADDR_W, PH_W, phase_table, sine_table
+from .tables import ADDR_W, PH_W, RCP_AW, phase_table, recip_table, sine_table
 
 I64 = np.int64
 
@@ -57,11 +59,44 @@ def correct(u1n, u2n, m1, m2, c1, c12, c2):
     return u1c, u2c, flag
 
 
-def octant(u1c, u2c):
-    """Table 2: octant from signs and magnitudes, address from the smaller magnitude.
+_RECIP = np.array(recip_table(), dtype=I64)
+RATIO_ROUND = 1 << 15     # rounds the address to 1/2048
+
+
+def lzc15(v):
+    """Leading zeros of a u15 value, 0..14 (14 for 0 and 1, as rtl/octant.v)."""
+    v = np.asarray(v, dtype=I64)
+    z = np.full(v.shape, 14, dtype=I64)
+    for b in range(15):                             # the highest set bit is applied last
+        z = np.where((v >> b) & 1, 14 - b, z)
+    return z
+
+
+def ratio(small, large, zl):
+    """Exact-table address j = min(2047, round(2048 small / large)) as rtl/octant.v forms
+    it (small <= large, both u15; zl = the leading zeros of large's one's complement
+    magnitude, lzc15(large) or, when the signal is -2**p, lzc15(large) + 1):
+
+      ln  = large << zl          u16 in [2**14, 2**15], m = ln / 2**14 in [1, 2]
+      sn  = min(2**14 - 1, (small << zl) >> 1)     u14: t = 2 sn / ln
+      r   = RECIP[ln >= 2**15 ? 511 : ln[13:5]]    u0.14, ~ 1/m (9-bit bin below the
+                                                   leading 1; m = 2 takes the last bin)
+      p   = sn * r = t * 2**27 (1 + O(2**-10))    u28 (p < 2**28 for every input)
+      j   = min(2047, (p + 2**15) >> 16)           u11"""
+    ln = (large << zl) & 0xFFFF
+    sn = np.minimum(((small << zl) & 0xFFFF) >> 1, (1 << 14) - 1)
+    r = _RECIP[np.where(ln >> 15, (1 << RCP_AW) - 1, (ln >> 5) & ((1 << RCP_AW) - 1))]
+    p = sn * r + RATIO_ROUND
+    return np.minimum(p >> 16, (1 << ADDR_W) - 1)
+
+
+def octant(u1c, u2c, kind="exact"):
+    """Table 2: octant from signs and magnitudes; address from the magnitudes: for the
+    exact table the ratio small / large (the tangent of the octant-local angle, so both
+    signals contribute), for the paper's table the smaller magnitude alone (Eq. 10).
 
     Returns (j, base, neg): phase = base + (neg ? -PH[j] : PH[j]) mod 8192."""
-    x, y = u1c, u2c
+    x, y = np.asarray(u1c, dtype=I64), np.asarray(u2c, dtype=I64)
     ax = np.minimum(np.abs(x), 32767)
     ay = np.minimum(np.abs(y), 32767)
     low = ay <= ax                                  # octants 0, 3, 4, 7: address from |u2c|
@@ -69,7 +104,14 @@ def octant(u1c, u2c):
     xn, yn = x < 0, y < 0
     base = np.where(low, np.where(xn, 4096, 0), np.where(yn, 6144, 2048))
     neg = np.where(low, xn != yn, xn == yn)
-    j = np.minimum((small + 4) >> 3, (1 << ADDR_W) - 1)
+    if kind == "paper":
+        j = np.minimum((small + 4) >> 3, (1 << ADDR_W) - 1)
+    elif kind == "exact":
+        zx = lzc15(np.where(xn, ~x, x) & 0x7FFF)    # one's complement magnitudes
+        zy = lzc15(np.where(yn, ~y, y) & 0x7FFF)
+        j = ratio(small, np.where(low, ax, ay), np.where(low, zx, zy))
+    else:
+        raise ValueError(f"table kind must be 'exact' or 'paper', got {kind!r}")
     return j.astype(I64), base.astype(I64), neg.astype(I64)
 
 
@@ -77,6 +119,7 @@ class Lut:
     """Table 1 through two block-RAM tables: octant phase, then quarter-wave sine."""
 
     def __init__(self, kind="exact", sin_w=10):
+        self.kind = kind
         self.ph = np.array(phase_table(kind), dtype=I64)
         self.sin = np.array(sine_table(sin_w), dtype=I64)
         self.sin_w = sin_w
@@ -112,31 +155,38 @@ def pulse(cosn, sinn, eps, sin_w, a0=1, b0=1):
 QUAD = {(1, 1): 0, (0, 1): 1, (0, 0): 2, (1, 0): 3}
 
 
-def counter(a, b, phase, n, count_w=32):
-    """x4 up/down counter of the A/B edges (up when the phase increases).
+def counter(a, b, phase, n, count_w=32, mode=0):
+    """Position count of the n-th order (up when the phase increases), two modes.
 
-    A/B only show the quadrant of the n-th order phase modulo 4, so a step of two
-    quadrants (both channels at once) is ambiguous and a step of four is invisible. The
-    exact n-th order step D = n * wrap13(phase - phase_prev) (u13 units of the fundamental,
-    unambiguous up to a fundamental step of half a period) resolves both: with dq the A/B
-    quadrant step in {-1, 0, 1, 2},
+    Both modes add to one accumulator S, s(count_w + 13), wrapping; count = S >> 13
+    (floor). Every sample updates phase_prev and the A/B quadrant in both modes; the
+    state before the first sample is phase_prev = 0, quadrant 0 (A = B = 1).
 
-        increment = dq + 4 * k,   k = (D - 2048 dq + 4096) >> 13   (nearest multiple of 4)
+    mode 0, phase: S += 4 * D, D = n * dph, dph = wrap13(phase - phase_prev) in
+      [-4096, 4095]. S = 4 n Phi for the unwrapped phase Phi (starting at
+      wrap13(phase_0)): count = floor(4 n Phi / 8192), nothing lost while |dph| < 4096.
+      Flag (overspeed): |dph| >= 3072.
+    mode 1, edge (the paper's x4 counter of A/B): S += 8192 * e, e = +1 / -1 for a
+      quadrant step dq = 1 / 3 (mod 4), 0 otherwise; dq = 2 (both channels changed) is
+      not counted and flagged.
 
-    A sample with dq = 2 or k != 0 is flagged 'illegal' (and counted). The first sample
-    only primes the state. Returns (count, illegal, illegal_count, D)."""
+    The first sample is never flagged. n and mode are scalars or per-sample arrays.
+    Returns (count, flag, flag_count, S)."""
+    a = np.asarray(a, dtype=I64)
+    b = np.asarray(b, dtype=I64)
+    phase = np.asarray(phase, dtype=I64)
     qd = np.where(a == 1, np.where(b == 1, 0, 3), np.where(b == 1, 1, 2)).astype(I64)
-    dq = np.zeros_like(qd)
-    dq[1:] = (qd[1:] - qd[:-1]) & 3
-    dq = np.where(dq == 3, -1, dq)
-    dph = np.zeros_like(phase)
-    dph[1:] = ((phase[1:] - phase[:-1] + 4096) & 8191) - 4096
+    qd_prev = np.concatenate([[0], qd[:-1]]).astype(I64)
+    dq = (qd - qd_prev) & 3
+    ph_prev = np.concatenate([[0], phase[:-1]]).astype(I64)
+    dph = ((phase - ph_prev + 4096) & 8191) - 4096
     d = dph * np.asarray(n, dtype=I64)
-    k = (d - 2048 * dq + 4096) >> 13
-    k[0] = 0
-    step = dq + 4 * k
-    illegal = (dq == 2) | (k != 0)
-    cnt = np.cumsum(step)
-    m = (1 << count_w)
-    cnt = ((cnt + (m >> 1)) % m) - (m >> 1)
-    return cnt.astype(I64), illegal, np.cumsum(illegal).astype(I64), d
+    edge = np.broadcast_to(np.asarray(mode, dtype=I64) != 0, phase.shape)
+    e = np.where(dq == 1, 1, np.where(dq == 3, -1, 0))
+    inc = np.where(edge, e << 13, 4 * d)
+    flag = np.where(edge, dq == 2, np.abs(dph) >= 3072)
+    flag[:1] = False
+    sw = count_w + 13
+    m = 1 << sw
+    s = ((np.cumsum(inc) + (m >> 1)) % m) - (m >> 1)
+    return (s >> 13).astype(I64), flag, np.cumsum(flag).astype(I64), s.astype(I64)

@@ -45,7 +45,8 @@ SPECIALS = {
     "GS1": 68,    # s8.24  2**-dg   (theta4,5 rescale when the input gain changes by dg)
     "GS2": 69,    # s8.24  2**-2dg  (theta1,2,3 rescale)
 }
-OUTS = {"M1": 0, "M2": 1, "C1": 2, "C12": 3, "C2": 4}
+OUTS = {"M1": 0, "M2": 1, "C1": 2, "C12": 3, "C2": 4,
+        "E": 5}           # the update's a-priori residual 1 - phi' theta, s3.13 (jump detector)
 
 # Formats (fraction bits) used by the program.
 F_TH = 23     # theta, P, e, h, K: s9.23
@@ -56,6 +57,7 @@ F_V = 28      # invsqrt results, 1/D: s4.28
 F_M = 30      # offsets m1, m2: s2.30
 F_OUT_M = 15  # fast-path offsets: s1.15 (16 bit)
 F_OUT_C = 12  # fast-path coefficients c1, c12, c2: s4.12 (16 bit)
+F_OUT_E = 13  # residual for the jump detector: s3.13 (16 bit; |e| >= 4 saturates: invalid)
 
 # Constants (register file initial values; never written).
 CONSTS = {
@@ -204,8 +206,9 @@ def update_program() -> Asm:
     a.mac([("PHI4", "X1")], "PHI1", 30)
     a.mac([("PHI5", "X2")], "PHI2", 30)
     a.mac([("PHI4", "X2")], "PHI3", 30)
-    # prediction error e = 1 - phi' theta  (s9.23)
-    a.mac([("ONE23", "ONE30")] + [(THETA[j], PHI[j], "-") for j in range(5)], "E", 30)
+    # prediction error e = 1 - phi' theta  (s9.23; to OUT E as s3.13 for the jump detector)
+    a.mac([("ONE23", "ONE30")] + [(THETA[j], PHI[j], "-") for j in range(5)], "E", 30,
+          also=[("E", 53 - F_OUT_E, DYN_NONE, True)])
     # Pl = P / lambda = P (1 + 2**-k);  h = Pl phi:  hp = P phi, h = hp (1 + 2**-k)  (s9.23)
     for i in range(5):
         a.mac([(P(i, j), PHI[j]) for j in range(5)], f"H{i}", 30)
