@@ -78,11 +78,12 @@ def score(count, x_nm, var_a, pitch_nm, interp, start, mask=None, a=None):
     return out, err, keep
 
 
-def convergence_periods(err_nm, x_nm, pitch_nm, floor, event, window=1000, bound=2.0):
+def convergence_periods(err_nm, x_nm, pitch_nm, floor, event, window=1000, bound=2.0,
+                        end=None):
     """Travel, in signal periods, from sample `event` to the start of the first window
-    after which every window of `window` samples has an RMS error within `bound` x
-    floor. None if it never settles."""
-    e = err_nm[event:]
+    after which every window of `window` samples up to `end` (default: the end of the
+    record) has an RMS error within `bound` x floor. None if it never settles."""
+    e = err_nm[event:end]
     nw = len(e) // window
     if nw == 0:
         return None
