@@ -264,7 +264,7 @@ async def counter_sequences(dut):
             seg = segment(ref, kind, n, mode, length)
         start = len(hist)
         hist += seg
-        cnt, flg, fcnt, _ = fp.counter(
+        cnt, flg, fcnt, _, _ = fp.counter(
             np.array([x["a"] for x in hist]), np.array([x["b"] for x in hist]),
             np.array([x["phase"] for x in hist], dtype=np.int64),
             np.array([x["n"] for x in hist], dtype=np.int64), count_w,

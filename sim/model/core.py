@@ -140,162 +140,250 @@ def strobe_edges(n, div, t0=16):
     return t0 + div * np.arange(n, dtype=np.int64)
 
 
-def run(u1_code, u2_code, cfg: Config = Config(), strobes=None, trace=False):
-    """Run the core on ADC codes; returns a dict of per-sample arrays."""
-    u1_code = np.asarray(u1_code, dtype=np.int64)
-    u2_code = np.asarray(u2_code, dtype=np.int64)
-    n = len(u1_code)
-    t = strobe_edges(n, cfg.div) if strobes is None else np.asarray(strobes, np.int64)
-    u1r, clip1 = fp.align(u1_code, cfg.ADC_W)
-    u2r, clip2 = fp.align(u2_code, cfg.ADC_W)
+class Core:
+    """The core's state from power-up; `feed` runs the next samples and keeps the state,
+    so a recording can be processed in pieces (closed-loop simulation: the controller
+    reads the count after each piece). Feeding a recording in pieces gives exactly the
+    result of one `run` over the whole (sim/tests/test_model.py checks it).
 
-    # ---- estimator schedule (sequential: one decision per sample) -----------------------
-    est = Estimator()
-    lut = fp.Lut(cfg.TABLE, cfg.SIN_W)
-    g_eng = cfg.G_INIT
-    peak = 0
-    reset_pend = True
-    first = True
-    upd = 0
-    settle = 0
-    busy_until = -1
-    ph_last = 0
-    skip = 0                      # samples the estimator still lets pass (dither)
-    cover = 0                     # octants of the updates since the last commit
-    lfsr = LFSR_SEED
-    lam = 1 << (23 - min(max(cfg.lam_k, 1), 23))
-    kappa = max(cfg.kappa, 1) << 15            # KAPPA = 0 is taken as 1/256
-    requests = set(cfg.resets)
-    ev_edge = [-1]
-    ev_bundle = [BUNDLE0]
-    ev_flags = [(1, 0)]           # (uncal, hold)
-    uncal = 1
-    n_updates = 0
-    sched = []                    # the estimator's programs, for the float reference
-    jf = jl = 0                   # jump detector: fast and slow mean |e|, u15.5
-    armed = False                 # a commit since power-up or the last jump
-    jumps = []
-    blk_lo = blk_hi = 0           # fine phase of samples [blk_lo, blk_hi) under one bundle
-    blk_phase = None
-    for k in range(n):
-        if k in requests:
-            reset_pend = True
-        s = int(t[k]) + PHASE_STAGE
-        a1, a2 = min(abs(int(u1r[k])), 32767), min(abs(int(u2r[k])), 32767)
-        if s <= busy_until:
+    Strobe edges continue from the last piece: by default `div` edges apart (the first
+    sample on edge 16); given strobes must come after the last one. Config.resets are
+    global sample indices; per-sample arrays in the harm_* fields are indexed globally
+    too."""
+
+    def __init__(self, cfg: Config = Config()):
+        self.cfg = cfg
+        self.est = Estimator()
+        self.lut = fp.Lut(cfg.TABLE, cfg.SIN_W)
+        self.k0 = 0                   # samples fed so far
+        self.t_last = None            # strobe edge of the last sample fed
+        self.t_pieces = []            # strobe edges of the pieces fed (for the schedule)
+        self.g_eng = cfg.G_INIT
+        self.peak = 0
+        self.reset_pend = True
+        self.first = True
+        self.upd = 0
+        self.settle = 0
+        self.busy_until = -1
+        self.ph_last = 0
+        self.skip = 0                 # samples the estimator still lets pass (dither)
+        self.cover = 0                # octants of the updates since the last commit
+        self.lfsr = LFSR_SEED
+        self.requests = set(cfg.resets)
+        self.ev_edge = [-1]
+        self.ev_bundle = [BUNDLE0]
+        self.ev_flags = [(1, 0)]      # (uncal, hold)
+        self.uncal = 1
+        self.n_updates = 0
+        self.sched = []               # the estimator's programs, for the float reference
+        self.jf = self.jl = 0         # jump detector: fast and slow mean |e|, u15.5
+        self.armed = False            # a commit since power-up or the last jump
+        self.jumps = []
+        self.harm = harmonic.Harmonic()
+        self.harm_used = False        # learning was on for some sample fed so far
+        self.pulse_ab = (1, 1)        # A, B after the last sample (rtl/pulse.v resets to 1)
+        self.cnt_state = None         # the counter's state after the last sample
+
+    def _strobes(self, n, strobes):
+        cfg = self.cfg
+        if strobes is None:
+            t = strobe_edges(n, cfg.div) + cfg.div * self.k0
+        else:
+            t = np.asarray(strobes, np.int64)
+            if len(t) != n:
+                raise ValueError(f"strobes: {len(t)} edges for {n} samples")
+            if n and (np.any(np.diff(t) <= 0) or
+                      (self.t_last is not None and t[0] <= self.t_last)):
+                raise ValueError("strobes must be strictly increasing and come after "
+                                 "the last sample fed")
+        return t
+
+    def _per_sample(self, v, n):
+        """A Config field that is a scalar or a global per-sample array, for this piece."""
+        if np.ndim(v) == 0:
+            return v
+        return np.asarray(v)[self.k0:self.k0 + n]
+
+    def feed(self, u1_code, u2_code, strobes=None, trace=False):
+        """Run the next samples (ADC codes); returns a dict of per-sample arrays for them
+        (and, as lists since power-up, the jumps and the estimator's schedule)."""
+        cfg = self.cfg
+        u1_code = np.asarray(u1_code, dtype=np.int64)
+        u2_code = np.asarray(u2_code, dtype=np.int64)
+        n = len(u1_code)
+        k0 = self.k0
+        t = self._strobes(n, strobes)
+        u1r, clip1 = fp.align(u1_code, cfg.ADC_W)
+        u2r, clip2 = fp.align(u2_code, cfg.ADC_W)
+        self._schedule(u1r, u2r, t)
+
+        # ---- fast path, vectorised over samples ---------------------------------------
+        ev_edge = np.asarray(self.ev_edge)
+        idx = np.searchsorted(ev_edge, t, side="right") - 1
+        bund = np.asarray(self.ev_bundle, dtype=np.int64)[idx]
+        flags = np.asarray(self.ev_flags, dtype=np.int64)[idx]
+        fr = _front(u1r, u2r, bund.T, self.lut)
+        phase = fr["phase"]
+        pn, cosn, sinn = self.lut.nth(phase, cfg.interp)
+        a, b = fp.pulse(cosn, sinn, cfg.eps, cfg.SIN_W, *self.pulse_ab)
+        if n:
+            self.pulse_ab = (int(a[-1]), int(b[-1]))
+        # harmonic compensation between the fine phase and the counter (rtl/harmonic.v)
+        harm = None
+        learn = self._per_sample(cfg.harm_learn, n)
+        self.harm_used = self.harm_used or bool(np.any(learn))
+        if self.harm_used:
+            # the block's arrival edge is t + PHASE_AT + 1, its clear input is high on w + 1
+            # (a clear seen by an earlier piece is not repeated)
+            seen = -1 if self.t_last is None else self.t_last + PHASE_AT + 1
+            clr, blk = harmonic.sweep_flags(t + PHASE_AT + 1, [w + 1 for w in cfg.harm_clears
+                                                               if w + 1 > seen])
+            phase_c = self.harm.run(phase, apply=self._per_sample(cfg.harm_apply, n),
+                                    learn=learn, mu=self._per_sample(cfg.harm_mu, n),
+                                    clear=clr, blocked=blk)
+            harm = self.harm
+        else:
+            phase_c = phase      # nothing learned from power-up: an empty table
+        count, illegal, ill_cnt, _, self.cnt_state = fp.counter(
+            a, b, phase_c, cfg.interp, cfg.COUNT_W, cfg.count_mode, state=self.cnt_state)
+        fault = ((clip1 | clip2).astype(np.int64) << FAULT_BITS["clip"]
+                 | fr["nsat"].astype(np.int64) << FAULT_BITS["nsat"]
+                 | fr["csat"].astype(np.int64) << FAULT_BITS["csat"]
+                 | illegal.astype(np.int64) << FAULT_BITS["illegal"]
+                 | flags[:, 0] << FAULT_BITS["uncal"]
+                 | flags[:, 1] << FAULT_BITS["hold"])
+        self.k0 += n
+        if n:
+            self.t_last = int(t[-1])
+            self.t_pieces.append(t)
+        res = dict(jumps=list(self.jumps), count=count, a=a, b=b, fault=fault,
+                   n_updates=self.n_updates, sched=self.schedule_samples())
+        if trace:
+            g, m1, m2, c1, c12, c2 = bund.T
+            res.update({k: fr[k] for k in ("u1c", "u2c", "phase", "j", "base", "neg",
+                                           "u1n", "u2n")})
+            res.update(pn=pn, cosn=cosn, sinn=sinn, g=g, m1=m1, m2=m2, c1=c1, c12=c12,
+                       c2=c2, illegal_count=ill_cnt, phase_c=phase_c, harm=harm)
+        return res
+
+    def schedule_samples(self):
+        """The estimator's programs since power-up as (kind, sample, g, commit): commit is
+        the index of the first sample that sees the new coefficients (the number of
+        samples fed so far if none has yet), None if the program did not commit."""
+        t = np.concatenate(self.t_pieces) if self.t_pieces else np.zeros(0, np.int64)
+        return [(kind, k, g, None if e is None else int(np.searchsorted(t, e)))
+                for kind, k, g, e in self.sched]
+
+    def _schedule(self, u1r, u2r, t):
+        """The estimator's decisions, one per sample, in order (see the module text)."""
+        cfg = self.cfg
+        est, lut = self.est, self.lut
+        g_eng, peak, reset_pend, first = self.g_eng, self.peak, self.reset_pend, self.first
+        upd, settle, busy_until, ph_last = self.upd, self.settle, self.busy_until, self.ph_last
+        skip, cover, lfsr, uncal = self.skip, self.cover, self.lfsr, self.uncal
+        jf, jl, armed = self.jf, self.jl, self.armed
+        ev_edge, ev_bundle, ev_flags = self.ev_edge, self.ev_bundle, self.ev_flags
+        sched, jumps, requests = self.sched, self.jumps, self.requests
+        n_updates = self.n_updates
+        lam = 1 << (23 - min(max(cfg.lam_k, 1), 23))
+        kappa = max(cfg.kappa, 1) << 15            # KAPPA = 0 is taken as 1/256
+        n = len(u1r)
+        k0 = self.k0
+        blk_lo = blk_hi = 0           # fine phase of samples [blk_lo, blk_hi) under one bundle
+        blk_phase = None
+        for k in range(n):
+            if k0 + k in requests:
+                reset_pend = True
+            s = int(t[k]) + PHASE_STAGE
+            a1, a2 = min(abs(int(u1r[k])), 32767), min(abs(int(u2r[k])), 32767)
+            if s <= busy_until:
+                peak = max(peak, a1, a2)
+                continue
+            if reset_pend:
+                g_new = gsel(peak, g_eng)
+                dg = g_new - g_eng
+                est.run("reset", kappa=kappa, gs1=1 << (24 - dg), gs2=1 << (24 - 2 * dg))
+                sched.append(("reset", k0 + k, g_new, None))
+                g_eng = g_new
+                peak = 0
+                reset_pend = False
+                upd = 0
+                settle = 0
+                cover = 0             # a hand-over needs all octants since the reset, too
+                busy_until = s + START_DELAY + CYCLES["reset"]
+                continue
+            peak_before = peak        # the warm-up's gain check sees the samples before this
             peak = max(peak, a1, a2)
-            continue
-        if reset_pend:
-            g_new = gsel(peak, g_eng)
-            dg = g_new - g_eng
-            est.run("reset", kappa=kappa, gs1=1 << (24 - dg), gs2=1 << (24 - 2 * dg))
-            sched.append(("reset", k, g_new, None))
-            g_eng = g_new
-            peak = 0
-            reset_pend = False
-            upd = 0
-            settle = 0
-            cover = 0             # a hand-over needs all octants since the reset, too
-            busy_until = s + START_DELAY + CYCLES["reset"]
-            continue
-        peak_before = peak        # the warm-up's gain check sees the samples before this
-        peak = max(peak, a1, a2)
-        x1, x2 = int(u1r[k]) << g_eng, int(u2r[k]) << g_eng
-        if not (-32768 <= x1 <= 32767 and -32768 <= x2 <= 32767):
-            reset_pend = True
-            continue
-        if skip:
-            skip -= 1
-            continue
-        if k >= blk_hi:
-            blk_lo = k
-            blk_hi = min(n, k + 256)
-            i = bisect.bisect_right(ev_edge, int(t[k]))
-            b = ev_bundle[i - 1]
-            if i < len(ev_edge) and ev_bundle[i] != ev_bundle[i - 1]:
-                # a program still running commits on edge ev_edge[i]: the block ends at
-                # the first sample that sees that commit
-                blk_hi = min(blk_hi, int(np.searchsorted(t, ev_edge[i], side="left")))
-            blk_phase = _front(u1r[k:blk_hi], u2r[k:blk_hi], b, lut)["phase"]
-        ph = int(blk_phase[k - blk_lo])
-        step = ((ph - ph_last + 4096) & 8191) - 4096
-        if abs(step) < cfg.gate:
-            continue
-        ph_last = ph
-        cover |= 1 << (ph >> 10)
-        skip, lfsr = lfsr & 15, lfsr_step(lfsr)
-        ok = est.run("update", x1=x1 << 15, x2=x2 << 15, lam=lam)
-        n_updates += 1
-        upd += 1
-        if first and upd >= WARMUP:
-            # the gain check after the warm-up: reset only if the input gain changes
-            reset_pend = gsel(peak_before, g_eng) != g_eng
-            first = False
-        elif not first and cfg.period and upd >= cfg.period:
-            reset_pend = True
-        busy_until = s + START_DELAY + CYCLES["update"]
-        # jump detector on the a-priori residual |e| of this update (s3.13)
-        eabs = min(abs(est.out[5]), 32767) << 5
-        jf_next = jf + ((eabs - jf) >> 2)
-        trig = armed and cfg.jump_on and jf_next > (jl << 2) + (cfg.jump_min << 5)
-        if trig:
-            reset_pend = True
-            armed = False
-            cover = 0
-            jf = jl
-            jumps.append(k)
-        else:
-            jf = jf_next
-            if armed or uncal:
-                jl += (eabs - jl) >> 6
-        if ok and settle >= cfg.settle and cover == 0xFF and not trig:
-            ev_bundle.append((g_eng, *est.out[:5]))
-            sched.append(("update", k, g_eng, busy_until))
-            uncal = 0
-            cover = 0
-            armed = True
-        else:
-            ev_bundle.append(ev_bundle[-1])
-            sched.append(("update", k, g_eng, None))
-        ev_flags.append((uncal, 0 if ok else 1))
-        ev_edge.append(busy_until)
-        settle = min(settle + 1, 1023)
-        # samples from the first one that sees a new bundle need their phase recomputed
-        if ev_bundle[-1] != ev_bundle[-2]:
-            blk_hi = min(blk_hi, int(np.searchsorted(t, busy_until, side="left")))
+            x1, x2 = int(u1r[k]) << g_eng, int(u2r[k]) << g_eng
+            if not (-32768 <= x1 <= 32767 and -32768 <= x2 <= 32767):
+                reset_pend = True
+                continue
+            if skip:
+                skip -= 1
+                continue
+            if k >= blk_hi:
+                blk_lo = k
+                blk_hi = min(n, k + 256)
+                i = bisect.bisect_right(ev_edge, int(t[k]))
+                b = ev_bundle[i - 1]
+                if i < len(ev_edge) and ev_bundle[i] != ev_bundle[i - 1]:
+                    # a program still running commits on edge ev_edge[i]: the block ends
+                    # at the first sample that sees that commit
+                    blk_hi = min(blk_hi, int(np.searchsorted(t, ev_edge[i], side="left")))
+                blk_phase = _front(u1r[k:blk_hi], u2r[k:blk_hi], b, lut)["phase"]
+            ph = int(blk_phase[k - blk_lo])
+            step = ((ph - ph_last + 4096) & 8191) - 4096
+            if abs(step) < cfg.gate:
+                continue
+            ph_last = ph
+            cover |= 1 << (ph >> 10)
+            skip, lfsr = lfsr & 15, lfsr_step(lfsr)
+            ok = est.run("update", x1=x1 << 15, x2=x2 << 15, lam=lam)
+            n_updates += 1
+            upd += 1
+            if first and upd >= WARMUP:
+                # the gain check after the warm-up: reset only if the input gain changes
+                reset_pend = gsel(peak_before, g_eng) != g_eng
+                first = False
+            elif not first and cfg.period and upd >= cfg.period:
+                reset_pend = True
+            busy_until = s + START_DELAY + CYCLES["update"]
+            # jump detector on the a-priori residual |e| of this update (s3.13)
+            eabs = min(abs(est.out[5]), 32767) << 5
+            jf_next = jf + ((eabs - jf) >> 2)
+            trig = armed and cfg.jump_on and jf_next > (jl << 2) + (cfg.jump_min << 5)
+            if trig:
+                reset_pend = True
+                armed = False
+                cover = 0
+                jf = jl
+                jumps.append(k0 + k)
+            else:
+                jf = jf_next
+                if armed or uncal:
+                    jl += (eabs - jl) >> 6
+            if ok and settle >= cfg.settle and cover == 0xFF and not trig:
+                ev_bundle.append((g_eng, *est.out[:5]))
+                sched.append(("update", k0 + k, g_eng, busy_until))
+                uncal = 0
+                cover = 0
+                armed = True
+            else:
+                ev_bundle.append(ev_bundle[-1])
+                sched.append(("update", k0 + k, g_eng, None))
+            ev_flags.append((uncal, 0 if ok else 1))
+            ev_edge.append(busy_until)
+            settle = min(settle + 1, 1023)
+            # samples from the first one that sees a new bundle need their phase recomputed
+            if ev_bundle[-1] != ev_bundle[-2]:
+                blk_hi = min(blk_hi, int(np.searchsorted(t, busy_until, side="left")))
+        self.g_eng, self.peak, self.reset_pend, self.first = g_eng, peak, reset_pend, first
+        self.upd, self.settle, self.busy_until, self.ph_last = upd, settle, busy_until, ph_last
+        self.skip, self.cover, self.lfsr, self.uncal = skip, cover, lfsr, uncal
+        self.jf, self.jl, self.armed = jf, jl, armed
+        self.n_updates = n_updates
 
-    # ---- fast path, vectorised over samples -------------------------------------------
-    idx = np.searchsorted(np.asarray(ev_edge), t, side="right") - 1
-    bund = np.asarray(ev_bundle, dtype=np.int64)[idx]
-    flags = np.asarray(ev_flags, dtype=np.int64)[idx]
-    fr = _front(u1r, u2r, bund.T, lut)
-    phase = fr["phase"]
-    pn, cosn, sinn = lut.nth(phase, cfg.interp)
-    a, b = fp.pulse(cosn, sinn, cfg.eps, cfg.SIN_W, a0=1, b0=1)
-    # harmonic compensation between the fine phase and the counter (rtl/harmonic.v)
-    harm = None
-    if np.any(cfg.harm_learn):
-        # the block's arrival edge is t + PHASE_AT + 1, its clear input is high on w + 1
-        clr, blk = harmonic.sweep_flags(t + PHASE_AT + 1, [w + 1 for w in cfg.harm_clears])
-        phase_c, harm = harmonic.run(phase, apply=cfg.harm_apply, learn=cfg.harm_learn,
-                                     mu=cfg.harm_mu, clear=clr, blocked=blk)
-    else:
-        phase_c = phase          # nothing learned from power-up: an empty table
-    count, illegal, ill_cnt, _ = fp.counter(a, b, phase_c, cfg.interp, cfg.COUNT_W,
-                                            cfg.count_mode)
-    fault = ((clip1 | clip2).astype(np.int64) << FAULT_BITS["clip"]
-             | fr["nsat"].astype(np.int64) << FAULT_BITS["nsat"]
-             | fr["csat"].astype(np.int64) << FAULT_BITS["csat"]
-             | illegal.astype(np.int64) << FAULT_BITS["illegal"]
-             | flags[:, 0] << FAULT_BITS["uncal"]
-             | flags[:, 1] << FAULT_BITS["hold"])
-    res = dict(jumps=jumps, count=count, a=a, b=b, fault=fault, n_updates=n_updates,
-               sched=[(kind, k, g, None if e is None else int(np.searchsorted(t, e)))
-                      for kind, k, g, e in sched])
-    if trace:
-        g, m1, m2, c1, c12, c2 = bund.T
-        res.update({k: fr[k] for k in ("u1c", "u2c", "phase", "j", "base", "neg", "u1n",
-                                       "u2n")})
-        res.update(pn=pn, cosn=cosn, sinn=sinn, g=g, m1=m1, m2=m2, c1=c1, c12=c12, c2=c2,
-                   illegal_count=ill_cnt, phase_c=phase_c, harm=harm)
-    return res
+
+def run(u1_code, u2_code, cfg: Config = Config(), strobes=None, trace=False):
+    """Run the core on ADC codes from power-up; returns a dict of per-sample arrays."""
+    return Core(cfg).feed(u1_code, u2_code, strobes=strobes, trace=trace)

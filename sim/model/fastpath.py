@@ -155,7 +155,7 @@ def pulse(cosn, sinn, eps, sin_w, a0=1, b0=1):
 QUAD = {(1, 1): 0, (0, 1): 1, (0, 0): 2, (1, 0): 3}
 
 
-def counter(a, b, phase, n, count_w=32, mode=0):
+def counter(a, b, phase, n, count_w=32, mode=0, state=None):
     """Position count of the n-th order (up when the phase increases), two modes.
 
     Both modes add to one accumulator S, s(count_w + 13), wrapping; count = S >> 13
@@ -170,23 +170,32 @@ def counter(a, b, phase, n, count_w=32, mode=0):
       quadrant step dq = 1 / 3 (mod 4), 0 otherwise; dq = 2 (both channels changed) is
       not counted and flagged.
 
-    The first sample is never flagged. n and mode are scalars or per-sample arrays.
-    Returns (count, flag, flag_count, S)."""
+    The first sample after reset is never flagged. n and mode are scalars or per-sample
+    arrays. `state` (S, phase_prev, quadrant_prev, flag count, primed) continues a run
+    (None: from reset). Returns (count, flag, flag_count, S, state after the last
+    sample)."""
+    s0, ph0, qd0, fc0, primed = (0, 0, 0, 0, False) if state is None else state
     a = np.asarray(a, dtype=I64)
     b = np.asarray(b, dtype=I64)
     phase = np.asarray(phase, dtype=I64)
     qd = np.where(a == 1, np.where(b == 1, 0, 3), np.where(b == 1, 1, 2)).astype(I64)
-    qd_prev = np.concatenate([[0], qd[:-1]]).astype(I64)
+    qd_prev = np.concatenate([[qd0], qd[:-1]]).astype(I64)
     dq = (qd - qd_prev) & 3
-    ph_prev = np.concatenate([[0], phase[:-1]]).astype(I64)
+    ph_prev = np.concatenate([[ph0], phase[:-1]]).astype(I64)
     dph = ((phase - ph_prev + 4096) & 8191) - 4096
     d = dph * np.asarray(n, dtype=I64)
     edge = np.broadcast_to(np.asarray(mode, dtype=I64) != 0, phase.shape)
     e = np.where(dq == 1, 1, np.where(dq == 3, -1, 0))
     inc = np.where(edge, e << 13, 4 * d)
     flag = np.where(edge, dq == 2, np.abs(dph) >= 3072)
-    flag[:1] = False
+    if not primed:
+        flag[:1] = False
     sw = count_w + 13
     m = 1 << sw
-    s = ((np.cumsum(inc) + (m >> 1)) % m) - (m >> 1)
-    return (s >> 13).astype(I64), flag, np.cumsum(flag).astype(I64), s.astype(I64)
+    s = ((s0 + np.cumsum(inc) + (m >> 1)) % m) - (m >> 1)
+    fcnt = (fc0 + np.cumsum(flag)).astype(I64)
+    if len(phase):
+        state = (int(s[-1]), int(phase[-1]), int(qd[-1]), int(fcnt[-1]), True)
+    elif state is None:
+        state = (0, 0, 0, 0, False)
+    return (s >> 13).astype(I64), flag, fcnt, s.astype(I64), state
