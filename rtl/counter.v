@@ -1,31 +1,37 @@
 `timescale 1ns / 1ps
 `default_nettype none
 // counter: position count of the n-th order, two modes (sim/model/fastpath.py counter()).
-// Counts up when the phase increases (u1 leads u2). Both modes share one accumulator
-//   S    s(COUNT_W+13), wraps; count_o = S >>> 13 (its top COUNT_W bits): one count is
-//        8192 units of S, i.e. S holds 4 n * phase in u13 units of the fundamental
-// and see every valid sample (phase_prev and the A/B quadrant are tracked in both modes).
-// After rst: S = 0, phase_prev = 0, quadrant_prev = 0 (A = B = 1, rtl/pulse.v's reset).
+// Counts up when the phase increases (u1 leads u2).
 //
-// mode_i = 0, "phase" (default): S += 4 * n * dph, dph = wrap13(phase - phase_prev)
-//   dph  s13, [-4096, 4095], 8192 per period of the fundamental
-//   D    s23 = dph * n (shift-and-add in logic; |D| <= 4096 * 511 < 2^21)
-//   The count follows the unwrapped phase exactly, with no count lost at any speed up to
-//   |dph| < 4096 (half a period per sample): S = 4 n Phi with Phi = wrap13(phase_0) +
-//   sum of the dph (phase_prev starts at 0, so the first sample adds 4 n wrap13(phase_0)),
-//   count = floor(4 n Phi / 8192), aligned to the absolute phase (modulo 4 n counts).
-//   Flag ("overspeed"): |dph| >= 3072 (3/4 pi or more per sample; near pi the direction
-//   of the step, hence the position, becomes ambiguous).
-// mode_i = 1, "edge" (the paper's counter, Sec. 2.3, for comparison): plain x4 quadrature
-//   decoder of A/B: S += 8192 * e, e = +1 / -1 per single-channel step (quadrant step
-//   dq = 1 / 3 modulo 4), 0 for no change. A step where both A and B change (dq = 2) is
-//   illegal: not counted (the count is lost), flagged. A four-quadrant step is invisible.
-//   S's 13 low bits are not touched, so switching modes keeps the count continuous.
-// The flag (illegal_o, pulsed with valid_o) is never raised on the first valid sample
-// after rst (its step is from the reset state, not from a sample); flagged samples are
-// counted in illegal_count_o (u32, wraps). Switch modes at standstill.
-// Latency 3: a sample on edge e (valid_i, a_i, b_i, phase_i, mode_i) is on the outputs
-// after edge e + 2; n_i is used on edge e + 1.
+// Phase mode (mode_i = 0, the default): the count follows the unwrapped fine phase Phi
+// (8192 units per signal period) exactly:
+//     count = floor(4 n Phi / 8192) = B + q,   B = 4 n W,   q = floor(n f / 2048)
+// with Phi = 8192 W + f, f the fine phase in [0, 8192) and W the signal periods, so no
+// multiplier is needed here: q is the high part of the product n f that rtl/lut.v forms
+// for the n-th order phase anyway, and B steps by -+4 n when the phase wraps. Per sample,
+// with raw = f - f_prev (s14, f_prev = 0 after rst) and dph = wrap13(raw) in
+// [-4096, 4095]: the phase moved by dph, and wrapped backwards when raw >= 4096
+// (B -= 4 n) or forwards when raw < -4096 (B += 4 n). Nothing is lost at any speed below
+// half a signal period per sample, whatever n. After rst, Phi starts at wrap13(f_0)
+// (count aligned to the absolute phase, modulo 4 n counts). n is sampled with the sample
+// on both stages: change it at standstill (B keeps the factor it was built with).
+// Overspeed (ovs_o): |dph| >= 3072 (3/4 pi or more per sample; near pi the direction of
+// the step, hence the position, becomes ambiguous); never on the first sample after rst.
+//
+// Edge mode (mode_i = 1, the paper's counter, Sec. 2.3, for comparison): an x4
+// quadrature decoder of the Eq. 12 pulses A/B (rtl/pulse.v): +1 / -1 per single-channel
+// step (quadrant step 1 / 3 modulo 4), 0 for none; a step where both A and B change is
+// illegal: not counted (the count is lost), counted in ill_count_o. The decoder runs in
+// both modes, from rst (ill_count_o counts the pulses' illegal steps either way; its
+// count E starts at 0 with rst, so switch modes together with a reset). The pulses of a
+// sample arrive two edges after its phase-mode count, so in edge mode count_o of a
+// sample holds E as of its output edge: the steps of the samples strobed at least 3
+// edges before it.
+//
+// Timing (e = the edge registering phase_i, t + 6 in the core):
+//   e + 1  B, f_prev, the step flags; prod_i = n * phase_i arrives registered (rtl/lut.v)
+//   e + 2  count_o = mode ? E : B + prod_i[21:11]; valid_o, ovs_o
+//   pulses: pv_i with a_i, b_i on edge p (t + 9); E and ill_count_o updated on p + 1
 module counter #(
     // counter width (wraps), 16..32
     parameter COUNT_W = 32
@@ -33,116 +39,95 @@ module counter #(
     input  wire                      clk,
     input  wire                      rst,
     input  wire                      valid_i,
-    input  wire                      a_i,
-    input  wire                      b_i,
-    input  wire [12:0]               phase_i,    // u13 fine phase, aligned with A/B
+    input  wire [12:0]               phase_i,    // u13 fine phase (registered, edge e)
+    input  wire [21:0]               prod_i,     // u22 n * phase_i, registered on e + 1
     input  wire [8:0]                n_i,        // u9 n, 1..511
     input  wire                      mode_i,     // 0 phase, 1 edge (x4 of A/B)
+    input  wire                      pv_i,       // Eq. 12 pulses of a sample
+    input  wire                      a_i,
+    input  wire                      b_i,
     output reg                       valid_o,
-    output wire signed [COUNT_W-1:0] count_o,    // s(COUNT_W), wraps
-    output reg                       a_o,
-    output reg                       b_o,
-    output reg                       illegal_o,  // phase: overspeed; edge: lost step
-    output reg  [31:0]               illegal_count_o
+    output reg  signed [COUNT_W-1:0] count_o,    // s(COUNT_W), wraps
+    output reg                       ovs_o,      // overspeed (with valid_o)
+    output reg                       ill_o,      // an illegal A/B step (pulse, edge p + 1)
+    output reg  [15:0]               ill_count_o // u16 illegal A/B steps since rst, wraps
 );
-    localparam SW = COUNT_W + 13;                // accumulator S: s(COUNT_W).13
-    // quadrant code: (1,1) 0, (0,1) 1, (0,0) 2, (1,0) 3
-    wire [1:0]  qd = {~b_i, a_i ^ b_i};
-    reg  [1:0]  qd_prev = 2'd0;
+    // ---- e + 1: wrap, B ------------------------------------------------------------------
     reg  [12:0] ph_prev = 13'd0;
     reg         primed = 1'b0;
-    // +1: steps
-    wire [12:0] dph = phase_i - ph_prev;         // u13 difference = wrap13 as s13
+    reg  signed [COUNT_W-1:0] b_acc = 0;         // B = 4 n W, s(COUNT_W), wraps
+    wire [13:0] raw = {1'b0, phase_i} - {1'b0, ph_prev};         // s14
+    wire        back = (raw[13:12] == 2'b01);   // raw >= 4096: wrapped backwards
+    wire        fwd  = (raw[13:12] == 2'b10);   // raw < -4096: wrapped forwards
+    wire [12:0] dph = raw[12:0];                 // wrap13, as u13
     wire        ovs = (dph >= 13'd3072) && (dph <= 13'd5120);   // |wrap13| >= 3072
-    reg  [1:0]  dq1 = 2'd0;                      // u2 quadrant step modulo 4
-    reg  signed [12:0] dph1 = 13'sd0;            // s13
-    reg         ovs1 = 1'b0, m1 = 1'b0;
-    reg         v1 = 1'b0, p1 = 1'b0, a1 = 1'b1, b1 = 1'b1;
+    wire signed [COUNT_W-1:0] n4 = {{(COUNT_W-11){1'b0}}, n_i, 2'b00};
+    reg         v1 = 1'b0, ovs1 = 1'b0;
     always @(posedge clk) begin
-        if (valid_i) begin
-            qd_prev <= qd;
-            ph_prev <= phase_i;
-            primed  <= 1'b1;
-        end
-        dq1  <= qd - qd_prev;
-        dph1 <= $signed(dph);
-        ovs1 <= ovs;
-        m1 <= mode_i;
         v1 <= valid_i;
-        p1 <= primed;
-        a1 <= a_i;
-        b1 <= b_i;
+        ovs1 <= primed && ovs;
+        if (valid_i) begin
+            ph_prev <= phase_i;
+            primed <= 1'b1;
+            if (back)
+                b_acc <= b_acc - n4;
+            else if (fwd)
+                b_acc <= b_acc + n4;
+        end
         if (rst) begin
-            qd_prev <= 2'd0;
+            v1 <= 1'b0;
             ph_prev <= 13'd0;
             primed <= 1'b0;
-            v1 <= 1'b0;
+            b_acc <= 0;
         end
     end
-    // +2: n-th order step, edge step, flag. D = dph * n as shift-and-add in logic (no DSP:
-    // the octant's ratio multiply has it): nine rows n[b] * (dph << b), sign-extended to
-    // s23, reduced by four levels of 3:2 counters to two vectors, then one carry add.
-    function [45:0] csa;                         // {sum, carry} of three s23, mod 2**23
-        input [22:0] a, b, c;
-        begin
-            csa = {a ^ b ^ c, ((a & b) | (a & c) | (b & c)) << 1};
-        end
-    endfunction
-    wire [23*9-1:0] rows;
-    genvar gb;
-    generate
-        for (gb = 0; gb < 9; gb = gb + 1) begin : g_rows
-            assign rows[23*gb +: 23] = n_i[gb] ? ({{10{dph1[12]}}, dph1} << gb) : 23'd0;
-        end
-    endgenerate
-    wire [22:0] ra0, rb0, ra1, rb1, ra2, rb2;                // 9 -> 6
-    assign {ra0, rb0} = csa(rows[0 +: 23], rows[23 +: 23], rows[46 +: 23]);
-    assign {ra1, rb1} = csa(rows[69 +: 23], rows[92 +: 23], rows[115 +: 23]);
-    assign {ra2, rb2} = csa(rows[138 +: 23], rows[161 +: 23], rows[184 +: 23]);
-    wire [22:0] rc0, rd0, rc1, rd1;                          // 6 -> 4
-    assign {rc0, rd0} = csa(ra0, rb0, ra1);
-    assign {rc1, rd1} = csa(rb1, ra2, rb2);
-    wire [22:0] re0, rf0, rs0, rs1;
-    assign {re0, rf0} = csa(rc0, rd0, rc1);                  // 4 -> 3
-    assign {rs0, rs1} = csa(re0, rf0, rd1);                  // 3 -> 2
-    reg  signed [22:0] d2 = 23'sd0;              // s23: D = dph * n
-    reg  signed [1:0]  e2 = 2'sd0;               // s2: edge step -1, 0, +1
-    reg         f2 = 1'b0, m2 = 1'b0;
-    reg         v2 = 1'b0, a2 = 1'b1, b2 = 1'b1;
+
+    // ---- edge decoder (pulses) -----------------------------------------------------------
+    // quadrant code: (1,1) 0, (0,1) 1, (0,0) 2, (1,0) 3
+    reg  signed [COUNT_W-1:0] e_acc = 0;         // E
+    reg  [1:0]  qd_prev = 2'd0;
+    reg         eprimed = 1'b0;
+    wire [1:0]  qd = {~b_i, a_i ^ b_i};
+    wire [1:0]  dq = qd - qd_prev;
     always @(posedge clk) begin
-        d2 <= $signed(rs0 + rs1);
-        e2 <= (dq1 == 2'd1) ? 2'sd1 : (dq1 == 2'd3) ? -2'sd1 : 2'sd0;
-        f2 <= p1 && (m1 ? (dq1 == 2'd2) : ovs1);
-        m2 <= m1;
-        v2 <= v1; a2 <= a1; b2 <= b1;
-        if (rst)
-            v2 <= 1'b0;
+        ill_o <= 1'b0;
+        if (pv_i) begin
+            qd_prev <= qd;
+            eprimed <= 1'b1;
+            if (dq == 2'd2 && eprimed) begin
+                ill_o <= 1'b1;
+                ill_count_o <= ill_count_o + 1'b1;
+            end
+        end
+        if (pv_i && dq == 2'd1)
+            e_acc <= e_acc + 1'b1;
+        else if (pv_i && dq == 2'd3)
+            e_acc <= e_acc - 1'b1;
+        if (rst) begin
+            qd_prev <= 2'd0;
+            eprimed <= 1'b0;
+            ill_o <= 1'b0;
+            ill_count_o <= 16'd0;
+            e_acc <= 0;
+        end
     end
-    // +3: accumulate
-    reg  signed [SW-1:0] s_acc = 0;              // S, s(COUNT_W).13
-    wire signed [SW-1:0] inc_ph = {{(SW-25){d2[22]}}, d2, 2'b00};          // 4 D
-    wire signed [SW-1:0] inc_ed = {{(SW-15){e2[1]}}, e2, 13'd0};           // 8192 e
+
+    // ---- e + 2: the count -----------------------------------------------------------------
+    wire signed [COUNT_W-1:0] q = {{(COUNT_W-11){1'b0}}, prod_i[21:11]};
     always @(posedge clk) begin
-        valid_o <= v2;
-        a_o <= a2;
-        b_o <= b2;
-        illegal_o <= v2 && f2;
-        if (v2) begin
-            s_acc <= s_acc + (m2 ? inc_ed : inc_ph);
-            if (f2)
-                illegal_count_o <= illegal_count_o + 1'b1;
-        end
+        valid_o <= v1;
+        ovs_o <= v1 && ovs1;
+        if (v1)
+            count_o <= mode_i ? e_acc : b_acc + q;
         if (rst) begin
             valid_o <= 1'b0;
-            illegal_o <= 1'b0;
-            s_acc <= 0;
-            illegal_count_o <= 0;
+            ovs_o <= 1'b0;
+            count_o <= 0;
         end
     end
-    assign count_o = s_acc[SW-1:13];
     initial begin
-        valid_o = 1'b0; a_o = 1'b1; b_o = 1'b1; illegal_o = 1'b0;
-        illegal_count_o = 0;
+        valid_o = 1'b0; count_o = 0; ovs_o = 1'b0; ill_o = 1'b0; ill_count_o = 16'd0;
     end
+    wire unused = &{1'b0, prod_i[10:0], 1'b0};
 endmodule
 `resetall

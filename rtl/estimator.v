@@ -24,17 +24,22 @@ module estimator #(
     parameter [1:0] G_INIT = 2'd0,
     // updates after power-up before the input gain is checked (reset if it changes)
     parameter WARMUP = 64,
+    // edges from a sample's arrival (smp_valid_i) to its fine phase (ph_valid_i)
+    parameter PH_DELAY = 5,
     // program entries (sim/model/program.py ENTRY)
     parameter [8:0] ENTRY_RESET = 9'd0,
     parameter [8:0] ENTRY_UPDATE = 9'd32
 ) (
     input  wire               clk,
     input  wire               rst,
+    // every sample, on its arrival (registered on the strobe edge t)
     input  wire               smp_valid_i,
     input  wire signed [15:0] u1_i,        // s1.15 raw (aligned) sample
     input  wire signed [15:0] u2_i,
     input  wire [14:0]        amax_i,      // max(|u1|, |u2|) of this sample, saturated
-    input  wire [12:0]        phase_i,     // u13 fine phase of this sample
+    // the fine phase of the sample that arrived PH_DELAY edges earlier
+    input  wire               ph_valid_i,
+    input  wire [12:0]        phase_i,     // u13 fine phase (uncorrected)
     input  wire               req_reset_i, // reset P before the next update
     input  wire [4:0]         lam_k_i,     // lambda = 1/(1 + 2**-k)
     input  wire [15:0]        kappa_i,     // u8.8 (0 is taken as 1/256)
@@ -64,11 +69,32 @@ module estimator #(
     reg [9:0]  settle = 0;
     reg [12:0] ph_last = 0;
     reg        running_update = 1'b0;
+    reg        busy = 1'b0;                // a program runs (from its start decision)
+    reg        pending = 1'b0;             // a candidate waits for its fine phase
 
-    // ---- decision inputs, registered one edge before the decision ---------------------------
-    // They depend on ph_last and g_eng, which change only on an edge where the engine
-    // starts; the sample after it then finds the engine busy, so the values computed
-    // one edge early are always the ones the decision would compute.
+    // ---- arrival: a RESET program, or the sample becomes the candidate ------------------------
+    // Decided on the edge after the arrival (t + 1) when the estimator is idle (no program
+    // running, no candidate waiting); every sample updates the peak |u| since the last reset.
+    wire pend = reset_pend | req_reset_i;
+    wire idle = !busy && !pending;
+    wire do_reset = smp_valid_i && idle && pend;
+    wire do_cand = smp_valid_i && idle && !pend;
+    reg  signed [15:0] cu1 = 0, cu2 = 0;  // the candidate
+    reg  [14:0] cpeak = 0;                 // the peak before it (warm-up gain check)
+    reg  [PH_DELAY-1:0] cwait = 0;         // its fine phase arrives when the top bit is set
+    always @(posedge clk) begin
+        cwait <= {cwait[PH_DELAY-2:0], do_cand};
+        if (do_cand) begin
+            cu1 <= u1_i;
+            cu2 <= u2_i;
+            cpeak <= peak;
+        end
+        if (rst)
+            cwait <= 0;
+    end
+    wire ph_cand = ph_valid_i && cwait[PH_DELAY-1];
+
+    // ---- the candidate's decision inputs, registered one edge before the decision ---------
     // u << g leaves 16 bits exactly when the top g+1 bits of u differ
     function automatic ovf(input [3:0] top, input [1:0] g);   // top = u[15:12]
         case (g)
@@ -80,55 +106,46 @@ module estimator #(
     endfunction
     wire [12:0] dph = phase_i - ph_last;
     reg        pre_valid = 1'b0, pre_xsat = 1'b0, pre_gate = 1'b0;
-    reg [14:0] pre_amax = 0;
-    reg signed [15:0] pre_u1 = 0, pre_u2 = 0;
     reg [12:0] pre_phase = 0;
     always @(posedge clk) begin
-        pre_valid <= smp_valid_i;
-        pre_u1    <= u1_i;
-        pre_u2    <= u2_i;
+        pre_valid <= ph_cand;
         pre_phase <= phase_i;
-        pre_amax  <= amax_i;
-        pre_xsat  <= ovf(u1_i[15:12], g_eng) || ovf(u2_i[15:12], g_eng);
+        pre_xsat  <= ovf(cu1[15:12], g_eng) || ovf(cu2[15:12], g_eng);
         // |wrap13(dph)| >= gate  <=>  dph >= gate or dph <= -gate (two compares side by side)
         pre_gate  <= ($signed({dph[12], dph}) >= $signed({1'b0, gate_i})) ||
                      ($signed({dph[12], dph}) <= -$signed({1'b0, gate_i}));
         if (rst)
             pre_valid <= 1'b0;
     end
-    wire [14:0] peak_next = (pre_amax > peak) ? pre_amax : peak;
 
     // gain for the next reset: largest g <= 3 with peak << g < 2**14 (2x headroom).
     // A continuous assignment: as an always @* block it stayed X in Icarus until peak or
     // g_eng first changed, so the first reset loaded g_eng with X.
-    wire [1:0] g_new = (peak == 0)       ? g_eng :
-                       (peak < 15'd2048) ? 2'd3 :
-                       (peak < 15'd4096) ? 2'd2 :
-                       (peak < 15'd8192) ? 2'd1 : 2'd0;
-
-    // the check after the warm-up compares g_new (the peak of the samples before this
-    // one) with g_eng
+    function automatic [1:0] gsel(input [14:0] pk, input [1:0] g);
+        gsel = (pk == 0)       ? g :
+               (pk < 15'd2048) ? 2'd3 :
+               (pk < 15'd4096) ? 2'd2 :
+               (pk < 15'd8192) ? 2'd1 : 2'd0;
+    endfunction
+    wire [1:0] g_new = gsel(peak, g_eng);
+    wire [1:0] g_chk = gsel(cpeak, g_eng);  // the warm-up check: peak before the candidate
 
     // normalised sample for the engine
-    wire signed [15:0] x1w = pre_u1 <<< g_eng;
-    wire signed [15:0] x2w = pre_u2 <<< g_eng;
+    wire signed [15:0] x1w = cu1 <<< g_eng;
+    wire signed [15:0] x2w = cu2 <<< g_eng;
 
     // The decision is registered: the engine starts on the edge after it, and the
     // estimator counts itself busy from the decision edge on.
     wire done, valid, eng_busy;
     wire [95:0] outs;                      // {e, c2, c12, c1, m2, m1}
-    reg  busy = 1'b0;
-    wire pend = reset_pend | req_reset_i;
-    wire idle_smp = pre_valid && !busy;
-    wire do_reset = idle_smp && pend;
-    // dither: after each update the estimator lets 0..15 samples pass (LFSR), so that at
-    // speeds where the signal frequency is a simple fraction of the update rate the
+    // dither: after each update the estimator lets 0..15 candidates pass (LFSR), so that
+    // at speeds where the signal frequency is a simple fraction of the update rate the
     // updates still spread over the whole circle
     reg [15:0] lfsr = 16'hACE1;           // Galois, x^16 + x^14 + x^13 + x^11 + 1
     reg [3:0]  skip = 4'd0;
     reg [7:0]  oct_seen = 8'd0;              // octants of the updates since the last commit
-    wire do_skip = idle_smp && !pend && !pre_xsat && skip != 4'd0;
-    wire do_update = idle_smp && !pend && !pre_xsat && skip == 4'd0 && pre_gate;
+    wire do_skip = pre_valid && !pre_xsat && skip != 4'd0;
+    wire do_update = pre_valid && !pre_xsat && skip == 4'd0 && pre_gate;
     wire [4:0] lam_k = (lam_k_i == 0) ? 5'd1 : (lam_k_i > 5'd23) ? 5'd23 : lam_k_i;
     reg        start_q = 1'b0;
     reg  [8:0] entry_q = 0;
@@ -144,9 +161,14 @@ module estimator #(
             busy <= 1'b1;
         else if (done)
             busy <= 1'b0;
+        if (do_cand)
+            pending <= 1'b1;
+        else if (pre_valid)
+            pending <= 1'b0;
         if (rst) begin
             start_q <= 1'b0;
             busy <= 1'b0;
+            pending <= 1'b0;
         end
     end
 
@@ -187,8 +209,8 @@ module estimator #(
 
     always @(posedge clk) begin
         // sample bookkeeping
-        if (pre_valid)
-            peak <= peak_next;
+        if (smp_valid_i)
+            peak <= (amax_i > peak) ? amax_i : peak;
         reset_pend <= pend;
         if (do_reset) begin
             g_eng <= g_new;
@@ -198,7 +220,8 @@ module estimator #(
             settle <= 0;
             oct_seen <= 8'd0;     // a hand-over needs all octants since the reset, too
             running_update <= 1'b0;
-        end else if (idle_smp && !pend && pre_xsat) begin
+        end
+        if (pre_valid && pre_xsat) begin
             reset_pend <= 1'b1;
         end else if (do_skip) begin
             skip <= skip - 1'b1;
@@ -213,7 +236,7 @@ module estimator #(
             // after WARMUP updates from power-up the gain is checked, and P reset only if
             // it changes (a reset throws the information away); then every period_i
             if (first && upd + 1'b1 >= WARMUP) begin
-                reset_pend <= g_new != g_eng;
+                reset_pend <= g_chk != g_eng;
                 first <= 1'b0;
             end else if (!first && period_i != 0 && upd + 1'b1 >= period_i) begin
                 reset_pend <= 1'b1;

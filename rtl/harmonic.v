@@ -1,14 +1,21 @@
 `timescale 1ns / 1ps
 `default_nettype none
-// harmonic: adaptive compensation of the fine phase's periodic error (the residual
-// harmonic distortion of the encoder signals, which no ellipse correction removes).
-// Bit-true model and the reasoning: sim/model/harmonic.py. No multiplier, one block RAM.
+// harmonic: assembles the fine phase from the octant and the phase table, with the
+// adaptive compensation of its periodic error (the residual harmonic distortion of the
+// encoder signals, which no ellipse correction removes). Bit-true model and the
+// reasoning: sim/model/harmonic.py. No multiplier, one block RAM.
 //
-// Per sample, with b = phase[12:7] (64 bins of 128 units), A the table (s8.8 units) and
-// R = sum(A) - 8192 (s23):
+// Per sample, with ph = PH[j] (rtl/lut.v), phase = (2048 oct2 +- ph) mod 8192 (u13, - when
+// neg), b = phase >> 7 (64 bins of 128 units, from rtl/octant.v's bin_o before the phase
+// table is read), A the table (s8.8 units) and R = sum(A) - 8192 (s23):
 //   corr    = (A[b] - (R >>> 6)) >>> 8          s10 units, round(A[b] - mean(A)); 0 for
 //                                               samples arriving during a clear
-//   phase_o = apply ? phase - corr : phase      (u13, wraps)
+//   phase_o   = phase                            (u13: the estimator's and the bins' phase)
+//   phase_c_o = apply ? phase - corr : phase     (u13, wraps: the counter's phase)
+//   corr is not formed on its own: with A = 256 Ah + Al and R >>> 6 = 256 Rh + Rl,
+//   corr = Ah - Rh - (Al < Rl), so phase - corr is one three-input sum of
+//   (2048 oct2 + neg + 1 + Rh) (registered beforehand), ph ^ {neg}, and ~Ah, with the
+//   borrow (Al < Rl) as its carry in.
 //   observer of pc = phase - corr (always, also while apply is off):
 //     E = wrap18(pc * 32 - P);  P += (V >>> 8) + (E >>> KA);  V += E * 2^(8 - KB)
 //     P u13.5 (wraps with the period), V s13.13 units/sample (wraps), E s13.5;
@@ -23,22 +30,21 @@
 //                                                 E's units (1/32)
 //     H = A[b] + (x >>> mu_i)                      H in 1/256 units: LMS step 2^-(3 + mu_i);
 //                                                 not made if H would leave s16
-//   and H is written to A[b] (R follows, one edge later) when sample k + 7 arrives: the
-//   correction of sample j sees the updates of the candidates <= j - 7, whatever the
-//   strobe pattern. Candidates are 8 or more samples apart, so at most one update is in
-//   flight and the learning view is the table itself.
+//   and H is written to A[b] (and R updated) when sample k + 7 arrives: the correction
+//   of sample j sees the updates of the candidates <= j - 7, whatever the strobe pattern.
+//   Candidates are 8 or more samples apart, so at most one update is in flight and the
+//   learning view is the table itself.
 //
-// Timing, a = the edge on which valid_i is high (the sample's arrival):
-//   a      candidate decision; commit (RAM write) of the candidate k - 7
-//   a + 1  RAM read of A[b] (sees the writes on edges <= a)
-//   a + 2  phase_o = apply_i ? phase - corr : phase (apply_i sampled on this edge),
-//          valid_o (latency 3 from phase_i); a candidate's A[b] captured
+// Timing, a = the edge on which valid_i is high (the sample's arrival; t + 4 in the core):
+//   a      candidate decision; commit (RAM write and R) of the candidate k - 7
+//   a + 1  RAM read of A[bin_i] (sees the writes on edges <= a; bin_i is combinational
+//          before this edge); the phase sums' constant parts registered (apply_i sampled)
+//   a + 2  phase_o, phase_c_o, valid_o (ph_i is the phase table's output, valid after
+//          a + 1); a candidate's A[b] captured
 //   a + 3  observer: E, P, V, C
 //   a + 4  Y, M
 //   a + 5  update (learn_i and mu_i sampled on this edge)
 //   a + 6  new entry H (pending until sample k + 7 arrives)
-// R changes one edge after the commit or clear that changes it, so the correction of a
-// sample (computed in the cycle after its read) sees R as of its arrival edge.
 // clear_i high on edge w: R = -8192, a pending update is dropped and so are those of
 // candidates that arrived before w; the RAM is swept to zero on edges w + 1 .. w + 64;
 // samples arriving on edges w .. w + 64 are not corrected and not learned from. The
@@ -46,14 +52,18 @@
 // is (like the estimator's theta); the registers return to learning and applying.
 module harmonic (
     input  wire        clk,
-    input  wire        valid_i,
-    input  wire [12:0] phase_i,     // u13 fine phase (registered, lut phase_o)
-    input  wire        apply_i,     // apply the correction to phase_o
+    input  wire        valid_i,     // the sample's arrival (edge a)
+    input  wire [1:0]  oct2_i,      // with valid_i: base phase 2048 oct2 (rtl/octant.v)
+    input  wire        neg_i,       // with valid_i: phase = base - ph
+    input  wire [5:0]  bin_i,       // combinational before edge a + 1: phase >> 7
+    input  wire [11:0] ph_i,        // u12 PH[j], valid after edge a + 1 (block RAM output)
+    input  wire        apply_i,     // apply the correction to phase_c_o
     input  wire        learn_i,     // update the table
     input  wire [1:0]  mu_i,        // LMS step 2^-mu, mu = 3 + mu_i
     input  wire        clear_i,     // one-clock pulse: empty the table
     output reg         valid_o = 1'b0,
-    output reg  [12:0] phase_o = 13'd0
+    output reg  [12:0] phase_o = 13'd0,     // u13 uncorrected fine phase (edge a + 2)
+    output reg  [12:0] phase_c_o = 13'd0    // u13 corrected fine phase (edge a + 2)
 );
     localparam [22:0] R0 = -23'sd8192;
 
@@ -75,15 +85,15 @@ module harmonic (
     reg  [11:0] pd = 12'd0;         // pending entry - old entry
     reg  [5:0]  lb = 6'd0;          // candidate's bin
     reg  [15:0] lha = 16'd0;        // candidate's A[b] (the entry before the update)
-    reg         c_d = 1'b0, clr_d = 1'b0;
-    reg  signed [22:0] r_sum = R0;  // R, one edge behind the commits and clears
+    reg  signed [22:0] r_sum = R0;  // R, updated with the commits and clears
     wire        cand = (skip == 4'd0);
     wire        commit = valid_i && cc == 3'd1 && pw && !clear_i;
-    reg         v1 = 1'b0, cand1 = 1'b0, blk1 = 1'b0;
-    reg  [12:0] ph1 = 13'd0;
+    reg         v1 = 1'b0, cand1 = 1'b0, blk1 = 1'b0, neg1 = 1'b0;
+    reg  [1:0]  oct1 = 2'd0;
     always @(posedge clk) begin
         v1 <= valid_i;
-        ph1 <= phase_i;
+        oct1 <= oct2_i;
+        neg1 <= neg_i;
         cand1 <= cand;
         blk1 <= clear_i || sweeping;
         if (valid_i) begin
@@ -93,46 +103,62 @@ module harmonic (
             cc <= cand ? 3'd7 : (cc != 3'd0) ? cc - 1'b1 : 3'd0;
         end
         swp <= clear_i ? 7'd64 : sweeping ? swp - 1'b1 : 7'd0;
-        c_d <= commit;
-        clr_d <= clear_i;
-        if (clr_d)
+        if (clear_i)
             r_sum <= R0;
-        else if (c_d)
+        else if (commit)
             r_sum <= r_sum + {{11{pd[11]}}, pd};
     end
 
-    // ---- stage 2 (edge a + 1): table read (sees the writes on edges <= a) -------------------
+    // ---- stage 2 (edge a + 1): table read (sees the writes on edges <= a); the constant
+    // parts of the phase sums: base + neg (+ 1 + Rh where the correction is used) ---------
     reg  [15:0] rd_q = 16'd0;
     wire [5:0]  swa = 6'd0 - swp[5:0];          // sweep address 0, 1, .., 63
     wire [5:0]  wa = sweeping ? swa : lb;       // (a named 6-bit wire: Icarus 11 indexes
     always @(posedge clk) begin                 //  with a wider difference otherwise)
-        rd_q <= mem[ph1[12:7]];
+        rd_q <= mem[bin_i];
         if (sweeping || commit)
             mem[wa] <= hp;
     end
-    reg         v2 = 1'b0, cand2 = 1'b0, blk2 = 1'b0, ok2 = 1'b0;
-    reg  [12:0] ph2 = 13'd0;
+    wire [12:0] base1 = {oct1, 11'd0} + {12'd0, neg1};
+    wire [12:0] rh = {{4{r_sum[22]}}, r_sum[22:14]};   // Rh = (R >>> 6) >>> 8, s9
+    wire        ublk = !blk1;                          // the correction is used (pc)
+    wire        uapl = ublk && apply_i;                // and applied (phase_c_o)
+    reg         v2 = 1'b0, cand2 = 1'b0, blk2 = 1'b0, ok2 = 1'b0, neg2 = 1'b0;
+    reg         ub2 = 1'b0, ua2 = 1'b0;
+    reg  [12:0] k0 = 13'd0, kb = 13'd0, ka = 13'd0;
+    reg  [7:0]  rl2 = 8'd0;                            // Rl = (R >>> 6) mod 256
+    reg  [5:0]  bin2 = 6'd0;
     always @(posedge clk) begin
         v2 <= v1;
         cand2 <= v1 && cand1;
         blk2 <= blk1;
         ok2 <= !blk1 && !clear_i;
-        ph2 <= ph1;
+        neg2 <= neg1;
+        bin2 <= bin_i;
+        k0 <= base1;
+        kb <= base1 + 13'd1 + (ublk ? rh : 13'd0);
+        ka <= base1 + 13'd1 + (uapl ? rh : 13'd0);
+        ub2 <= ublk;
+        ua2 <= uapl;
+        rl2 <= r_sum[13:6];
     end
 
-    // ---- stage 3 (edge a + 2): correction, output; a candidate's entry ----------------------
-    wire [17:0] dcor = {rd_q[15], rd_q[15], rd_q} - {r_sum[22], r_sum[22:6]};
-    wire [12:0] pc = ph2 - (blk2 ? 13'd0 : {{3{dcor[17]}}, dcor[17:8]});
-    reg         v3 = 1'b0, cand3 = 1'b0, lok = 1'b0;
+    // ---- stage 3 (edge a + 2): the phases; a candidate's entry ------------------------------
+    wire [12:0] phx = {1'b0, ph_i} ^ {13{neg2}};        // +ph, or -ph - 1 (neg)
+    wire [12:0] nah = ~{{5{rd_q[15]}}, rd_q[15:8]};     // ~Ah = -Ah - 1
+    wire        brw = (rd_q[7:0] < rl2);                // Al < Rl
+    wire [12:0] pc = kb + phx + (ub2 ? nah : 13'h1fff) + {12'd0, ub2 & brw};
     reg  [12:0] pc3 = 13'd0;
+    reg         v3 = 1'b0, cand3 = 1'b0, lok = 1'b0;
     always @(posedge clk) begin
         valid_o <= v2;
-        phase_o <= apply_i ? pc : ph2;
+        phase_o <= k0 + phx;
+        phase_c_o <= ka + phx + (ua2 ? nah : 13'h1fff) + {12'd0, ua2 & brw};
         v3 <= v2;
         cand3 <= v2 && cand2;
         pc3 <= pc;
         if (v2 && cand2) begin
-            lb <= ph2[12:7];
+            lb <= bin2;
             lha <= rd_q;
             lok <= ok2 && !clear_i;
         end else if (clear_i)
@@ -207,6 +233,6 @@ module harmonic (
             end
         end
     end
-    wire unused = &{1'b0, dcor[7:0], av[16:0], y_w[1:0], r_sum[6:0], 1'b0};
+    wire unused = &{1'b0, av[16:0], y_w[1:0], r_sum[5:0], blk2, 1'b0};
 endmodule
 `resetall

@@ -9,41 +9,47 @@
 //     the phase table holds atan. No divider: a reciprocal of the normalised |large| from
 //     a 512-word table (2 block RAMs), one multiply |small| * recip (a DSP block).
 //   TABLE_EXACT = 0: the smaller magnitude, linear (Eq. 10), bit for bit the paper's.
-// Latency 3: inputs registered on edge e; valid_o, oct2_o, neg_o registered on edge e+2,
-// j_o formed combinationally from registers of edge e+2 (TABLE_EXACT = 1: the rounding
-// add and the clip on the product; it feeds the phase table's address in lut.v
-// directly) or a register of edge e+2 (TABLE_EXACT = 0).
-//   +1 ax, ay  u15   |u1c|, |u2c| in s2.14 units, saturated (|-32768| -> 32767)
-//      low     u1    ay <= ax: octants 0, 3, 4, 7; small = low ? ay : ax, large the other
-//      zx, zy  u4    leading zeros in 15 bits (0..14; 14 for 0) of the one's complement
-//                    magnitude (u1c < 0 ? ~u1c : u1c), formed beside the negation's carry
-//                    chain: lzc(ax), or lzc(ax) + 1 when u1c = -2**p (|u1c| - 1 = 2**p - 1)
-//   +2 zl      u4    zx or zy of the large magnitude (combinational)
-//      jp      u11   paper address min(2047, (small + 4) >> 3): small in steps of 1/2048
-//      ln      u16   large << zl: in [2**14, 2**15), or exactly 2**15 (the case above)
-//      rcp     u0.14 RECIP[ln[15] ? 511 : ln[13:5]] ~ 2**14 / m, m = ln / 2**14 in [1, 2]
-//                    (m = 2 takes the last bin, 1/1.999); always in [2**13, 2**14)
-//                    (recip.hex, sim/model/tables.py)
-//      sn      u14   min(2**14 - 1, (small << zl) >> 1): small on the normalised scale,
-//                    t = 2 sn / ln
-//   +3 p       u28   sn * rcp = t * 2**27 (1 + O(2**-10)), below 2**28 for every input
-//      j_o     u11   min(2047, (p + 2**15) >> 16) = round(2048 t), clipped
-//      oct2    u2    base phase oct2 * 2048 (u13 units, 8192 per period)
-//      neg     u1    phase = base - PH[j] (else base + PH[j])
-// Ties |u1c| == |u2c| take the low octant (t = 1, PH = 1024: the same phase either way).
+// Also the bin of the harmonic table (rtl/harmonic.v), phase >> 7, found from j before
+// the phase table is read (thresholds from sim/model/tables.py bin_thresholds(),
+// rtl/tables/hbin.vh), so the two tables are read on the same edge.
+//
+// Timing: inputs registered on edge e (= t + 2 in the core); outputs:
+//   e+1  rcp     u0.14 RECIP[ln[13:5]] ~ 2**14 / m, m = ln / 2**14 in [1, 2) (block RAM;
+//                recip.hex); ln = large << zl in [2**14, 2**15) (0 for large = 0),
+//                zl = lzc15(large)
+//        sn      u14   (small << zl) >> 1: small on the normalised scale, t = 2 sn / ln
+//        jp      u11   paper address min(2047, (small + 4) >> 3)
+//        oct2_o  u2    base phase 2048 oct2 (u13 units, 8192 per period)
+//        neg_o   u1    phase = base - PH[j] (else base + PH[j])
+//        valid_o       (octant: |u2c| <= |u1c| is the low octant 0, 3, 4 or 7; ties low)
+//   e+2  p       u28   sn * rcp = t * 2**27 (1 + O(2**-10)) (a DSP block)
+//   e+3 (combinational from the registers of e+2, for the block RAM addresses):
+//        j_o     u11   exact: min(2047, (p + 2**15) >> 16) = round(2048 t), clipped; paper: jp
+//        bin_o   u6    (base +- PH[j]) >> 7: 16 oct2 + floor(PH[j] / 128), or, when neg,
+//                      16 oct2 - ceil(PH[j] / 128), mod 64; floor and ceil are counts of
+//                      thresholds j reaches (rtl/tables/hbin.vh, sim/model/tables.py
+//                      bin_buckets)
 module octant #(
     parameter TABLE_DIR = "rtl/tables/",
-    parameter [0:0] TABLE_EXACT = 1'b1
+    parameter [0:0] TABLE_EXACT = 1'b1,
+    // 1: normalise both magnitudes in parallel and select after the comparison (shorter
+    // path, more logic; the same values)
+    parameter [0:0] OPT_PAR_NORM = 1'b0
 ) (
-    input  wire               clk,
-    input  wire               valid_i,
-    input  wire signed [15:0] u1c_i,   // s2.14
-    input  wire signed [15:0] u2c_i,   // s2.14
-    output reg                valid_o,
-    output wire [10:0]        j_o,
-    output reg  [1:0]         oct2_o,
-    output reg                neg_o
+    input  wire        clk,
+    input  wire        valid_i,
+    input  wire [14:0] ax_i,      // u15 |u1c|, s2.14 units
+    input  wire [14:0] ay_i,      // u15 |u2c|
+    input  wire        xn_i,      // u1c < 0
+    input  wire        yn_i,      // u2c < 0
+    output reg         valid_o,
+    output wire [10:0] j_o,
+    output wire [5:0]  bin_o,
+    output reg  [1:0]  oct2_o,
+    output reg         neg_o
 );
+`include "hbin.vh"
+
     reg [13:0] rcp_rom [0:511];
     initial
         $readmemh({TABLE_DIR, "recip.hex"}, rcp_rom);
@@ -59,73 +65,73 @@ module octant #(
         end
     endfunction
 
-    // +1: magnitudes (saturated to 15 bits), their comparison, signs, leading zeros
-    wire [15:0] ax_f = u1c_i[15] ? -u1c_i : u1c_i;
-    wire [15:0] ay_f = u2c_i[15] ? -u2c_i : u2c_i;
-    wire [14:0] ax_s = ax_f[15] ? 15'h7fff : ax_f[14:0];
-    wire [14:0] ay_s = ay_f[15] ? 15'h7fff : ay_f[14:0];
-    wire [14:0] ox = u1c_i[14:0] ^ {15{u1c_i[15]}};    // one's complement magnitude
-    wire [14:0] oy = u2c_i[14:0] ^ {15{u2c_i[15]}};
-    // ay_s <= ax_s without waiting for the saturation: sat(b) <= sat(a) exactly when
-    // b <= a or a >= 32767 (u1c in {32767, -32767, -32768}, decoded from the input)
-    wire        xbig = (u1c_i == 16'sh7fff) || (u1c_i == -16'sh7fff) || (u1c_i == -16'sh8000);
-    wire [16:0] dxy = {1'b0, ax_f} - {1'b0, ay_f};       // sign: ay_f > ax_f
-    reg  [14:0] ax = 0, ay = 0;
-    reg  [3:0]  zx = 0, zy = 0;
-    reg         low = 1'b0;         // |u2c| <= |u1c|: octants 0, 3, 4, 7
-    reg         xn = 1'b0, yn = 1'b0, v1 = 1'b0;
-    always @(posedge clk) begin
-        ax  <= ax_s;
-        ay  <= ay_s;
-        low <= !dxy[16] || xbig;
-        zx  <= lzc15(ox);
-        zy  <= lzc15(oy);
-        xn  <= u1c_i[15];
-        yn  <= u2c_i[15];
-        v1  <= valid_i;
-    end
-
-    // +2: octant; paper address; reciprocal look-up and the normalised small magnitude
-    wire [14:0] sm = low ? ay : ax;     // small
-    wire [14:0] lg = low ? ax : ay;     // large
-    wire [3:0]  zl = low ? zx : zy;
+    // ---- e+1: octant, normalisation, reciprocal ------------------------------------------
+    wire        low = (ay_i <= ax_i);
+    wire [14:0] sm = low ? ay_i : ax_i;         // small
+    wire [3:0]  zx = lzc15(ax_i);
+    wire [3:0]  zy = lzc15(ay_i);
+    wire [14:0] ln, ns;                          // large << zl (bit 15 is 0), small << zl
+    generate
+        if (OPT_PAR_NORM) begin : g_par
+            wire [14:0] lx = ax_i << zx, ly = ay_i << zy;      // each magnitude normalised
+            wire [14:0] sx = ay_i << zx, sy = ax_i << zy;      // the other one, same shift
+            assign ln = low ? lx : ly;
+            assign ns = low ? sx : sy;
+        end else begin : g_ser
+            wire [14:0] lg = low ? ax_i : ay_i;     // large
+            wire [3:0]  zl = low ? zx : zy;
+            assign ln = lg << zl;
+            assign ns = sm << zl;
+        end
+    endgenerate
     wire [15:0] jq = ({1'b0, sm} + 16'd4) >> 3;
-    wire [15:0] ln = {1'b0, lg} << zl;  // [2**14, 2**15] unless 0
-    wire [15:0] ns = {1'b0, sm} << zl;  // <= ln
-    wire [8:0]  ridx = ln[15] ? 9'h1ff : ln[13:5];
     reg  [13:0] rcp = 0;
     reg  [13:0] sn = 0;
     reg  [10:0] jp = 0;
     reg  [1:0]  oct2_q = 0;
-    reg         neg_q = 1'b0, v2 = 1'b0;
+    reg         neg_q = 1'b0, v1 = 1'b0;
     always @(posedge clk) begin
-        rcp    <= rcp_rom[ridx];
-        sn     <= ns[15] ? 14'h3fff : ns[14:1];
+        rcp    <= rcp_rom[ln[13:5]];
+        sn     <= ns[14:1];
         jp     <= (jq[15:11] != 5'd0) ? 11'd2047 : jq[10:0];
-        oct2_q <= low ? (xn ? 2'd2 : 2'd0) : (yn ? 2'd3 : 2'd1);
-        neg_q  <= low ? (xn ^ yn) : !(xn ^ yn);
-        v2     <= v1;
+        oct2_q <= low ? (xn_i ? 2'd2 : 2'd0) : (yn_i ? 2'd3 : 2'd1);
+        neg_q  <= low ? (xn_i ^ yn_i) : !(xn_i ^ yn_i);
+        v1     <= valid_i;
+    end
+    always @* begin
+        valid_o = v1;
+        oct2_o = oct2_q;
+        neg_o = neg_q;
     end
 
-    // +3: p = sn * rcp, the full u28 product (one DSP block: the counter's step multiply
-    // is shift-and-add in logic, so the octant's wider one gets the multiplier)
+    // ---- e+2: p = sn * rcp (a DSP block) ------------------------------------------------------
     reg [27:0] p = 0;
     reg [10:0] jp_q = 0;
+    reg [1:0]  oct2_2 = 0;
+    reg        neg_2 = 1'b0;
     always @(posedge clk) begin
         p       <= sn * rcp;
         jp_q    <= jp;
-        oct2_o  <= oct2_q;
-        neg_o   <= neg_q;
-        valid_o <= v2;
+        oct2_2  <= oct2_q;
+        neg_2   <= neg_q;
     end
-    // j: round to 1/2048 and clip at 2047 (t >= 2047.5 / 2048)
+
+    // ---- e+3 (combinational): address, bin --------------------------------------------------
     wire [28:0] psum = {1'b0, p} + 29'h8000;
     wire [10:0] jr = (psum[28:27] != 2'b00) ? 11'd2047 : psum[26:16];
     assign j_o = TABLE_EXACT ? jr : jp_q;
+    // #{k : j >= T_k} from the bucket of 128 rows that j falls in: the thresholds below
+    // the bucket (a 16-entry table in logic) plus the one inside it, if j reaches it
+    localparam [63:0]  HB_LO_N = TABLE_EXACT ? HB_LO_EXACT_N : HB_LO_PAPER_N;
+    localparam [127:0] HB_LO_T = TABLE_EXACT ? HB_LO_EXACT_T : HB_LO_PAPER_T;
+    localparam [63:0]  HB_HI_N = TABLE_EXACT ? HB_HI_EXACT_N : HB_HI_PAPER_N;
+    localparam [127:0] HB_HI_T = TABLE_EXACT ? HB_HI_EXACT_T : HB_HI_PAPER_T;
+    wire [3:0]  bk = j_o[10:7];
+    wire [3:0]  bn = neg_2 ? HB_HI_N[4*bk +: 4] : HB_LO_N[4*bk +: 4];
+    wire [7:0]  bt = neg_2 ? HB_HI_T[8*bk +: 8] : HB_LO_T[8*bk +: 8];
+    wire [3:0]  cnt = bn + {3'd0, ({1'b0, j_o[6:0]} >= bt)};   // floor or ceil(PH[j] / 128)
+    assign bin_o = neg_2 ? {oct2_2, 4'd0} - {2'd0, cnt} : {oct2_2, 4'd0} + {2'd0, cnt};
 
-    initial begin
-        valid_o = 1'b0; oct2_o = 0; neg_o = 1'b0;
-    end
-    wire unused = &{1'b0, psum[15:0], ln[14], ln[4:0], ns[0], dxy[15:0], 1'b0};
+    wire unused = &{1'b0, psum[15:0], jq[2:0], ns[0], ln[14], ln[4:0], 1'b0};
 endmodule
 `resetall

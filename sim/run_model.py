@@ -2,7 +2,8 @@
 """Run the bit-true model on a CSV of ADC codes (same interface as `make rtlsim`).
 
     python3 -m sim.run_model --in in.csv --out out.csv [--interp N] [--table exact|paper]
-        [--div D] [--adc-w W] [--count-mode M] [--vcd ref.vcd]
+        [--div D] [--adc-w W] [--count-mode M] [--ab-sep S] [--ab-src 0|1]
+        [--ab-bound B] [--vcd ref.vcd]
 """
 import argparse
 import csv
@@ -74,6 +75,12 @@ def main(argv=None):
     ap.add_argument("--adc-w", type=int, default=16, help="ADC word width, 12..16")
     ap.add_argument("--count-mode", type=int, default=0,
                     help="counter mode (CTRL bit 3): 0 phase (default), 1 edge (x4 of A/B)")
+    ap.add_argument("--ab-sep", type=int, default=4,
+                    help="ABGEN: minimum clocks between A/B edges, 0..255 (default 4)")
+    ap.add_argument("--ab-src", type=int, default=0,
+                    help="ABGEN bit 8: 1 = the A/B pins show the Eq. 12 pulses")
+    ap.add_argument("--ab-bound", type=int, default=1024,
+                    help="AB_BOUND: A/B backlog bound in counts, 0..65535 (default 1024)")
     ap.add_argument("--vcd", help="write the reference VCD of the core's outputs")
     args = ap.parse_args(argv)
     if not 1 <= args.interp <= 511:
@@ -82,11 +89,18 @@ def main(argv=None):
         die(f"--adc-w must be 12..16, got {args.adc_w}")
     if args.count_mode not in (0, 1):
         die(f"--count-mode must be 0 or 1, got {args.count_mode}")
+    if not 0 <= args.ab_sep <= 255:
+        die(f"--ab-sep must be 0..255 (clocks), got {args.ab_sep}")
+    if args.ab_src not in (0, 1):
+        die(f"--ab-src must be 0 or 1, got {args.ab_src}")
+    if not 0 <= args.ab_bound <= 65535:
+        die(f"--ab-bound must be 0..65535 (counts), got {args.ab_bound}")
     u1, u2 = read_codes(args.inp, args.adc_w)
     if args.div < 1:
         die(f"--div must be >= 1, got {args.div}")
     cfg = core.Config(TABLE=args.table, interp=args.interp, div=args.div, ADC_W=args.adc_w,
-                      count_mode=args.count_mode)
+                      count_mode=args.count_mode, ab_sep=args.ab_sep, ab_src=args.ab_src,
+                      ab_bound=args.ab_bound)
     res = core.run(u1, u2, cfg, trace=bool(args.vcd))
     try:
         write_result(args.out, res)

@@ -2,9 +2,12 @@
 // sample out. No Python runs per clock. Built and run by `make rtlsim`.
 //
 //   rtlsim --in in.csv --out out.csv [--interp N] [--eps E] [--lam-k K] [--kappa Q]
-//          [--period P] [--settle S] [--gate G] [--jump J] [--count-mode M] [--div D] [--vcd out.vcd]
+//          [--period P] [--settle S] [--gate G] [--jump J] [--count-mode M]
+//          [--ab-sep S] [--ab-src 0|1] [--ab-bound B] [--div D] [--vcd out.vcd]
 //
 // --count-mode: CTRL bit 3, 0 phase (count = 4 n phase, default), 1 edge (x4 of A/B).
+// a, b: the A/B pins after the sample's output edge (paced, or with --ab-src 1 the
+// Eq. 12 pulses).
 //
 // The VCD holds every signal of the design (Verilator --trace); it grows by about
 // 27 MB per 1000 samples at 36 clocks per sample, so dump short excerpts.
@@ -83,7 +86,8 @@ static void read_csv(const std::string &path, std::vector<int> &u1, std::vector<
 int main(int argc, char **argv) {
     std::string in, out, vcd;
     long interp = 100, eps = 1638, lam_k = 8, kappa = 0x4000, period = 0, settle = 32,
-         gate = 64, div = 36, count_mode = 0, jump = 41;
+         gate = 64, div = 36, count_mode = 0, jump = 41, ab_sep = 4, ab_src = 0,
+         ab_bound = 1024;
     for (int i = 1; i < argc; i++) {
         std::string a = argv[i];
         auto val = [&](const char *name) -> std::string {
@@ -103,6 +107,9 @@ int main(int argc, char **argv) {
         else if (a == "--div") div = parse_long(val("--div"), "--div");
         else if (a == "--jump") jump = parse_long(val("--jump"), "--jump");
         else if (a == "--count-mode") count_mode = parse_long(val("--count-mode"), "--count-mode");
+        else if (a == "--ab-sep") ab_sep = parse_long(val("--ab-sep"), "--ab-sep");
+        else if (a == "--ab-src") ab_src = parse_long(val("--ab-src"), "--ab-src");
+        else if (a == "--ab-bound") ab_bound = parse_long(val("--ab-bound"), "--ab-bound");
         else if (a.rfind("+verilator", 0) == 0) continue;
         else die("unknown argument '" + a + "'");
     }
@@ -116,6 +123,9 @@ int main(int argc, char **argv) {
     if (settle < 0 || settle > 1023) die("--settle must be 0..1023");
     if (gate < 0 || gate > 4096) die("--gate must be 0..4096");
     if (count_mode < 0 || count_mode > 1) die("--count-mode must be 0 or 1");
+    if (ab_sep < 0 || ab_sep > 255) die("--ab-sep must be 0..255 (clocks)");
+    if (ab_src < 0 || ab_src > 1) die("--ab-src must be 0 or 1");
+    if (ab_bound < 0 || ab_bound > 65535) die("--ab-bound must be 0..65535 (counts)");
     if (jump < 0 || jump > 65535 || (jump & 0x7800))
         die("--jump must be the JUMP register: bit 15 off, bits 10..0 floor");
 
@@ -138,10 +148,11 @@ int main(int argc, char **argv) {
     // CTRL (0) last: bit 3 the counter mode, bit 0 (covariance reset request) clear
     const long regs[][2] = {{1, interp}, {2, eps}, {3, lam_k}, {4, kappa},
                             {5, period}, {6, settle}, {7, gate}, {0x13, jump},
+                            {0x15, ab_sep | (ab_src << 8)}, {0x16, ab_bound},
                             {0, count_mode << 3}};
     const long n_regs = (long)(sizeof regs / sizeof regs[0]);
     const long n = (long)u1.size();
-    const long last_edge = T0 + (n - 1) * div + 24;
+    const long last_edge = T0 + (n - 1) * div + 12;
     long next = 0, written = 0;
     top->clk = 0;
     top->rst = 0;
@@ -150,6 +161,7 @@ int main(int argc, char **argv) {
     for (long e = 0; e <= last_edge; e++) {
         // inputs for edge e
         top->reg_we = (e < n_regs);
+        top->reg_re = 0;
         if (e < n_regs) {
             top->reg_addr = regs[e][0];
             top->reg_wdata = (uint32_t)regs[e][1];

@@ -127,3 +127,49 @@ def abgen_fast(target, sep, bound, count_w=32, state=None):
     b = np.array([1, 1, 0, 0], dtype=np.int8)[q]
     return dict(a=a, b=b, pos=out_pos, backlog=np.clip(dd, -32768, 32767),
                 ovf=ovf, sticky=sticky)
+
+
+def advance(st: AbgenState, target: int, edges: int, sep: int, bound: int, count_w=32):
+    """Run `edges` clock edges of abgen() with a constant target and settings, in closed
+    form (a step every max(sep, 1) edges once the timer allows, until pos meets the
+    target); updates `st` (pos, cnt, sticky). The overflow flag of an edge describes the
+    distance before its step, so over a run it is largest on the first edge."""
+    if edges <= 0:
+        return
+    s = max(sep, 1)
+    d = wrap(target - st.pos, count_w)
+    if d != 0 and abs(d) > bound:
+        st.sticky = 1
+    first = max(0, s - st.cnt)              # offset of the first step in the run
+    if d == 0 or edges <= first:
+        st.cnt = min(st.cnt + edges, CNT_MAX)
+        return
+    steps = min(abs(d), (edges - 1 - first) // s + 1)
+    st.pos = wrap(st.pos + (steps if d > 0 else -steps), count_w)
+    last = first + (steps - 1) * s          # offset of the last step
+    st.cnt = min(edges - last, CNT_MAX)
+
+
+class Follower:
+    """abgen following a register that takes a new value on given edges (the core's
+    m_count): `sample(edge)` runs the block up to and including `edge` and returns
+    (a, b, sticky) after it; `set(edge, value)` makes the target `value` from `edge` on.
+    Edges must not go back."""
+
+    def __init__(self, sep, bound, count_w=32):
+        self.st = AbgenState()
+        self.sep, self.bound, self.count_w = sep, bound, count_w
+        self.edge = 0                       # the next edge to run
+        self.target = 0
+
+    def sample(self, edge):
+        advance(self.st, self.target, edge + 1 - self.edge, self.sep, self.bound,
+                self.count_w)
+        self.edge = max(self.edge, edge + 1)
+        a, b = ab_of(self.st.pos)
+        return a, b, self.st.sticky
+
+    def set(self, edge, value):
+        advance(self.st, self.target, edge - self.edge, self.sep, self.bound, self.count_w)
+        self.edge = max(self.edge, edge)
+        self.target = value

@@ -2,47 +2,62 @@
 
 Clock-edge timing (the RTL implements exactly this; edges are numbered from 0):
 
-* Sample k is strobed (s_valid high) at edge t_k; it is registered in stage 1 on t_k.
-* The estimator decides on edge s = t_k + PHASE_STAGE, when the sample's fine phase (under
-  the bundle it sees) is known, if it is idle (not busy before that edge):
+* Sample k is strobed (s_valid high) on edge t_k: correct.v registers x - m on t_k with
+  the coefficient bundle as it stands before t_k (committed on edges < t_k), so a sample
+  never mixes two bundles. Its fine phase is registered on t_k + PHASE_AT (6), its count
+  on t_k + LATENCY (8); the paced A/B outputs follow the count from t_k + 9.
+* The estimator sees every sample on arrival (the raw sample and max |u| registered on
+  t_k) and decides on the edge after it, if it is idle (no program running, no
+  candidate waiting for its phase):
     - reset pending  -> RESET program (P = kappa I, theta rescaled to the new input gain g,
-                        chosen from the peak |u| since the last reset); peak cleared.
-    - x = u << g saturates -> no start; a reset becomes pending (clipped sample excluded).
-    - within the dither hold-off -> no start (after each update the estimator lets
-                        0..15 samples pass, from an LFSR, so that at speeds where the
+                        chosen from the peak |u| of the samples since the last reset,
+                        before this one), decided on t_k + 1; the peak restarts.
+    - otherwise      -> the sample becomes the candidate. Its fine phase arrives on
+                        t_k + PHASE_AT and the decision is made on s = t_k + PHASE_STAGE:
+        - x = u << g saturates -> no update; a reset becomes pending
+        - within the dither hold-off -> no update (after each update the estimator lets
+                        0..15 candidates pass, from an LFSR, so that at speeds where the
                         signal frequency is a simple fraction of the update rate the
                         updates still spread over the whole circle)
-    - fine phase within `gate` of the phase at the last update -> no start (no new
+        - fine phase within `gate` of the phase at the last update -> no update (no new
                         information: standstill and creep do not wind the estimator up)
-    - otherwise      -> UPDATE program on this sample (Eqs. 5-8). After WARMUP updates
-                        from power-up the input gain is checked and a reset becomes
-                        pending only if it would change; then after every period-th
-                        update since the last reset (period 0: never, the default).
+        - otherwise      -> UPDATE program on the candidate (Eqs. 5-8). After WARMUP
+                        updates from power-up the input gain is checked (from the peak
+                        before the candidate) and a reset becomes pending only if it
+                        would change; then after every period-th update since the last
+                        reset (period 0: never, the default).
+  Every sample, also one that arrives while the estimator is busy, updates the peak.
   A program decided on edge s starts on edge s + 1 and ends (END retires, busy clears)
-  on edge s + 1 + CYCLES[prog];
-  samples arriving meanwhile are not used by the estimator (they still go through the
-  fast path). At the end of an UPDATE, if theta was valid, at least `settle` updates
-  have ended since the last reset, and the updates since the last commit and the last
-  reset covered all eight octants (so the fit is constrained all round, not by a short arc), the new
-  bundle {g, m1, m2, c1, c12, c2} is committed.
+  on edge s + 1 + CYCLES[prog]; the estimator is idle again for samples strobed on or
+  after that edge (or on or after s when the candidate was not taken). At the end of an
+  UPDATE, if theta was valid, at least `settle` updates have ended since the last reset,
+  and the updates since the last commit and the last reset covered all eight octants (so
+  the fit is constrained all round, not by a short arc), the new bundle
+  {g, m1, m2, c1, c12, c2} is committed on that edge.
   Jump detector, also at the end of an UPDATE: with |e| the update's a-priori residual
   (OUT E, s3.13, saturated to 15 bits; u15.5 below), jf a fast (1/4) and jl a slow (1/64)
   running mean of |e|: if armed (a commit since power-up or the last jump) and
   jf_next > 4 jl + jump_min, a reset becomes pending, the octant coverage restarts, the
   detector disarms and jf = jl (no commit on this update); otherwise jf = jf_next and,
   while armed or uncalibrated, jl follows |e|. A commit arms it.
-* Sample k uses the bundle committed on edges <= t_k (each fast-path stage sees the
-  bundle through a delay matched to its depth, so a sample never mixes two bundles).
 * The counter counts the fine phase after the harmonic compensation (sim/model/
-  harmonic.py, rtl/harmonic.v, between edges t + PHASE_AT and t + AB_AT): a function of
-  the samples alone, except the table clears (Config.harm_clears), which are timed in
-  edges (a 64-clock RAM sweep).
+  harmonic.py, rtl/harmonic.v; the block samples a sample's arrival on t_k + HARM_AT):
+  a function of the samples alone, except the table clears (Config.harm_clears), which
+  are timed in edges (a 64-clock RAM sweep).
+* Edge mode (count_mode 1): the count of sample k is the x4 decoder's count of the Eq. 12
+  pulses as of its output edge: the steps of the samples strobed on or before t_k - 3
+  (the pulses come two edges after the phase-mode count).
+* A/B pins: the paced outputs (sim/model/abgen.py) follow m_count, which takes sample
+  k's count on t_k + 8 (the target from t_k + 9); the per-sample a, b are the pins after
+  t_k + 8, as `make rtlsim` samples them. With ab_src = 1 the pins are the Eq. 12 pulses
+  (of the previous sample at that edge).
 """
 import bisect
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from . import abgen
 from . import fastpath as fp
 from . import harmonic
 from .estimator import CYCLES, Estimator
@@ -50,25 +65,31 @@ from .estimator import CYCLES, Estimator
 # Pipeline timing of rtl/finequad_core.v: edges from a sample's strobe edge t to the edge
 # that registers each result. The RTL declares the same numbers (localparams of
 # finequad_core.v); the tests hold its behaviour to these, not to its source text.
-CORR_AT = 5          # correct: u1c, u2c, saturation flags
-OCT_AT = 8           # octant: j (exact table: combinational from edge t + 8), oct2, neg
-PHASE_AT = 10        # lut: fine phase
-PN_AT = 12           # lut: n-th order phase and sines
-AB_AT = 13           # pulse: A, B
-LATENCY = 16         # counter: m_valid, m_count, m_a, m_b, m_fault
-PHASE_STAGE = PHASE_AT + 2   # the estimator's decision (inputs registered one edge first)
+CORR_AT = 2          # correct: |u1c|, |u2c|, signs, rsat
+OCT_AT = 3           # octant: valid, oct2, neg (j and the bin follow, combinational, at 5)
+HARM_AT = 4          # the edge on which the harmonic block samples the sample's arrival
+ADDR_AT = 5          # phase and harmonic tables read (j, bin)
+PHASE_AT = 6         # fine phase (corrected and not)
+NTH_AT = 7           # n * phase; the period count B
+LATENCY = 8          # counter: m_valid, m_count, m_fault
+SIN_AT = 8           # sines of the n-th order
+PULSE_AT = 9         # Eq. 12 pulses
+AB_AT = 9            # paced A/B (follows m_count)
+EDGE_AT = 10         # edge-mode count (x4 decoder of the pulses)
+RESET_STAGE = 1      # a RESET is decided on the edge after the arrival
+PHASE_STAGE = PHASE_AT + 2   # an UPDATE is decided here (inputs registered one edge first)
 START_DELAY = 1      # the engine starts on the edge after the decision (registered)
 LFSR_SEED = 0xACE1   # dither of the estimator's sample choice (see below)
 WARMUP = 64          # updates before the first automatic reset (picks the input gain)
 G_MAX = 3            # input gain 2**g, g in 0..3 (amplitudes down to ~6 % of full scale)
 FAULT_BITS = {
     "clip": 0,       # an input code sits on an ADC rail
-    "nsat": 1,       # u << g saturated in the fast path
+    "nsat": 1,       # u << g leaves s1.15 in the fast path
     "csat": 2,       # offset removal or correction saturated
-    "illegal": 3,    # counter: phase mode, overspeed (|phase step| >= 3/4 pi per sample);
-                     # edge mode, A/B both changed (the step is lost); counted (0x09)
+    "ovs": 3,        # overspeed: |phase step| >= 3/4 pi per sample
     "uncal": 4,      # no estimate committed yet: default coefficients in use
     "hold": 5,       # the last estimate was invalid: last valid coefficients held
+    "abovf": 6,      # the A/B backlog exceeded its bound (sticky until rst)
 }
 
 
@@ -92,18 +113,22 @@ class Config:
     settle: int = 32         # updates after a reset before coefficients are applied
     gate: int = 64           # u13 phase progress needed between updates (1/128 period)
     div: int = 36            # clocks per sample when strobes are uniform
-    resets: list = field(default_factory=list)   # sample indices of reset requests
+    resets: list = field(default_factory=list)   # sample indices of reset requests (the
+                             # request is pending when the sample arrives)
     harm_apply: int = 1      # HARM (0x12) bit 0: apply the harmonic correction to the
                              # counter's phase (sim/model/harmonic.py)
     harm_learn: int = 1      # HARM bit 1: learn the table (speed-gated)
     harm_mu: int = 4         # LMS step 2^-mu, 3..6 (HARM [5:4] = mu - 3)
     harm_clears: list = field(default_factory=list)   # edges w of HARM writes with bit 8
-                             # (clear): the samples strobed on edges t_k >= w - PHASE_AT
-                             # see an empty table; those strobed on w - PHASE_AT .. w + 64
-                             # - PHASE_AT are not corrected (the RAM is swept)
+                             # (clear): the samples strobed on edges t_k >= w + 1 - HARM_AT
+                             # see an empty table; those strobed on w + 1 - HARM_AT ..
+                             # w + 65 - HARM_AT are not corrected (the RAM is swept)
     # (harm_apply/learn/mu may also be per-sample arrays: the values the RTL samples on
-    # edges t_k + PHASE_AT + 3 (apply) and t_k + PHASE_AT + 6 (learn, mu); a register
+    # edges t_k + HARM_AT + 1 (apply) and t_k + HARM_AT + 5 (learn, mu); a register
     # written on edge w is sampled on the edges after w)
+    ab_sep: int = 4          # ABGEN [7:0]: minimum clocks between A/B edges (0 as 1)
+    ab_src: int = 0          # ABGEN bit 8: the A/B pins show the Eq. 12 pulses
+    ab_bound: int = 1024     # AB_BOUND: backlog (counts) above which the overflow flags
 
 
 # Default bundle: centred circle of radius 0.5 (normalised): c1 = c2 = 2.0 in s4.12.
@@ -128,12 +153,11 @@ def _front(u1r, u2r, bundle, lut):
     """Fast path up to the fine phase (gain, Eq. 9, Table 2, phase table); the bundle
     fields are scalars (one bundle for a block) or per-sample arrays."""
     g, m1, m2, c1, c12, c2 = bundle
-    u1n, ns1 = fp.normalize(u1r, g)
-    u2n, ns2 = fp.normalize(u2r, g)
-    u1c, u2c, csat = fp.correct(u1n, u2n, m1, m2, c1, c12, c2)
-    j, base, neg = fp.octant(u1c, u2c, lut.kind)
-    return dict(u1n=u1n, u2n=u2n, nsat=ns1 | ns2, u1c=u1c, u2c=u2c, csat=csat, j=j,
-                base=base, neg=neg, phase=lut.phase(j, base, neg))
+    fr = fp.correct(u1r, u2r, g, m1, m2, c1, c12, c2)
+    j, base, neg = fp.octant(fr["ax"], fr["ay"], fr["xn"], fr["yn"], lut.kind)
+    phase = lut.phase(j, base, neg)
+    fr.update(j=j, base=base, neg=neg, phase=phase, bin=phase >> 7)
+    return fr
 
 
 def strobe_edges(n, div, t0=16):
@@ -152,6 +176,8 @@ class Core:
     too."""
 
     def __init__(self, cfg: Config = Config()):
+        if cfg.count_mode not in (0, 1):
+            raise ValueError(f"count_mode must be 0 or 1, got {cfg.count_mode!r}")
         self.cfg = cfg
         self.est = Estimator()
         self.lut = fp.Lut(cfg.TABLE, cfg.SIN_W)
@@ -164,13 +190,13 @@ class Core:
         self.first = True
         self.upd = 0
         self.settle = 0
-        self.busy_until = -1
+        self.free_at = -1             # the estimator takes samples strobed on edges >= this
         self.ph_last = 0
-        self.skip = 0                 # samples the estimator still lets pass (dither)
+        self.skip = 0                 # candidates the estimator still lets pass (dither)
         self.cover = 0                # octants of the updates since the last commit
         self.lfsr = LFSR_SEED
         self.requests = set(cfg.resets)
-        self.ev_edge = [-1]
+        self.ev_edge = [-1]           # edges on which the bundle registers change
         self.ev_bundle = [BUNDLE0]
         self.ev_flags = [(1, 0)]      # (uncal, hold)
         self.uncal = 1
@@ -181,8 +207,13 @@ class Core:
         self.jumps = []
         self.harm = harmonic.Harmonic()
         self.harm_used = False        # learning was on for some sample fed so far
-        self.pulse_ab = (1, 1)        # A, B after the last sample (rtl/pulse.v resets to 1)
-        self.cnt_state = None         # the counter's state after the last sample
+        self.pulse_ab = (1, 1)        # Eq. 12 pulses after the last sample (reset: 1, 1)
+        self.cnt_state = None         # the phase-mode counter after the last sample
+        self.edge_state = None        # the x4 decoder after the last sample
+        self.e_tail = []              # (t, E after it) of the last samples fed
+        self.e_base = 0               # E before the samples in e_tail
+        self.ill_count = 0            # illegal A/B steps
+        self.ab = abgen.Follower(cfg.ab_sep, cfg.ab_bound, cfg.COUNT_W)
 
     def _strobes(self, n, strobes):
         cfg = self.cfg
@@ -211,59 +242,91 @@ class Core:
         u1_code = np.asarray(u1_code, dtype=np.int64)
         u2_code = np.asarray(u2_code, dtype=np.int64)
         n = len(u1_code)
-        k0 = self.k0
         t = self._strobes(n, strobes)
         u1r, clip1 = fp.align(u1_code, cfg.ADC_W)
         u2r, clip2 = fp.align(u2_code, cfg.ADC_W)
         self._schedule(u1r, u2r, t)
 
         # ---- fast path, vectorised over samples ---------------------------------------
-        ev_edge = np.asarray(self.ev_edge)
-        idx = np.searchsorted(ev_edge, t, side="right") - 1
+        # the bundle committed on edges < t (correct.v registers the sample on t)
+        idx = np.searchsorted(np.asarray(self.ev_edge), t, side="left") - 1
         bund = np.asarray(self.ev_bundle, dtype=np.int64)[idx]
         flags = np.asarray(self.ev_flags, dtype=np.int64)[idx]
         fr = _front(u1r, u2r, bund.T, self.lut)
         phase = fr["phase"]
-        pn, cosn, sinn = self.lut.nth(phase, cfg.interp)
-        a, b = fp.pulse(cosn, sinn, cfg.eps, cfg.SIN_W, *self.pulse_ab)
-        if n:
-            self.pulse_ab = (int(a[-1]), int(b[-1]))
         # harmonic compensation between the fine phase and the counter (rtl/harmonic.v)
-        harm = None
         learn = self._per_sample(cfg.harm_learn, n)
         self.harm_used = self.harm_used or bool(np.any(learn))
         if self.harm_used:
-            # the block's arrival edge is t + PHASE_AT + 1, its clear input is high on w + 1
-            # (a clear seen by an earlier piece is not repeated)
-            seen = -1 if self.t_last is None else self.t_last + PHASE_AT + 1
-            clr, blk = harmonic.sweep_flags(t + PHASE_AT + 1, [w + 1 for w in cfg.harm_clears
-                                                               if w + 1 > seen])
+            # arrivals on t + HARM_AT; a clear written on edge w is high on w + 1 (a clear
+            # seen by an earlier piece is not repeated)
+            seen = -1 if self.t_last is None else self.t_last + HARM_AT
+            clr, blk = harmonic.sweep_flags(t + HARM_AT, [w + 1 for w in cfg.harm_clears
+                                                          if w + 1 > seen])
             phase_c = self.harm.run(phase, apply=self._per_sample(cfg.harm_apply, n),
                                     learn=learn, mu=self._per_sample(cfg.harm_mu, n),
                                     clear=clr, blocked=blk)
-            harm = self.harm
         else:
             phase_c = phase      # nothing learned from power-up: an empty table
-        count, illegal, ill_cnt, _, self.cnt_state = fp.counter(
-            a, b, phase_c, cfg.interp, cfg.COUNT_W, cfg.count_mode, state=self.cnt_state)
+        prod, pn, cosn, sinn = self.lut.nth(phase_c, cfg.interp)
+        pa, pb = fp.pulse(cosn, sinn, cfg.eps, cfg.SIN_W, *self.pulse_ab)
+        count_ph, ovs, self.cnt_state = fp.counter(phase_c, prod, cfg.interp, cfg.COUNT_W,
+                                                   state=self.cnt_state)
+        # the x4 decoder of the pulses: E after each sample's pulses (edge t + EDGE_AT)
+        steps, ill, self.edge_state = fp.edge_steps(pa, pb, self.edge_state)
+        self.ill_count += int(ill.sum())
+        tail_t = np.array([e[0] for e in self.e_tail] + list(t), dtype=np.int64)
+        tail_e = np.array([e[1] for e in self.e_tail], dtype=np.int64)
+        ecum = np.concatenate([tail_e, (tail_e[-1] if len(tail_e) else self.e_base)
+                               + np.cumsum(steps)])
+        if cfg.count_mode:
+            # E as of the output edge t + LATENCY: samples strobed on or before t - 3
+            j = np.searchsorted(tail_t, t + LATENCY - 1 - EDGE_AT, side="right") - 1
+            wrapm = 1 << cfg.COUNT_W
+            e_at = np.where(j >= 0, ecum[np.maximum(j, 0)], self.e_base)
+            count = ((e_at + (wrapm >> 1)) % wrapm) - (wrapm >> 1)
+        else:
+            count = count_ph
+        keep = min(3, len(tail_t))
+        if keep:
+            drop = len(tail_t) - keep
+            self.e_base = int(ecum[drop - 1]) if drop > 0 else self.e_base
+            self.e_tail = list(zip(tail_t[drop:].tolist(), ecum[drop:].tolist()))
+        # A/B pins after each sample's output edge
+        a_pin = np.empty(n, np.int64)
+        b_pin = np.empty(n, np.int64)
+        ab_ovf = np.empty(n, np.int64)
+        prev_pulse = self.pulse_ab
+        for k in range(n):
+            e = int(t[k]) + LATENCY
+            a_pin[k], b_pin[k], ab_ovf[k] = self.ab.sample(e)
+            self.ab.set(e + 1, int(count[k]))
+        if cfg.ab_src:
+            a_pin = np.concatenate([[prev_pulse[0]], pa[:-1]]) if n else a_pin
+            b_pin = np.concatenate([[prev_pulse[1]], pb[:-1]]) if n else b_pin
+        if n:
+            self.pulse_ab = (int(pa[-1]), int(pb[-1]))
         fault = ((clip1 | clip2).astype(np.int64) << FAULT_BITS["clip"]
                  | fr["nsat"].astype(np.int64) << FAULT_BITS["nsat"]
                  | fr["csat"].astype(np.int64) << FAULT_BITS["csat"]
-                 | illegal.astype(np.int64) << FAULT_BITS["illegal"]
+                 | ovs.astype(np.int64) << FAULT_BITS["ovs"]
                  | flags[:, 0] << FAULT_BITS["uncal"]
-                 | flags[:, 1] << FAULT_BITS["hold"])
+                 | flags[:, 1] << FAULT_BITS["hold"]
+                 | ab_ovf << FAULT_BITS["abovf"])
         self.k0 += n
         if n:
             self.t_last = int(t[-1])
             self.t_pieces.append(t)
-        res = dict(jumps=list(self.jumps), count=count, a=a, b=b, fault=fault,
-                   n_updates=self.n_updates, sched=self.schedule_samples())
+        res = dict(jumps=list(self.jumps), count=count, a=a_pin, b=b_pin, fault=fault,
+                   n_updates=self.n_updates, sched=self.schedule_samples(),
+                   illegal_count=self.ill_count)
         if trace:
             g, m1, m2, c1, c12, c2 = bund.T
-            res.update({k: fr[k] for k in ("u1c", "u2c", "phase", "j", "base", "neg",
-                                           "u1n", "u2n")})
-            res.update(pn=pn, cosn=cosn, sinn=sinn, g=g, m1=m1, m2=m2, c1=c1, c12=c12,
-                       c2=c2, illegal_count=ill_cnt, phase_c=phase_c, harm=harm)
+            res.update({k: fr[k] for k in ("u1c", "u2c", "ax", "ay", "xn", "yn", "phase",
+                                           "j", "base", "neg", "bin")})
+            res.update(prod=prod, pn=pn, cosn=cosn, sinn=sinn, pa=pa, pb=pb, g=g, m1=m1,
+                       m2=m2, c1=c1, c12=c12, c2=c2, phase_c=phase_c, harm=self.harm,
+                       count_phase=count_ph, ill=ill, t=t)
         return res
 
     def schedule_samples(self):
@@ -271,7 +334,7 @@ class Core:
         the index of the first sample that sees the new coefficients (the number of
         samples fed so far if none has yet), None if the program did not commit."""
         t = np.concatenate(self.t_pieces) if self.t_pieces else np.zeros(0, np.int64)
-        return [(kind, k, g, None if e is None else int(np.searchsorted(t, e)))
+        return [(kind, k, g, None if e is None else int(np.searchsorted(t, e, side="right")))
                 for kind, k, g, e in self.sched]
 
     def _schedule(self, u1r, u2r, t):
@@ -279,7 +342,7 @@ class Core:
         cfg = self.cfg
         est, lut = self.est, self.lut
         g_eng, peak, reset_pend, first = self.g_eng, self.peak, self.reset_pend, self.first
-        upd, settle, busy_until, ph_last = self.upd, self.settle, self.busy_until, self.ph_last
+        upd, settle, free_at, ph_last = self.upd, self.settle, self.free_at, self.ph_last
         skip, cover, lfsr, uncal = self.skip, self.cover, self.lfsr, self.uncal
         jf, jl, armed = self.jf, self.jl, self.armed
         ev_edge, ev_bundle, ev_flags = self.ev_edge, self.ev_bundle, self.ev_flags
@@ -289,15 +352,16 @@ class Core:
         kappa = max(cfg.kappa, 1) << 15            # KAPPA = 0 is taken as 1/256
         n = len(u1r)
         k0 = self.k0
+        amax = np.minimum(np.maximum(np.abs(u1r), np.abs(u2r)), 32767).tolist()
+        tl = t.tolist()
         blk_lo = blk_hi = 0           # fine phase of samples [blk_lo, blk_hi) under one bundle
         blk_phase = None
         for k in range(n):
             if k0 + k in requests:
                 reset_pend = True
-            s = int(t[k]) + PHASE_STAGE
-            a1, a2 = min(abs(int(u1r[k])), 32767), min(abs(int(u2r[k])), 32767)
-            if s <= busy_until:
-                peak = max(peak, a1, a2)
+            tk = tl[k]
+            if tk < free_at:
+                peak = max(peak, amax[k])
                 continue
             if reset_pend:
                 g_new = gsel(peak, g_eng)
@@ -310,10 +374,13 @@ class Core:
                 upd = 0
                 settle = 0
                 cover = 0             # a hand-over needs all octants since the reset, too
-                busy_until = s + START_DELAY + CYCLES["reset"]
+                free_at = tk + RESET_STAGE + START_DELAY + CYCLES["reset"]
                 continue
-            peak_before = peak        # the warm-up's gain check sees the samples before this
-            peak = max(peak, a1, a2)
+            # the candidate: decided on s when its fine phase is known
+            peak_before = peak        # the warm-up's gain check sees the samples before it
+            peak = max(peak, amax[k])
+            s = tk + PHASE_STAGE
+            free_at = s
             x1, x2 = int(u1r[k]) << g_eng, int(u2r[k]) << g_eng
             if not (-32768 <= x1 <= 32767 and -32768 <= x2 <= 32767):
                 reset_pend = True
@@ -324,12 +391,12 @@ class Core:
             if k >= blk_hi:
                 blk_lo = k
                 blk_hi = min(n, k + 256)
-                i = bisect.bisect_right(ev_edge, int(t[k]))
+                i = bisect.bisect_left(ev_edge, tk)
                 b = ev_bundle[i - 1]
                 if i < len(ev_edge) and ev_bundle[i] != ev_bundle[i - 1]:
                     # a program still running commits on edge ev_edge[i]: the block ends
                     # at the first sample that sees that commit
-                    blk_hi = min(blk_hi, int(np.searchsorted(t, ev_edge[i], side="left")))
+                    blk_hi = min(blk_hi, int(np.searchsorted(t, ev_edge[i], side="right")))
                 blk_phase = _front(u1r[k:blk_hi], u2r[k:blk_hi], b, lut)["phase"]
             ph = int(blk_phase[k - blk_lo])
             step = ((ph - ph_last + 4096) & 8191) - 4096
@@ -347,7 +414,8 @@ class Core:
                 first = False
             elif not first and cfg.period and upd >= cfg.period:
                 reset_pend = True
-            busy_until = s + START_DELAY + CYCLES["update"]
+            done = s + START_DELAY + CYCLES["update"]
+            free_at = done
             # jump detector on the a-priori residual |e| of this update (s3.13)
             eabs = min(abs(est.out[5]), 32767) << 5
             jf_next = jf + ((eabs - jf) >> 2)
@@ -364,7 +432,7 @@ class Core:
                     jl += (eabs - jl) >> 6
             if ok and settle >= cfg.settle and cover == 0xFF and not trig:
                 ev_bundle.append((g_eng, *est.out[:5]))
-                sched.append(("update", k0 + k, g_eng, busy_until))
+                sched.append(("update", k0 + k, g_eng, done))
                 uncal = 0
                 cover = 0
                 armed = True
@@ -372,13 +440,13 @@ class Core:
                 ev_bundle.append(ev_bundle[-1])
                 sched.append(("update", k0 + k, g_eng, None))
             ev_flags.append((uncal, 0 if ok else 1))
-            ev_edge.append(busy_until)
+            ev_edge.append(done)
             settle = min(settle + 1, 1023)
             # samples from the first one that sees a new bundle need their phase recomputed
             if ev_bundle[-1] != ev_bundle[-2]:
-                blk_hi = min(blk_hi, int(np.searchsorted(t, busy_until, side="left")))
+                blk_hi = min(blk_hi, int(np.searchsorted(t, done, side="right")))
         self.g_eng, self.peak, self.reset_pend, self.first = g_eng, peak, reset_pend, first
-        self.upd, self.settle, self.busy_until, self.ph_last = upd, settle, busy_until, ph_last
+        self.upd, self.settle, self.free_at, self.ph_last = upd, settle, free_at, ph_last
         self.skip, self.cover, self.lfsr, self.uncal = skip, cover, lfsr, uncal
         self.jf, self.jl, self.armed = jf, jl, armed
         self.n_updates = n_updates

@@ -3,20 +3,23 @@
 All functions take and return numpy int64 arrays (one element per sample) and compute
 exactly what the RTL computes. Formats (sI.F: I integer bits including the sign):
 
-  u_raw   s1.15   ADC code, MSB-aligned to 16 bits             (rtl/normalize.v)
-  u_n     s1.15   u_raw * 2**g, saturated                       (rtl/normalize.v)
+  u_raw   s1.15   ADC code, MSB-aligned to 16 bits             (rtl/correct.v)
+  x       s4.15   u_raw * 2**g (exact)                          (rtl/correct.v)
   m       s1.15   offsets, normalised units                     (bundle)
   c       s4.12   correction coefficients c1, c12, c2           (bundle)
-  d       s1.15   u_n - m, saturated                            (rtl/correct.v)
-  uc      s2.14   corrected signals u1c, u2c (unit circle = 1)  (rtl/correct.v, Eq. 9)
+  d       s1.15   sat16(x - m)                                  (rtl/correct.v)
+  r       s2.14   corrected signals, round half up of the       (rtl/correct.v, Eq. 9)
+                  products / 2**13 (unit circle = 16384); the
+                  fast path keeps only |r| (u15, saturated) and the sign
   j       u11     octant-local table address: exact table       (rtl/octant.v, Table 2)
                   |small|/|large| in steps of 1/2048, paper table
                   |small| in steps of 1/2048 of the unit radius
-  phase   u13     fine phase of the signal, 8192 per period     (rtl/lut.v)
-  pn      u13     n * phase mod 8192: phase of the n-th order   (rtl/lut.v, Table 1)
+  phase   u13     fine phase of the signal, 8192 per period     (rtl/harmonic.v)
+  prod    u22     n * phase: pn = prod mod 8192, the n-th order (rtl/lut.v, Table 1)
+                  phase; q = prod >> 11, the counter's fine count
   cosn/sinn s1.(SIN_W-1) n-th order sinusoids from the table    (rtl/lut.v)
   a, b    u1      pulses with hysteresis eps (u0.15)            (rtl/pulse.v, Eq. 12)
-  count   s32     count of the n-th order (phase or x4 A/B)     (rtl/counter.v)
+  count   s32     count of the n-th order                       (rtl/counter.v)
 """
 import numpy as np
 
@@ -40,23 +43,24 @@ def align(code, adc_w):
     return code << (16 - adc_w), clip
 
 
-def normalize(u_raw, g):
-    """u_n = sat16(u_raw << g); returns (u_n, saturated)."""
-    v = np.asarray(u_raw, dtype=I64) << np.asarray(g, dtype=I64)
-    s = _sat(v, 16)
-    return s, s != v
-
-
-def correct(u1n, u2n, m1, m2, c1, c12, c2):
-    """Eq. 9 as three products: u1c = c1 d1, u2c = c12 d1 + c2 d2 (s2.14)."""
-    d1r, d2r = u1n - m1, u2n - m2
-    d1, d2 = _sat(d1r, 16), _sat(d2r, 16)
-    p1 = d1 * c1                                   # s5.27
-    p2 = d1 * c12 + d2 * c2                        # s6.27
-    u1r, u2r = _rnd_shr(p1, 13), _rnd_shr(p2, 13)
-    u1c, u2c = _sat(u1r, 16), _sat(u2r, 16)
-    flag = (d1 != d1r) | (d2 != d2r) | (u1c != u1r) | (u2c != u2r)
-    return u1c, u2c, flag
+def correct(u1r, u2r, g, m1, m2, c1, c12, c2):
+    """Input gain, offsets and Eq. 9 as three products (rtl/correct.v):
+        x = u_raw * 2**g,  d = sat16(x - m),  u1c = c1 d1,  u2c = c12 d1 + c2 d2,
+        r = floor((product + 2**12) / 2**13)   (s2.14, round half up)
+    Returns a dict: ax, ay (u15: min(|r|, 32767)), xn, yn (r < 0), u1c, u2c (r
+    saturated to s16, for traces), nsat (x leaves s1.15), csat (d or r saturated)."""
+    g = np.asarray(g, dtype=I64)
+    x1, x2 = np.asarray(u1r, dtype=I64) << g, np.asarray(u2r, dtype=I64) << g
+    e1, e2 = x1 - m1, x2 - m2
+    d1, d2 = _sat(e1, 16), _sat(e2, 16)
+    r1 = (d1 * c1 + 4096) >> 13
+    r2 = (d1 * c12 + d2 * c2 + 4096) >> 13
+    u1c, u2c = _sat(r1, 16), _sat(r2, 16)
+    nsat = (x1 != _sat(x1, 16)) | (x2 != _sat(x2, 16))
+    csat = (d1 != e1) | (d2 != e2) | (u1c != r1) | (u2c != r2)
+    return dict(ax=np.minimum(np.abs(r1), 32767), ay=np.minimum(np.abs(r2), 32767),
+                xn=(r1 < 0).astype(I64), yn=(r2 < 0).astype(I64), u1c=u1c, u2c=u2c,
+                nsat=nsat, csat=csat)
 
 
 _RECIP = np.array(recip_table(), dtype=I64)
@@ -72,44 +76,41 @@ def lzc15(v):
     return z
 
 
-def ratio(small, large, zl):
+def ratio(small, large):
     """Exact-table address j = min(2047, round(2048 small / large)) as rtl/octant.v forms
-    it (small <= large, both u15; zl = the leading zeros of large's one's complement
-    magnitude, lzc15(large) or, when the signal is -2**p, lzc15(large) + 1):
+    it (small <= large, both u15):
 
-      ln  = large << zl          u16 in [2**14, 2**15], m = ln / 2**14 in [1, 2]
-      sn  = min(2**14 - 1, (small << zl) >> 1)     u14: t = 2 sn / ln
-      r   = RECIP[ln >= 2**15 ? 511 : ln[13:5]]    u0.14, ~ 1/m (9-bit bin below the
-                                                   leading 1; m = 2 takes the last bin)
-      p   = sn * r = t * 2**27 (1 + O(2**-10))    u28 (p < 2**28 for every input)
+      zl  = lzc15(large)
+      ln  = large << zl          u15 in [2**14, 2**15) (0 for large = 0), m = ln / 2**14
+      sn  = (small << zl) >> 1   u14: t = 2 sn / ln
+      r   = RECIP[ln[13:5]]      u0.14, ~ 1/m (9-bit bin below the leading 1)
+      p   = sn * r = t * 2**27 (1 + O(2**-10))    u28
       j   = min(2047, (p + 2**15) >> 16)           u11"""
-    ln = (large << zl) & 0xFFFF
-    sn = np.minimum(((small << zl) & 0xFFFF) >> 1, (1 << 14) - 1)
-    r = _RECIP[np.where(ln >> 15, (1 << RCP_AW) - 1, (ln >> 5) & ((1 << RCP_AW) - 1))]
+    zl = lzc15(large)
+    ln = (large << zl) & 0x7FFF
+    sn = ((small << zl) & 0x7FFF) >> 1
+    r = _RECIP[(ln >> 5) & ((1 << RCP_AW) - 1)]
     p = sn * r + RATIO_ROUND
     return np.minimum(p >> 16, (1 << ADDR_W) - 1)
 
 
-def octant(u1c, u2c, kind="exact"):
+def octant(ax, ay, xn, yn, kind="exact"):
     """Table 2: octant from signs and magnitudes; address from the magnitudes: for the
     exact table the ratio small / large (the tangent of the octant-local angle, so both
     signals contribute), for the paper's table the smaller magnitude alone (Eq. 10).
+    Ties |u1c| == |u2c| take the low octant.
 
     Returns (j, base, neg): phase = base + (neg ? -PH[j] : PH[j]) mod 8192."""
-    x, y = np.asarray(u1c, dtype=I64), np.asarray(u2c, dtype=I64)
-    ax = np.minimum(np.abs(x), 32767)
-    ay = np.minimum(np.abs(y), 32767)
+    ax, ay = np.asarray(ax, dtype=I64), np.asarray(ay, dtype=I64)
+    xn, yn = np.asarray(xn, dtype=I64) != 0, np.asarray(yn, dtype=I64) != 0
     low = ay <= ax                                  # octants 0, 3, 4, 7: address from |u2c|
     small = np.where(low, ay, ax)
-    xn, yn = x < 0, y < 0
     base = np.where(low, np.where(xn, 4096, 0), np.where(yn, 6144, 2048))
     neg = np.where(low, xn != yn, xn == yn)
     if kind == "paper":
         j = np.minimum((small + 4) >> 3, (1 << ADDR_W) - 1)
     elif kind == "exact":
-        zx = lzc15(np.where(xn, ~x, x) & 0x7FFF)    # one's complement magnitudes
-        zy = lzc15(np.where(yn, ~y, y) & 0x7FFF)
-        j = ratio(small, np.where(low, ax, ay), np.where(low, zx, zy))
+        j = ratio(small, np.where(low, ax, ay))
     else:
         raise ValueError(f"table kind must be 'exact' or 'paper', got {kind!r}")
     return j.astype(I64), base.astype(I64), neg.astype(I64)
@@ -134,8 +135,10 @@ class Lut:
         return np.where(q >= 2, -mag, mag)
 
     def nth(self, phase, n):
-        pn = (phase * np.asarray(n, dtype=I64)) & ((1 << PH_W) - 1)
-        return pn, self._sine((pn + 2048) & 8191), self._sine(pn)
+        """n-th order: prod = n * phase (u22); pn = prod mod 8192 and the sines."""
+        prod = np.asarray(phase, dtype=I64) * np.asarray(n, dtype=I64)
+        pn = prod & ((1 << PH_W) - 1)
+        return prod, pn, self._sine((pn + 2048) & 8191), self._sine(pn)
 
 
 def pulse(cosn, sinn, eps, sin_w, a0=1, b0=1):
@@ -155,47 +158,51 @@ def pulse(cosn, sinn, eps, sin_w, a0=1, b0=1):
 QUAD = {(1, 1): 0, (0, 1): 1, (0, 0): 2, (1, 0): 3}
 
 
-def counter(a, b, phase, n, count_w=32, mode=0, state=None):
-    """Position count of the n-th order (up when the phase increases), two modes.
+def counter(phase, prod, n, count_w=32, state=None):
+    """Phase-mode count (rtl/counter.v): count = B + (prod >> 11), B = 4 n W stepping by
+    -4 n / +4 n when the phase wraps backwards / forwards (raw = phase - phase_prev >=
+    4096 / < -4096; phase_prev = 0 from reset), i.e. floor(4 n Phi / 8192) of the
+    unwrapped phase Phi (starting at wrap13(phase_0)). Overspeed: |wrap13(raw)| >= 3072,
+    never on the first sample from reset. n: scalar or per-sample array (sampled with the
+    sample). `state` (B, phase_prev, primed) continues a run.
 
-    Both modes add to one accumulator S, s(count_w + 13), wrapping; count = S >> 13
-    (floor). Every sample updates phase_prev and the A/B quadrant in both modes; the
-    state before the first sample is phase_prev = 0, quadrant 0 (A = B = 1).
-
-    mode 0, phase: S += 4 * D, D = n * dph, dph = wrap13(phase - phase_prev) in
-      [-4096, 4095]. S = 4 n Phi for the unwrapped phase Phi (starting at
-      wrap13(phase_0)): count = floor(4 n Phi / 8192), nothing lost while |dph| < 4096.
-      Flag (overspeed): |dph| >= 3072.
-    mode 1, edge (the paper's x4 counter of A/B): S += 8192 * e, e = +1 / -1 for a
-      quadrant step dq = 1 / 3 (mod 4), 0 otherwise; dq = 2 (both channels changed) is
-      not counted and flagged.
-
-    The first sample after reset is never flagged. n and mode are scalars or per-sample
-    arrays. `state` (S, phase_prev, quadrant_prev, flag count, primed) continues a run
-    (None: from reset). Returns (count, flag, flag_count, S, state after the last
-    sample)."""
-    s0, ph0, qd0, fc0, primed = (0, 0, 0, 0, False) if state is None else state
-    a = np.asarray(a, dtype=I64)
-    b = np.asarray(b, dtype=I64)
+    Returns (count, overspeed, state after the last sample)."""
+    b0, ph0, primed = (0, 0, False) if state is None else state
     phase = np.asarray(phase, dtype=I64)
-    qd = np.where(a == 1, np.where(b == 1, 0, 3), np.where(b == 1, 1, 2)).astype(I64)
-    qd_prev = np.concatenate([[qd0], qd[:-1]]).astype(I64)
-    dq = (qd - qd_prev) & 3
-    ph_prev = np.concatenate([[ph0], phase[:-1]]).astype(I64)
-    dph = ((phase - ph_prev + 4096) & 8191) - 4096
-    d = dph * np.asarray(n, dtype=I64)
-    edge = np.broadcast_to(np.asarray(mode, dtype=I64) != 0, phase.shape)
-    e = np.where(dq == 1, 1, np.where(dq == 3, -1, 0))
-    inc = np.where(edge, e << 13, 4 * d)
-    flag = np.where(edge, dq == 2, np.abs(dph) >= 3072)
-    if not primed:
-        flag[:1] = False
-    sw = count_w + 13
-    m = 1 << sw
-    s = ((s0 + np.cumsum(inc) + (m >> 1)) % m) - (m >> 1)
-    fcnt = (fc0 + np.cumsum(flag)).astype(I64)
+    n = np.broadcast_to(np.asarray(n, dtype=I64), phase.shape)
+    prev = np.concatenate([[ph0], phase[:-1]]).astype(I64)
+    raw = phase - prev
+    step = np.where(raw >= 4096, -1, np.where(raw < -4096, 1, 0))
+    dph = ((raw + 4096) & 8191) - 4096
+    ovs = np.abs(dph) >= 3072
+    if not primed and len(phase):
+        ovs[0] = False
+    m = 1 << count_w
+    bacc = b0 + np.cumsum(4 * n * step)
+    count = ((bacc + (np.asarray(prod, dtype=I64) >> 11) + (m >> 1)) % m) - (m >> 1)
     if len(phase):
-        state = (int(s[-1]), int(phase[-1]), int(qd[-1]), int(fcnt[-1]), True)
+        state = (int(bacc[-1]), int(phase[-1]), True)
     elif state is None:
-        state = (0, 0, 0, 0, False)
-    return (s >> 13).astype(I64), flag, fcnt, s.astype(I64), state
+        state = (0, 0, False)
+    return count.astype(I64), ovs, state
+
+
+def edge_steps(a, b, state=None):
+    """The paper's x4 decoder of the Eq. 12 pulses (rtl/counter.v, edge mode): per sample
+    the step +1 / -1 for a quadrant step 1 / 3 (mod 4), 0 otherwise; a step of 2 (both A
+    and B changed) is illegal: 0, flagged unless it is the first sample from reset.
+    Quadrant code (1,1) 0, (0,1) 1, (0,0) 2, (1,0) 3; quadrant 0 before the first sample.
+    Returns (step, illegal, state)."""
+    qd0, primed = (0, False) if state is None else state
+    a, b = np.asarray(a, dtype=I64), np.asarray(b, dtype=I64)
+    qd = np.where(a == 1, np.where(b == 1, 0, 3), np.where(b == 1, 1, 2)).astype(I64)
+    dq = (qd - np.concatenate([[qd0], qd[:-1]])) & 3
+    step = np.where(dq == 1, 1, np.where(dq == 3, -1, 0)).astype(I64)
+    ill = dq == 2
+    if not primed and len(a):
+        ill[0] = False
+    if len(a):
+        state = (int(qd[-1]), True)
+    elif state is None:
+        state = (0, False)
+    return step, ill, state

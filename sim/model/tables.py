@@ -22,6 +22,13 @@ octant-local phase. What j means depends on the table kind (rtl/octant.v):
 * ``sine_table(sin_w)``: quarter wave, 2048 entries, s1.(SIN_W-1) magnitudes
     T[k] = round((2**(SIN_W-1) - 1) * sin((k + 0.5) * (pi/2) / 2048)).
   The half-step offset makes the quarter wave symmetric (index ~k for the mirror).
+* ``bin_thresholds(kind)``: the harmonic table's bin of a sample, phase >> 7 (64 bins of
+  128 units), found from the octant address j before the phase table is read: with
+  ph = PH[j] and base = 2048 oct2, (base + ph) >> 7 = 16 oct2 + floor(ph / 128) and
+  ((base - ph) mod 8192) >> 7 = 16 oct2 - ceil(ph / 128) (mod 64), where
+  floor(ph / 128) = #{k : j >= L_k} and ceil(ph / 128) = #{k : j >= U_k} for the first
+  j with ph >= 128 k (L_k) and ph > 128 (k - 1) (U_k), k = 1..HBIN_N; 2048 where no row
+  reaches it (PH is non-decreasing in j). ``bin_buckets`` arranges them for the RTL.
 * ``seed_recip()`` / ``seed_isqrt()``: 64-entry Newton-Raphson seeds, u1.15 (the engine
   places them in s2.30 as seed << 15).
 """
@@ -57,6 +64,37 @@ def sine_table(sin_w: int) -> list[int]:
     amp = (1 << (sin_w - 1)) - 1
     return [round(amp * math.sin((k + 0.5) * (math.pi / 2) / SINE_ROWS))
             for k in range(SINE_ROWS)]
+
+
+HBIN_N = 12               # thresholds per set: the paper table's PH reaches 1447 < 12 * 128
+
+
+def bin_thresholds(kind: str = "exact") -> tuple[list[int], list[int]]:
+    ph = phase_table(kind)
+
+    def first(pred):
+        return next((j for j in range(ROWS) if pred(ph[j])), ROWS)
+
+    lo = [first(lambda v, k=k: v >= 128 * k) for k in range(1, HBIN_N + 1)]
+    hi = [first(lambda v, k=k: v > 128 * (k - 1)) for k in range(1, HBIN_N + 1)]
+    assert all(ph[j] <= ph[j + 1] for j in range(ROWS - 1))
+    assert max(ph) < 128 * HBIN_N
+    return lo, hi
+
+
+def bin_buckets(thresholds: list[int]) -> list[tuple[int, int]]:
+    """The thresholds as rtl/octant.v looks them up: for each bucket of 128 rows
+    (j >> 7, 16 buckets), (count of thresholds at or below its first row, the one
+    threshold inside it minus the first row, or 128 for none), so that
+    #{k : j >= T_k} = count + ((j & 127) >= inside). The thresholds are more than 128
+    rows apart, so a bucket holds at most one."""
+    assert all(b - a > 128 for a, b in zip(thresholds, thresholds[1:]) if b < ROWS)
+    out = []
+    for b in range(ROWS >> 7):
+        lo = b << 7
+        inside = [t - lo for t in thresholds if lo < t < lo + 128]
+        out.append((sum(t <= lo for t in thresholds), inside[0] if inside else 128))
+    return out
 
 
 def seed_recip() -> list[int]:
