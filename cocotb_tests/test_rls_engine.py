@@ -1,12 +1,15 @@
 """rls_engine (microcoded RLS machine) against sim.model.estimator.Estimator.
 
-A RESET program (entry ENTRY['reset']) and then many UPDATE programs (ENTRY['update']) on
-samples of noisy ellipses, with resets in between that change the input gain (dg_i != 0,
-theta rescaled) and kappa, and varying lambda. For every program started on edge S the
-bench checks: busy_o high after edges S .. S+C-1 and low after edge S+C, done_o high
-exactly after edge S+C-1 (C = sim.model.estimator.CYCLES[program]); then valid_o, out_o
-(the five 16-bit OUT registers) and the sticky sat_o equal the model's after that program.
-A few programs run on garbage samples so that invalid results and saturation occur."""
+A RESET program (entry ENTRY['reset']) and then many UPDATE and EXTRACT programs
+(ENTRY['update'], ENTRY['extract']) on samples of noisy ellipses, with resets in between
+that change the input gain (dg_i != 0, theta rescaled) and kappa, varying lambda and the
+trace-bound freeze. Programs start back to back (the next on the edge after the last
+one's END) or after random gaps, so results are forwarded across programs too. For every
+program started on edge S the bench checks: busy_o high after edges S .. S+C-1 and low
+after edge S+C, done_o high exactly after edge S+C-1 (C = sim.model.estimator.CYCLES
+[program]); then valid_o, out_o (the seven 16-bit OUT registers) and the sticky sat_o
+equal the model's after that program. A few programs run on garbage samples so that
+invalid results and saturation occur."""
 import math
 import random
 
@@ -71,6 +74,8 @@ def make_programs(rng, n):
             x2 = s16(sc * (A2 * math.sin(ang - phi) + m2 + rng.gauss(0, 0.002)))
             k = lam_k
         progs.append(("update", x1, x2, k, rng.randint(0, 65535), rng.randint(-3, 3)))
+        if rng.random() < 0.15:
+            progs.append(("extract", 0, 0, k, 0, 0))
     return progs
 
 
@@ -90,34 +95,40 @@ async def rls_programs(dut):
     dut.rst.value = 0
     await bench.step()
     bad = []
-    n_invalid = n_updates = n_resets = 0
+    n_invalid = n_updates = n_resets = n_extracts = 0
     for pi, (name, x1, x2, lam_k, kappa, dg) in enumerate(progs):
         C = CYCLES[name]
         S = bench.edge + 1 + rng.choice((0, 0, 1, 2, rng.randint(0, 30)))
+        freeze = rng.random() < 0.2
         await bench.goto(S - 1)
         dut.start_i.value = 1
         dut.entry_i.value = prog.ENTRY[name]
         dut.x1_i.value = x1
         dut.x2_i.value = x2
         dut.lam_k_i.value = lam_k
+        dut.freeze_i.value = int(freeze)
         dut.kappa_i.value = kappa
         dut.dg_i.value = dg
         await bench.goto(S)
         # the inputs are latched on the start edge only: garbage afterwards
         dut.start_i.value = 0
-        dut.entry_i.value = rng.randint(0, 511)
+        dut.entry_i.value = rng.randint(0, 255)
         dut.x1_i.value = rng.randint(-32768, 32767)
         dut.x2_i.value = rng.randint(-32768, 32767)
         dut.lam_k_i.value = rng.randint(1, 23)
+        dut.freeze_i.value = rng.randint(0, 1)
         dut.kappa_i.value = rng.randint(0, 65535)
         dut.dg_i.value = rng.randint(-3, 3)
         if fqtb.uval(dut.busy_o) != 1:
             bad.append(f"program {pi} ({name}) started on edge {S}: busy_o low after it")
         if name == "update":
-            ok = est.run("update", x1=x1 << 15, x2=x2 << 15, lam=1 << (23 - lam_k))
+            ok = est.run("update", x1=x1, x2=x2, lam_k=lam_k, freeze=int(freeze))
             n_updates += 1
+        elif name == "extract":
+            ok = est.run("extract")
+            n_extracts += 1
         else:
-            ok = est.run("reset", kappa=kappa << 15, gs1=1 << (24 - dg), gs2=1 << (24 - 2 * dg))
+            ok = est.run("reset", kappa=kappa, dg=dg)
             n_resets += 1
         n_invalid += not ok
         await bench.goto(S + C - 2)
@@ -142,10 +153,12 @@ async def rls_programs(dut):
         exp = (int(ok), list(est.out), int(est.sat))
         if got != exp:
             bad.append(f"program {pi} ({name} x=({x1},{x2}) lam_k={lam_k} kappa={kappa} "
-                       f"dg={dg}): (valid,out[m1,m2,c1,c12,c2,e],sat)={got}, model {exp}")
+                       f"dg={dg} freeze={freeze}): (valid,out[m1,m2,c1,c12,c2,e,tr],sat)="
+                       f"{got}, model {exp}")
         if len(bad) > 20:
             break
     assert not bad, f"{len(bad)} mismatches:\n" + "\n".join(bad[:20])
     assert n_invalid > 0 and est.sat, "the sequence should reach invalid and saturating programs"
-    dut._log.info("rls_engine: %d updates, %d resets (%d invalid) equal; final theta %s",
-                  n_updates, n_resets, n_invalid, est.theta())
+    assert n_extracts > 20
+    dut._log.info("rls_engine: %d updates, %d extractions, %d resets (%d invalid) equal; "
+                  "final theta %s", n_updates, n_extracts, n_resets, n_invalid, est.theta())

@@ -27,8 +27,9 @@ module estimator #(
     // edges from a sample's arrival (smp_valid_i) to its fine phase (ph_valid_i)
     parameter PH_DELAY = 5,
     // program entries (sim/model/program.py ENTRY)
-    parameter [8:0] ENTRY_RESET = 9'd0,
-    parameter [8:0] ENTRY_UPDATE = 9'd32
+    parameter [7:0] ENTRY_RESET = 8'd0,
+    parameter [7:0] ENTRY_UPDATE = 8'd32,
+    parameter [7:0] ENTRY_EXTRACT = 8'd168
 ) (
     input  wire               clk,
     input  wire               rst,
@@ -69,6 +70,8 @@ module estimator #(
     reg [9:0]  settle = 0;
     reg [12:0] ph_last = 0;
     reg        running_update = 1'b0;
+    reg        running_extract = 1'b0;
+    reg        freeze = 1'b0;              // the trace of P is at its bound: no forgetting
     reg        busy = 1'b0;                // a program runs (from its start decision)
     reg        pending = 1'b0;             // a candidate waits for its fine phase
 
@@ -137,7 +140,7 @@ module estimator #(
     // The decision is registered: the engine starts on the edge after it, and the
     // estimator counts itself busy from the decision edge on.
     wire done, valid, eng_busy;
-    wire [95:0] outs;                      // {e, c2, c12, c1, m2, m1}
+    wire [111:0] outs;                     // {tr, e, c2, c12, c1, m2, m1}
     // dither: after each update the estimator lets 0..15 candidates pass (LFSR), so that
     // at speeds where the signal frequency is a simple fraction of the update rate the
     // updates still spread over the whole circle
@@ -147,19 +150,25 @@ module estimator #(
     wire do_skip = pre_valid && !pre_xsat && skip != 4'd0;
     wire do_update = pre_valid && !pre_xsat && skip == 4'd0 && pre_gate;
     wire [4:0] lam_k = (lam_k_i == 0) ? 5'd1 : (lam_k_i > 5'd23) ? 5'd23 : lam_k_i;
+    // an EXTRACT program follows an UPDATE that ends valid when a hand-over is due: at
+    // least settle_i updates since the last reset, all octants covered since the last
+    // hand-over, and no jump detected (trig, below)
+    wire trig;
+    wire do_extract = done && running_update && valid && settle >= settle_i &&
+                      oct_seen == 8'hff && !trig;
     reg        start_q = 1'b0;
-    reg  [8:0] entry_q = 0;
+    reg  [7:0] entry_q = 0;
     reg signed [15:0] x1_q = 0, x2_q = 0;
     reg signed [2:0]  dg_q = 0;
     always @(posedge clk) begin
-        start_q <= do_reset | do_update;
-        entry_q <= do_reset ? ENTRY_RESET : ENTRY_UPDATE;
+        start_q <= do_reset | do_update | do_extract;
+        entry_q <= do_reset ? ENTRY_RESET : do_update ? ENTRY_UPDATE : ENTRY_EXTRACT;
         x1_q    <= x1w;
         x2_q    <= x2w;
         dg_q    <= $signed({1'b0, g_new}) - $signed({1'b0, g_eng});
         if (do_reset | do_update)
             busy <= 1'b1;
-        else if (done)
+        else if (done && !do_extract)
             busy <= 1'b0;
         if (do_cand)
             pending <= 1'b1;
@@ -172,13 +181,19 @@ module estimator #(
         end
     end
 
+    wire [15:0] kappa = (kappa_i == 16'd0) ? 16'd1 : kappa_i;
     rls_engine #(.TABLE_DIR(TABLE_DIR)) u_engine (
         .clk(clk), .rst(rst),
         .start_i(start_q), .entry_i(entry_q), .x1_i(x1_q), .x2_i(x2_q),
-        .lam_k_i(lam_k), .kappa_i(kappa_i == 16'd0 ? 16'd1 : kappa_i), .dg_i(dg_q),
+        .lam_k_i(lam_k), .freeze_i(freeze), .kappa_i(kappa), .dg_i(dg_q),
         .busy_o(eng_busy), .done_o(done), .valid_o(valid), .out_o(outs), .sat_o(sat_o)
     );
-    wire unused = &{1'b0, eng_busy, 1'b0};
+    wire unused = &{1'b0, eng_busy, kappa5[3:0], 1'b0};
+    // trace bound: P's trace (OUT TR, s12.4, after a RESET or UPDATE) at or above its
+    // value after a reset, 5 kappa, holds the forgetting off for the next update
+    wire signed [15:0] tr_out = outs[111:96];
+    wire [17:0] kappa5 = {2'b00, kappa} + {kappa, 2'b00};             // 5 kappa, u10.8
+    wire        tr_hi = !tr_out[15] && ({3'b000, tr_out[14:0]} >= {4'd0, kappa5[17:4]});
 
     // ---- jump detector (sim/model/core.py) -----------------------------------------------
     //   eabs  u15.5  |e| of the running update (OUT e, s3.13), saturated, 5 fraction bits
@@ -195,7 +210,8 @@ module estimator #(
     reg  [19:0] eabs = 0;
     reg  [19:0] jf_next = 0, jl_next = 0;
     reg  [21:0] jthr = 0;
-    reg         trig = 1'b0;
+    reg         trig_q = 1'b0;
+    assign trig = trig_q;
     wire signed [20:0] df = $signed({1'b0, eabs}) - $signed({1'b0, jf});
     wire signed [20:0] dl = $signed({1'b0, eabs}) - $signed({1'b0, jl});
     always @(posedge clk) begin
@@ -203,7 +219,7 @@ module estimator #(
         jf_next <= jf + {df[20], df[20:2]};
         jl_next <= jl + {{6{dl[20]}}, dl[19:6]};
         jthr    <= {jl, 2'b00} + {6'd0, jump_min_i, 5'd0};
-        trig    <= armed && jump_on_i && ({2'b00, jf_next} > jthr);
+        trig_q  <= armed && jump_on_i && ({2'b00, jf_next} > jthr);
     end
     wire        unused_j = &{1'b0, df[1:0], dl[5:0], 1'b0};
 
@@ -242,10 +258,14 @@ module estimator #(
                 reset_pend <= 1'b1;
             end
         end
-        // hand-over at the end of an update, and the jump detector: a sudden change of
-        // the signal shows as a mean |e| far above its long-run level; it resets P (the
-        // fit restarts from the current theta) and holds the hand-over until the updates
-        // since the jump cover all octants again. Not armed until the first commit.
+        // the end of an update: the jump detector (a sudden change of the signal shows
+        // as a mean |e| far above its long-run level; it resets P -- the fit restarts from
+        // the current theta -- and holds the hand-over until the updates since the jump
+        // cover all octants again; not armed until the first hand-over), the trace bound,
+        // and an invalid update (s' not positive: P lost its positive definiteness; or
+        // the residual saturated) resets P
+        if (done && (running_update || !running_extract))
+            freeze <= tr_hi;
         if (done && running_update) begin
             if (trig) begin
                 reset_pend <= 1'b1;
@@ -258,7 +278,15 @@ module estimator #(
                 if (armed || uncal_o)
                     jl <= jl_next;
             end
-            if (valid && settle >= settle_i && oct_seen == 8'hff && !trig) begin
+            if (!valid)
+                reset_pend <= 1'b1;
+            running_update <= 1'b0;
+            running_extract <= do_extract;
+            settle <= (settle == 10'h3ff) ? settle : settle + 1'b1;
+        end
+        // the end of an extraction: the hand-over if theta was an ellipse
+        if (done && running_extract) begin
+            if (valid) begin
                 {c2_o, c12_o, c1_o, m2_o, m1_o} <= outs[79:0];
                 g_o <= g_eng;
                 uncal_o <= 1'b0;
@@ -266,7 +294,7 @@ module estimator #(
                 armed <= 1'b1;
             end
             hold_o <= !valid;
-            settle <= (settle == 10'h3ff) ? settle : settle + 1'b1;
+            running_extract <= 1'b0;
         end
         // rst restarts the control state; theta in the engine's register file survives it,
         // and so does g_eng, the gain theta is expressed in (the RESET program that runs
@@ -282,6 +310,8 @@ module estimator #(
             lfsr <= 16'hACE1;
             oct_seen <= 8'd0;
             running_update <= 1'b0;
+            running_extract <= 1'b0;
+            freeze <= 1'b0;
             jf <= 0; jl <= 0; armed <= 1'b0; jumps_o <= 0;
             g_o <= G_INIT;
             m1_o <= 0; m2_o <= 0; c1_o <= 16'sd8192; c12_o <= 0; c2_o <= 16'sd8192;

@@ -6,26 +6,29 @@
 // instruction semantics are documented there.
 //
 // Datapath: one 32x32 multiplier (4 iCE40 DSP blocks), 64-bit accumulator, register file
-// of 64 x 32 bits in two block-RAM copies (two read ports), and a two-stage rounding
-// write-back that saturates to 32 (register) or 16 bits (OUT), as sat_round would.
+// of 64 x 32 bits in two block-RAM copies (two read ports), a rounding, saturating
+// write-back, and forwarding of the two youngest results to the operands.
 // Pipeline of an instruction in slot k of a program started on edge S:
 //   S+k    fetch      instr_q   <= rom[entry + k]
 //   S+k+1  read       rda/rdb   <= rf[a], rf[b]
-//   S+k+2  operands   opa/opb   (B: register or special input); seed lookup
-//   S+k+3  multiply   four 16x16 partial products (DSP blocks); NORM, CHK; dz sampled
-//   S+k+4  product 1  {hh, ll} and hl + lh (or the seed)
-//   S+k+5  product 2  prod_q    <= {hh, ll} + ((hl + lh) << 16)
-//   S+k+6  accumulate acc[31:0]  <= (clr ? 0 : acc) +- prod_q (low half); shift sh - dyn
-//   S+k+7  accumulate acc[63:32] (high half, with the carry of the low half)
-//   S+k+8  round 1    t_q       <= acc >>> (shift - 1)
-//   S+k+9  round 2    r65_q     <= (t_q + 1) >>> 1
-//   S+k+10 write      rf[dst] / out[dst] <= saturated r65_q; END: the program ends
-// A register written in slot k can be read from slot k + 10 on (program.HAZARD).
+//   S+k+2  operands   opa/opb   (forwarded result, register, or special input); NORM,
+//                     CHK on A; the seed table read with A's bits
+//   S+k+3  multiply   four 16x16 partial products (DSP blocks); the seed
+//   S+k+4  product    prod_q    <= {hh, ll} + ((hl + lh) << 16), or the seed << 15
+//   S+k+5  accumulate acc       <= (clr ? 0 : acc) +- prod_q; shift sh - dyn
+//   S+k+6  round      res_q     <= sat32(rnd(acc >>> shift)), and the 16-bit OUT value
+//   S+k+7  write      rf[dst] / out[dst] <= res; END: the program ends
+// A register written in slot k is read from the register file from slot k + 7 on and
+// forwarded from the round (slot k + 5) and write (slot k + 6) stages, so slot k + 5
+// may use it (program.HAZARD = 5).
+// Special inputs (latched on start_i): X1, X2 (s2.30 from the s1.15 sample), ONEL
+// (s9.23, 1 + 2**-k, or 1 when freeze_i), KAPPA (s9.23), GS1, GS2 (s8.24, 2**-dg,
+// 2**-2dg). A may be a register, X1 or X2; B any register or special.
 module rls_engine #(
     // folder of the $readmemh files (with trailing slash)
     parameter TABLE_DIR = "rtl/tables/",
     // ROM address width
-    parameter ROM_AW = 9
+    parameter ROM_AW = 8
 ) (
     input  wire               clk,
     input  wire               rst,
@@ -35,12 +38,13 @@ module rls_engine #(
     input  wire signed [15:0] x1_i,        // s1.15 normalised sample u1 * 2**g
     input  wire signed [15:0] x2_i,        // s1.15 normalised sample u2 * 2**g
     input  wire [4:0]         lam_k_i,     // lambda = 1/(1 + 2**-k), k in 1..23
+    input  wire               freeze_i,    // no forgetting (ONEL = 1)
     input  wire [15:0]        kappa_i,     // u8.8 covariance reset value
     input  wire signed [2:0]  dg_i,        // input gain change for the theta rescale, -3..3
     output reg                busy_o,
     output reg                done_o,      // the program ends on the coming edge
     output reg                valid_o,     // with done_o: no invalid flag was raised
-    output reg  [16*6-1:0]    out_o,       // OUT registers {e, c2, c12, c1, m2, m1}, 16 bit each
+    output reg  [16*7-1:0]    out_o,       // OUT registers {tr, e, c2, c12, c1, m2, m1}
     output reg                sat_o        // sticky: a register write saturated
 );
     localparam OP_MAC = 3'd1, OP_NORMR = 3'd2, OP_NORMS = 3'd3,
@@ -50,7 +54,7 @@ module rls_engine #(
     reg [35:0] rom [0:(1<<ROM_AW)-1];
     reg [31:0] rfa [0:63];
     reg [31:0] rfb [0:63];
-    reg [15:0] seeds_rom [0:127];         // 0..63: 1/m seeds, 64..127: 1/sqrt(m) (u1.15)
+    reg [15:0] seeds_rom [0:255];         // 0..127: 1/m seeds, 128..255: 1/sqrt(m) (u1.15)
     initial begin
         $readmemh({TABLE_DIR, "rls_program.hex"}, rom);
         $readmemh({TABLE_DIR, "rls_regfile.hex"}, rfa);
@@ -59,17 +63,28 @@ module rls_engine #(
     end
 
     // ---- latched special inputs -----------------------------------------------------------
-    reg signed [31:0] sp_x1 = 0, sp_x2 = 0, sp_lam = 0, sp_kappa = 0, sp_gs1 = 0, sp_gs2 = 0;
+    reg signed [15:0] sp_x1 = 0, sp_x2 = 0;
+    reg [15:0] sp_kappa = 0;
+    reg [4:0]  sp_k = 5'd8;
+    reg        sp_frz = 1'b0;
+    reg signed [2:0] sp_dg = 0;
     always @(posedge clk) begin
         if (start_i) begin
-            sp_x1    <= {x1_i[15], x1_i, 15'd0};                       // s2.30
-            sp_x2    <= {x2_i[15], x2_i, 15'd0};
-            sp_lam   <= 32'sd1 <<< (5'd23 - lam_k_i);                 // s9.23
-            sp_kappa <= {1'b0, kappa_i, 15'd0};                       // s9.23
-            sp_gs1   <= 32'sd1 <<< (6'sd24 - $signed({{3{dg_i[2]}}, dg_i}));                   // s8.24
-            sp_gs2   <= 32'sd1 <<< (6'sd24 - ($signed({{3{dg_i[2]}}, dg_i}) <<< 1));
+            sp_x1    <= x1_i;
+            sp_x2    <= x2_i;
+            sp_kappa <= kappa_i;
+            sp_k     <= lam_k_i;
+            sp_frz   <= freeze_i;
+            sp_dg    <= dg_i;
         end
     end
+    wire signed [31:0] x1_30 = {sp_x1[15], sp_x1, 15'd0};                  // s2.30
+    wire signed [31:0] x2_30 = {sp_x2[15], sp_x2, 15'd0};
+    wire signed [31:0] onel = (32'sd1 <<< 23) | (sp_frz ? 32'sd0 : (32'sd1 <<< (5'd23 - sp_k)));
+    wire signed [31:0] kap = {1'b0, sp_kappa, 15'd0};                       // s9.23
+    wire signed [5:0]  dg6 = {{3{sp_dg[2]}}, sp_dg};
+    wire signed [31:0] gs1 = 32'sd1 <<< (6'sd24 - dg6);                     // s8.24
+    wire signed [31:0] gs2 = 32'sd1 <<< (6'sd24 - (dg6 <<< 1));
 
     // ---- fetch ----------------------------------------------------------------------------
     // Fetching runs from start_i until END is fetched; the word fetched behind END is
@@ -99,272 +114,217 @@ module rls_engine #(
     reg [35:0] i1 = 0;
     reg        v1 = 1'b0;
     always @(posedge clk) begin
-        rda <= rfa[instr_q[20:15]];
-        rdb <= rfb[instr_q[26:21]];
+        rda <= rfa[instr_q[21:16]];
+        rdb <= rfb[instr_q[28:23]];
         i1  <= instr_q;
         v1  <= v0;
         if (rst)
             v1 <= 1'b0;
     end
 
-    // ---- operands, NORM, CHK, seed ---------------------------------------------------------
-    reg signed [31:0] opb;
+    // ---- operands: forwarding, specials, NORM, CHK, seed ------------------------------------
+    // results in flight: res_q (round stage, slot - 5) and res_w (write stage, slot - 6)
+    reg signed [31:0] res_q = 0, res_w = 0;
+    reg        fw6 = 1'b0, fw7 = 1'b0;    // res_q / res_w is a register write
+    reg [5:0]  fd6 = 0, fd7 = 0;          // its destination
+    wire [6:0] a1 = i1[22:16], b1 = i1[29:23];
+    wire [31:0] av = (!a1[6] && fw6 && a1[5:0] == fd6) ? res_q :
+                     (!a1[6] && fw7 && a1[5:0] == fd7) ? res_w :
+                     a1[6] ? (a1[0] ? x2_30 : x1_30) : rda;
+    reg  [31:0] bv;
     always @* begin
-        if (!i1[27])
-            opb = rdb;
-        else case (i1[26:21])
-            6'd0: opb = sp_x1;
-            6'd1: opb = sp_x2;
-            6'd2: opb = sp_lam;
-            6'd3: opb = sp_kappa;
-            6'd4: opb = sp_gs1;
-            6'd5: opb = sp_gs2;
-            default: opb = 32'sd0;
+        if (!b1[6])
+            bv = (fw6 && b1[5:0] == fd6) ? res_q : (fw7 && b1[5:0] == fd7) ? res_w : rdb;
+        else case (b1[2:0])
+            3'd0: bv = x1_30;
+            3'd1: bv = x2_30;
+            3'd2: bv = onel;
+            3'd3: bv = kap;
+            3'd4: bv = gs1;
+            3'd5: bv = gs2;
+            default: bv = 32'd0;
         endcase
     end
-
-    reg [4:0]  dz_q = 0;
-    reg signed [31:0] opa_q = 0, opb_q = 0;
-    reg [3:0]  nzb_q = 0;                 // bytes of opa_q that are not zero
-    reg signed [31:0] seed_q = 0;       // s2.30
-    reg [35:0] i2 = 0;
-    reg        v2 = 1'b0;
-    reg        inval_q = 1'b0;
+    // leading zeros of A (A > 0) minus one: the left shift that puts the MSB at bit 30
+    function automatic [4:0] nzf(input [30:0] x);
+        integer k;
+        begin
+            nzf = 5'd30;
+            for (k = 0; k < 31; k = k + 1)
+                if (x[k])
+                    nzf = 5'd30 - k[4:0];
+        end
+    endfunction
     wire [2:0] op1 = i1[2:0];
+    wire       a_pos = !av[31] && (|av[30:0]);
+    wire [4:0] nz = nzf(av[30:0]);
+    reg  [4:0] dz0 = 0, dz1 = 0;
+    reg  signed [31:0] opa_q = 0, opb_q = 0;
+    reg  [15:0] seed_q = 0;
+    reg  [35:0] i2 = 0;
+    reg         v2 = 1'b0;
+    reg         inval_q = 1'b0;
+    wire        norm1 = v1 && (op1 == OP_NORMR || op1 == OP_NORMS);
+    wire [4:0]  dzn = a_pos ? (op1 == OP_NORMS ? {nz[4:1], 1'b0} : nz) : 5'd0;
     always @(posedge clk) begin
-        opa_q  <= rda;
-        nzb_q  <= {|rda[31:24], |rda[23:16], |rda[15:8], |rda[7:0]};
-        opb_q  <= opb;
-        seed_q <= {1'b0, seeds_rom[{op1 == OP_SEEDS, op1 == OP_SEEDS ? rda[30:25] : rda[29:24]}], 15'd0};
-        i2     <= i1;
-        v2     <= v1;
+        opa_q  <= av;
+        opb_q  <= bv;
+        seed_q <= seeds_rom[(op1 == OP_SEEDS) ? {1'b1, av[30:24]} : {1'b0, av[29:23]}];
+        if (norm1 && !i1[15])
+            dz0 <= dzn;
+        if (norm1 && i1[15])
+            dz1 <= dzn;
+        i2 <= i1;
+        v2 <= v1;
+        if (start_i)
+            inval_q <= 1'b0;
+        else if (v1 && (op1 == OP_NORMR || op1 == OP_NORMS || op1 == OP_CHK) && !a_pos)
+            inval_q <= 1'b1;
+        else if (wb6 && i6[6] && res16_sat)
+            inval_q <= 1'b1;
         if (rst)
             v2 <= 1'b0;
     end
-    // NORM and CHK act one stage later, on opa_q: leading zeros of A (A > 0) minus one,
-    // the left shift that puts the MSB at bit 30. Every instruction samples dz_q on the
-    // same edge, so an instruction after a NORM sees its dz.
-    // (two levels: which byte holds the leading one -- nzb_q, registered with opa_q --
-    // then where in that byte)
-    function automatic [2:0] top8(input [7:0] x);
-        integer k;
-        begin
-            top8 = 3'd0;
-            for (k = 0; k < 8; k = k + 1)
-                if (x[k])
-                    top8 = k[2:0];
-        end
-    endfunction
-    reg [4:0] nz;
-    always @*
-        casez (nzb_q)
-            4'b1???: nz = 5'd6 - {2'd0, top8({1'b0, opa_q[30:24]})};
-            4'b01??: nz = 5'd14 - {2'd0, top8(opa_q[23:16])};
-            4'b001?: nz = 5'd22 - {2'd0, top8(opa_q[15:8])};
-            default: nz = 5'd30 - {2'd0, top8(opa_q[7:0])};
-        endcase
-    wire a_pos = !opa_q[31] && (|nzb_q);
-    wire [2:0] op2n = i2[2:0];
-    always @(posedge clk) begin
-        if (v2 && (op2n == OP_NORMR || op2n == OP_NORMS))
-            dz_q <= a_pos ? (op2n == OP_NORMS ? {nz[4:1], 1'b0} : nz) : 5'd0;
-        if (start_i)
-            inval_q <= 1'b0;
-        else if (v2 && (op2n == OP_NORMR || op2n == OP_NORMS || op2n == OP_CHK) && !a_pos)
-            inval_q <= 1'b1;
-        else if (wb7 && i7[6] && res16_sat)
-            inval_q <= 1'b1;
-    end
 
-    // ---- multiply: four registered 16x16 partial products, then their sum ---------------------
+    // ---- multiply: four registered 16x16 partial products ---------------------------------------
     // (the low halves are unsigned: {1'b0, x[15:0]} makes each product a signed 17x16 that
     // still fits one DSP block)
     reg signed [31:0] pp_ll = 0, pp_lh = 0, pp_hl = 0, pp_hh = 0;
-    reg signed [31:0] seed3 = 0;
+    reg [15:0] seed3 = 0;
     reg [35:0] i3 = 0;
-    reg [4:0]  dz3 = 0;
     reg        v3 = 1'b0;
+    reg [4:0]  dz3 = 0;
+    wire [2:0] op2 = i2[2:0];
     always @(posedge clk) begin
         pp_ll <= $signed({1'b0, opa_q[15:0]}) * $signed({1'b0, opb_q[15:0]});
         pp_lh <= $signed({1'b0, opa_q[15:0]}) * $signed(opb_q[31:16]);
         pp_hl <= $signed(opa_q[31:16]) * $signed({1'b0, opb_q[15:0]});
         pp_hh <= $signed(opa_q[31:16]) * $signed(opb_q[31:16]);
         seed3 <= seed_q;
+        dz3 <= i2[15] ? dz1 : dz0;       // the dz this instruction's write-back uses
         i3  <= i2;
-        dz3 <= dz_q;
         v3  <= v2;
         if (rst)
             v3 <= 1'b0;
     end
     wire [2:0] op3 = i3[2:0];
-    wire       is_seed3 = (op3 == OP_SEEDR || op3 == OP_SEEDS);
-    // product, first half: hh and ll do not overlap (a concatenation), the middle terms add
-    reg signed [63:0] base_q = 0;
-    reg signed [32:0] mid_q = 0;
-    reg [35:0] i3b = 0;
-    reg [4:0]  dz3b = 0;
-    reg        v3b = 1'b0;
-    always @(posedge clk) begin
-        if (is_seed3) begin
-            base_q <= $signed({{32{seed3[31]}}, seed3});
-            mid_q  <= 33'sd0;
-        end else begin
-            base_q <= $signed({pp_hh, pp_ll});
-            mid_q  <= $signed({pp_hl[31], pp_hl}) + $signed({pp_lh[31], pp_lh});
-        end
-        i3b  <= i3;
-        dz3b <= dz3;
-        v3b  <= v3;
-        if (rst)
-            v3b <= 1'b0;
-    end
-    // product, second half
+
+    // ---- product: {hh, ll} + (hl + lh) << 16, or the seed (s2.30) -------------------------------
     reg signed [63:0] prod_q = 0;
     reg [35:0] i4 = 0;
-    reg [4:0]  dz4 = 0;
     reg        v4 = 1'b0;
-    // the accumulator's controls, decoded here so the accumulate stage is only an adder
-    wire [2:0] op3b = i3b[2:0];
-    wire       seed3b = (op3b == OP_SEEDR || op3b == OP_SEEDS);
-    reg        en4 = 1'b0, clr4 = 1'b0, neg4 = 1'b0;
+    reg [4:0]  dz4 = 0;
+    wire signed [32:0] mid = $signed({pp_hl[31], pp_hl}) + $signed({pp_lh[31], pp_lh});
     always @(posedge clk) begin
-        prod_q <= base_q + $signed({{15{mid_q[32]}}, mid_q, 16'd0});
-        en4  <= v3b && (op3b == OP_MAC || seed3b);
-        clr4 <= i3b[3] || seed3b;
-        neg4 <= i3b[4];
-        i4  <= i3b;
-        dz4 <= dz3b;
-        v4  <= v3b;
-        if (rst) begin
-            v4  <= 1'b0;
-            en4 <= 1'b0;
-        end
+        if (op3 == OP_SEEDR || op3 == OP_SEEDS)
+            prod_q <= {33'd0, seed3, 15'd0};
+        else
+            prod_q <= $signed({pp_hh, pp_ll}) + $signed({{15{mid[32]}}, mid, 16'd0});
+        i4  <= i3;
+        v4  <= v3;
+        dz4 <= dz3;
+        if (rst)
+            v4 <= 1'b0;
     end
 
-    // ---- accumulate in two 32-bit halves (the high half one edge later, with the carry);
-    // the write-back shift sh - dyn (clamped to 0..63) alongside ---------------------------------
-    reg [31:0] acc_lo = 0, acc_hi = 0, acc_lo_d = 0, px_hi = 0;
-    reg        c_lo = 1'b0, en_hi = 1'b0, clr_hi = 1'b0;
-    reg [5:0]  sh_eff = 0, sh_eff_d = 0;
-    reg [35:0] i5 = 0, i5b = 0;
-    reg        v5 = 1'b0, v5b = 1'b0;
-    wire [63:0] px = prod_q ^ {64{neg4}};     // -prod = ~prod + 1: the +1 is the carry in
-    wire [32:0] lo_sum = {1'b0, clr4 ? 32'd0 : acc_lo} + {1'b0, px[31:0]} + {32'd0, neg4};
+    // ---- accumulate; the write-back shift sh - dyn (clamped to 0..63) ----------------------------
+    wire [2:0] op4 = i4[2:0];
+    wire       seed4 = (op4 == OP_SEEDR || op4 == OP_SEEDS);
+    wire       en4 = v4 && (op4 == OP_MAC || seed4);
+    wire       neg4 = i4[4] && !seed4;
+    wire       clr4 = i4[3] || seed4;
+    reg signed [63:0] acc = 0;
+    reg [5:0]  sh_q = 0;
+    reg [35:0] i5 = 0;
+    reg        v5 = 1'b0;
     wire [1:0] dyn4 = i4[8:7];
     wire [6:0] dyn_amt = (dyn4 == 2'd1) ? {2'd0, dz4} : (dyn4 == 2'd2) ? {3'd0, dz4[4:1]} : 7'd0;
     wire signed [7:0] sh_raw = $signed({2'b00, i4[14:9]}) - $signed({1'b0, dyn_amt});
+    wire [63:0] px = prod_q ^ {64{neg4}};     // -prod = ~prod + 1: the +1 is the carry in
     always @(posedge clk) begin
         if (en4)
-            acc_lo <= lo_sum[31:0];
-        c_lo   <= en4 && lo_sum[32];
-        px_hi  <= px[63:32];
-        en_hi  <= en4;
-        clr_hi <= clr4;
-        if (en_hi)
-            acc_hi <= (clr_hi ? 32'd0 : acc_hi) + px_hi + {31'd0, c_lo};
-        acc_lo_d <= acc_lo;
-        sh_eff   <= sh_raw[7] ? 6'd0 : sh_raw[5:0];
-        sh_eff_d <= sh_eff;
-        i5  <= i4;
-        v5  <= v4;
-        i5b <= i5;
-        v5b <= v5;
-        if (rst) begin
+            acc <= (clr4 ? 64'd0 : acc) + px + {63'd0, neg4};
+        sh_q <= sh_raw[7] ? 6'd0 : sh_raw[5:0];
+        i5 <= i4;
+        v5 <= v4;
+        if (rst)
             v5 <= 1'b0;
-            v5b <= 1'b0;
-            en_hi <= 1'b0;
+    end
+
+    // ---- round and saturate ----------------------------------------------------------------------
+    // rnd_shr(v, s) = (v + 2**(s-1)) >> s = ((v << 1 >> s) + 1) >> 1 (s = 0 too): shift,
+    // then an increment. r fits OW bits when bits [65:OW] of t + 1 are sign copies; with c
+    // the carry out of t[OW-1:0], X = t[65:OW] + c is uniform for X in {0, -1} (c = 0) or
+    // X in {-1, -2} (c = 1).
+    wire signed [65:0] t = $signed({acc[63], acc, 1'b0}) >>> sh_q;
+    wire [65:0] t_inc = t + 66'd1;
+    wire c32 = &t[31:0];
+    wire c16 = &t[15:0];
+    wire fit32 = c32 ? ((&t[65:32]) || (&t[65:33] && !t[32]))
+                     : ((&t[65:32]) || !(|t[65:32]));
+    wire fit16 = c16 ? ((&t[65:16]) || (&t[65:17] && !t[16]))
+                     : ((&t[65:16]) || !(|t[65:16]));
+    reg  signed [15:0] res16 = 0;
+    reg         res16_sat = 1'b0;
+    reg  [35:0] i6 = 0;
+    reg         v6 = 1'b0;
+    always @(posedge clk) begin
+        res_q <= fit32 ? t_inc[32:1] : (t[65] ? 32'sh80000000 : 32'sh7fffffff);
+        res16 <= fit16 ? t_inc[16:1] : (t[65] ? 16'sh8000 : 16'sh7fff);
+        res16_sat <= !fit16;
+        if (v5 && i5[5] && !i5[6] && !fit32)
+            sat_o <= 1'b1;
+        fw6 <= v5 && i5[5] && !i5[6];
+        fd6 <= i5[35:30];
+        i6 <= i5;
+        v6 <= v5;
+        if (rst) begin
+            v6 <= 1'b0;
+            fw6 <= 1'b0;
+            sat_o <= 1'b0;
         end
     end
-    wire signed [63:0] acc_q = $signed({acc_hi, acc_lo_d});
-
-    // ---- round and saturate in two stages ------------------------------------------------------
-    // rnd_shr(v, s) = (v + 2**(s-1)) >> s = ((v >> (s-1)) + 1) >> 1 for s >= 1, and
-    // ((v << 1) + 1) >> 1 = v for s = 0: shift first, then a narrow increment.
-    reg signed [65:0] t_q = 0;
-    reg [35:0] i6 = 0;
-    reg        v6 = 1'b0;
-    always @(posedge clk) begin
-        if (sh_eff_d == 6'd0)
-            t_q <= $signed({acc_q[63], acc_q, 1'b0});
-        else
-            t_q <= $signed({{2{acc_q[63]}}, acc_q}) >>> (sh_eff_d - 1'b1);
-        i6 <= i5b;
-        v6 <= v5b;
-        if (rst)
-            v6 <= 1'b0;
-    end
-    // round 2: the increment as a carry-select (two 33-bit carry chains instead of one
-    // of 66). Whether the result fits 32 or 16 bits is found alongside, from t_q:
-    // r = (t_q + 1) >>> 1 fits OW bits when X = t_q[65:OW] + c is all sign copies, where
-    // c is the carry out of t_q[OW-1:0]; X + c is uniform for X in {0, -1} (c = 0) or
-    // X in {-1, -2} (c = 1). The sign of r is the sign of t_q.
-    wire [33:0] lo_inc = {1'b0, t_q[32:0]} + 34'd1;
-    wire [32:0] hi_inc = t_q[65:33] + 33'd1;
-    wire [65:0] t_inc = {lo_inc[33] ? hi_inc : t_q[65:33], lo_inc[32:0]};
-    wire c32 = &t_q[31:0];
-    wire c16 = &t_q[15:0];
-    wire fit32 = c32 ? ((&t_q[65:32]) || (&t_q[65:33] && !t_q[32]))
-                     : ((&t_q[65:32]) || !(|t_q[65:32]));
-    wire fit16 = c16 ? ((&t_q[65:16]) || (&t_q[65:17] && !t_q[16]))
-                     : ((&t_q[65:16]) || !(|t_q[65:16]));
-    reg signed [64:0] r65_q = 0;
-    reg        fit32_q = 1'b1, fit16_q = 1'b1;
-    reg [35:0] i7 = 0;
-    reg        v7 = 1'b0;
-    always @(posedge clk) begin
-        r65_q   <= t_inc[65:1];
-        fit32_q <= fit32;
-        fit16_q <= fit16;
-        i7 <= i6;
-        v7 <= v6;
-        if (rst)
-            v7 <= 1'b0;
-    end
-    wire signed [31:0] res_q = fit32_q ? r65_q[31:0]
-                                       : (r65_q[64] ? 32'sh80000000 : 32'sh7fffffff);
-    wire signed [15:0] res16_q = fit16_q ? r65_q[15:0]
-                                         : (r65_q[64] ? 16'sh8000 : 16'sh7fff);
-    wire res32_sat = !fit32_q;
-    wire res16_sat = !fit16_q;
 
     // ---- write ------------------------------------------------------------------------------
-    wire [2:0] op7 = i7[2:0];
-    wire       wb7 = v7 && i7[5];
-    wire [5:0] dst7 = i7[33:28];
+    wire [2:0] op6 = i6[2:0];
+    wire       wb6 = v6 && i6[5];
+    wire [5:0] dst6 = i6[35:30];
     always @(posedge clk) begin
-        if (wb7 && !i7[6]) begin
-            rfa[dst7] <= res_q;
-            rfb[dst7] <= res_q;
+        if (wb6 && !i6[6]) begin
+            rfa[dst6] <= res_q;
+            rfb[dst6] <= res_q;
         end
+        res_w <= res_q;
+        fw7 <= fw6;
+        fd7 <= fd6;
+        if (rst)
+            fw7 <= 1'b0;
     end
     // END reaches this stage: the program ends on the coming edge. Every earlier
     // instruction has written by then, so out_o and valid_o are final.
     always @* begin
-        done_o  = v7 && op7 == OP_END;
+        done_o  = v6 && op6 == OP_END;
         valid_o = !inval_q;
     end
     integer oi;
     always @(posedge clk) begin
-        if (wb7 && i7[6])
-            for (oi = 0; oi < 6; oi = oi + 1)
-                if (dst7[2:0] == oi[2:0])
-                    out_o[16*oi +: 16] <= res16_q;
-        if (wb7 && !i7[6] && res32_sat)
-            sat_o <= 1'b1;
+        if (wb6 && i6[6])
+            for (oi = 0; oi < 7; oi = oi + 1)
+                if (dst6[2:0] == oi[2:0])
+                    out_o[16*oi +: 16] <= res16;
         if (start_i)
             busy_o <= 1'b1;
         else if (done_o)
             busy_o <= 1'b0;
-        if (rst) begin
+        if (rst)
             busy_o <= 1'b0;
-            sat_o  <= 1'b0;
-        end
     end
     initial begin
         busy_o = 1'b0; out_o = 0; sat_o = 1'b0;
     end
 
-    wire unused = &{1'b0, i7[35:34], i7[27:7], i7[4:3], sh_raw[6], t_inc[0], r65_q[63:32],
-                    1'b0};
+    wire unused = &{1'b0, i6[29:7], i6[4:3], i5[29:15], i5[4:0], i3[35:3], i2[35:16],
+                    i2[14:0], dz3, sh_raw[6], t_inc[65:33], t_inc[0], b1[5:3], a1[5:1],
+                    op2, i4[35:15], 1'b0};
 endmodule
 `resetall

@@ -15,7 +15,7 @@ from sim.model import program, tables  # noqa: E402
 SIN_WIDTHS = (8, 10, 12, 16)
 
 
-ROM_AW = 9   # rtl/rls_engine.v ROM_AW
+ROM_AW = 8   # rtl/rls_engine.v ROM_AW
 
 
 def hbin_header() -> str:

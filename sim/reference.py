@@ -31,23 +31,36 @@ def correct(u1, u2, p):
 
 
 class Rls:
-    """Eq. 7 in double precision."""
+    """Eq. 7 in double precision, with the gateware's regressor: its third element is
+    2 u1 u2 (so the estimate's third element is theta3 / 2; `theta` returns the paper's
+    theta), and its trace bound: while the trace of P is above its value after a reset
+    (5 kappa), the step does not forget (lambda = 1)."""
 
     def __init__(self, lam_k=8, kappa=64.0, theta0=(4.0, 4.0, 0.0, 0.0, 0.0)):
         self.lam = 1.0 / (1.0 + 2.0 ** -lam_k)
         self.kappa = kappa
-        self.theta = np.array(theta0, dtype=float)
+        self.th = np.array(theta0, dtype=float) * [1, 1, 0.5, 1, 1]
         self.P = kappa * np.eye(5)
+
+    @property
+    def theta(self):
+        return self.th * [1, 1, 2, 1, 1]
+
+    def scale_theta(self, dg):
+        """The input gain changes by 2**dg: theta follows (exact shifts in the gateware)."""
+        self.th[:3] *= 2.0 ** (-2 * dg)
+        self.th[3:] *= 2.0 ** (-dg)
 
     def reset(self):
         self.P = self.kappa * np.eye(5)
 
     def update(self, x1, x2):
-        phi = np.array([x1 * x1, x2 * x2, x1 * x2, x1, x2])
+        lam = 1.0 if np.trace(self.P) >= 5 * self.kappa else self.lam
+        phi = np.array([x1 * x1, x2 * x2, 2 * x1 * x2, x1, x2])
         h = self.P @ phi
-        k = h / (self.lam + phi @ h)
-        self.theta = self.theta + k * (1.0 - phi @ self.theta)
-        P = (self.P - np.outer(k, h)) / self.lam
+        k = h / (lam + phi @ h)
+        self.th = self.th + k * (1.0 - phi @ self.th)
+        P = (self.P - np.outer(k, h)) / lam
         # symmetric by construction (the gateware updates one triangle): with forgetting,
         # rounding's antisymmetric part grows as lambda**-t and makes P indefinite after
         # some thousands of updates, even in double precision
@@ -97,9 +110,7 @@ def run_schedule(u1_code, u2_code, sched, interp=100, lam_k=8, kappa=64.0, adc_w
     starts, values = [0], [cur]
     for kind, k, g_k, first in sched:
         if kind == "reset":
-            dg = g_k - g
-            rls.theta[:3] *= 2.0 ** (-2 * dg)
-            rls.theta[3:] *= 2.0 ** (-dg)
+            rls.scale_theta(g_k - g)
             rls.reset()
             g = g_k
             continue

@@ -204,6 +204,7 @@ class Core:
         self.sched = []               # the estimator's programs, for the float reference
         self.jf = self.jl = 0         # jump detector: fast and slow mean |e|, u15.5
         self.armed = False            # a commit since power-up or the last jump
+        self.freeze = 0               # trace bound: the next update does not forget
         self.jumps = []
         self.harm = harmonic.Harmonic()
         self.harm_used = False        # learning was on for some sample fed so far
@@ -344,12 +345,13 @@ class Core:
         g_eng, peak, reset_pend, first = self.g_eng, self.peak, self.reset_pend, self.first
         upd, settle, free_at, ph_last = self.upd, self.settle, self.free_at, self.ph_last
         skip, cover, lfsr, uncal = self.skip, self.cover, self.lfsr, self.uncal
-        jf, jl, armed = self.jf, self.jl, self.armed
+        jf, jl, armed, freeze = self.jf, self.jl, self.armed, self.freeze
         ev_edge, ev_bundle, ev_flags = self.ev_edge, self.ev_bundle, self.ev_flags
         sched, jumps, requests = self.sched, self.jumps, self.requests
         n_updates = self.n_updates
-        lam = 1 << (23 - min(max(cfg.lam_k, 1), 23))
-        kappa = max(cfg.kappa, 1) << 15            # KAPPA = 0 is taken as 1/256
+        lam_k = min(max(cfg.lam_k, 1), 23)
+        kappa = max(cfg.kappa, 1)                  # KAPPA = 0 is taken as 1/256
+        tr_bound = (5 * kappa) >> 4                # 5 kappa in OUT TR's s12.4
         n = len(u1r)
         k0 = self.k0
         amax = np.minimum(np.maximum(np.abs(u1r), np.abs(u2r)), 32767).tolist()
@@ -366,7 +368,8 @@ class Core:
             if reset_pend:
                 g_new = gsel(peak, g_eng)
                 dg = g_new - g_eng
-                est.run("reset", kappa=kappa, gs1=1 << (24 - dg), gs2=1 << (24 - 2 * dg))
+                est.run("reset", kappa=kappa, dg=dg)
+                freeze = int(est.out[6] >= tr_bound)
                 sched.append(("reset", k0 + k, g_new, None))
                 g_eng = g_new
                 peak = 0
@@ -405,7 +408,8 @@ class Core:
             ph_last = ph
             cover |= 1 << (ph >> 10)
             skip, lfsr = lfsr & 15, lfsr_step(lfsr)
-            ok = est.run("update", x1=x1 << 15, x2=x2 << 15, lam=lam)
+            ok = est.run("update", x1=x1, x2=x2, lam_k=lam_k, freeze=freeze)
+            freeze = int(est.out[6] >= tr_bound)
             n_updates += 1
             upd += 1
             if first and upd >= WARMUP:
@@ -430,25 +434,35 @@ class Core:
                 jf = jf_next
                 if armed or uncal:
                     jl += (eabs - jl) >> 6
+            if not ok:
+                reset_pend = True     # s' <= 0 (P no longer positive) or e saturated
             if ok and settle >= cfg.settle and cover == 0xFF and not trig:
-                ev_bundle.append((g_eng, *est.out[:5]))
-                sched.append(("update", k0 + k, g_eng, done))
-                uncal = 0
-                cover = 0
-                armed = True
+                # EXTRACT follows: decided on the update's last edge, it hands the new
+                # bundle over on its own last edge if theta is an ellipse
+                okx = est.run("extract")
+                xdone = done + START_DELAY + CYCLES["extract"]
+                free_at = xdone
+                if okx:
+                    ev_bundle.append((g_eng, *est.out[:5]))
+                    sched.append(("update", k0 + k, g_eng, xdone))
+                    uncal = 0
+                    cover = 0
+                    armed = True
+                else:
+                    ev_bundle.append(ev_bundle[-1])
+                    sched.append(("update", k0 + k, g_eng, None))
+                ev_flags.append((uncal, 0 if okx else 1))
+                ev_edge.append(xdone)
+                if ev_bundle[-1] != ev_bundle[-2]:
+                    # samples from the first one that sees it need their phase recomputed
+                    blk_hi = min(blk_hi, int(np.searchsorted(t, xdone, side="right")))
             else:
-                ev_bundle.append(ev_bundle[-1])
                 sched.append(("update", k0 + k, g_eng, None))
-            ev_flags.append((uncal, 0 if ok else 1))
-            ev_edge.append(done)
             settle = min(settle + 1, 1023)
-            # samples from the first one that sees a new bundle need their phase recomputed
-            if ev_bundle[-1] != ev_bundle[-2]:
-                blk_hi = min(blk_hi, int(np.searchsorted(t, done, side="right")))
         self.g_eng, self.peak, self.reset_pend, self.first = g_eng, peak, reset_pend, first
         self.upd, self.settle, self.free_at, self.ph_last = upd, settle, free_at, ph_last
         self.skip, self.cover, self.lfsr, self.uncal = skip, cover, lfsr, uncal
-        self.jf, self.jl, self.armed = jf, jl, armed
+        self.jf, self.jl, self.armed, self.freeze = jf, jl, armed, freeze
         self.n_updates = n_updates
 
 

@@ -16,9 +16,9 @@ _M64 = (1 << ACC_W) - 1
 _H64 = 1 << (ACC_W - 1)
 
 # The instruction in slot k of a program started on edge S writes its result on edge
-# S + k + PIPE (rtl/rls_engine.v: fetch, read, operands, multiply, accumulate, round,
-# write); END in slot k ends the program (busy clears, commit) on edge S + k + PIPE.
-PIPE = 10
+# S + k + PIPE (rtl/rls_engine.v: fetch, read, operands, multiply, product, accumulate,
+# round, write); END in slot k ends the program (busy clears, commit) on edge S + k + PIPE.
+PIPE = 7
 
 
 def program_cycles(entry: str) -> int:
@@ -31,42 +31,46 @@ def program_cycles(entry: str) -> int:
 
 
 def _compile(entry: str):
-    lines = ["def run(rf, out, acc, X1, X2, LAM, KAPPA, GS1, GS2):",
-             "    dz = 0; invalid = 0; sat = 0"]
+    lines = ["def run(rf, out, acc, X1, X2, ONEL, KAPPA, GS1, GS2):",
+             "    dz = [0, 0]; invalid = 0; sat = 0"]
     spec = {v: k for k, v in prog.SPECIALS.items()}
     pc = prog.ENTRY[entry]
+
+    def opnd(r):
+        return spec[r] if r >= 64 else f"rf[{r}]"
     while True:
         f = prog.decode(prog.ROM[pc])
         pc += 1
         op = f["op"]
         if op == prog.OP_END:
             break
-        a = f"rf[{f['a']}]"
+        a = opnd(f["a"])
         if op == prog.OP_NOP:
             continue
         if op == prog.OP_CHK:
             lines.append(f"    if {a} <= 0: invalid = 1")
             continue
         if op in (prog.OP_NORMR, prog.OP_NORMS):
-            even = "; dz -= dz & 1" if op == prog.OP_NORMS else ""
+            even = " & ~1" if op == prog.OP_NORMS else ""
             lines.append(f"    v = {a}")
-            lines.append("    if v <= 0: invalid = 1; dz = 0")
-            lines.append(f"    else: dz = clz32(v) - 1{even}")
+            lines.append(f"    if v <= 0: invalid = 1; dz[{f['z']}] = 0")
+            lines.append(f"    else: dz[{f['z']}] = (clz32(v) - 1){even}")
             continue
         if op == prog.OP_MAC:
-            b = spec[f["b"]] if f["b"] >= 64 else f"rf[{f['b']}]"
-            term = f"{a} * {b}"
+            term = f"{a} * {opnd(f['b'])}"
             sign = "-" if f["neg"] else "+"
             if f["clr"]:
                 lines.append(f"    acc = {'-' if f['neg'] else ''}{term}")
             elif not (f["a"] == prog.REGS["ZERO"] and f["b"] == prog.REGS["ZERO"]):
                 lines.append(f"    acc = acc {sign} {term}")
         elif op == prog.OP_SEEDR:
-            lines.append(f"    acc = SEEDR[({a} >> 24) & 63]")
+            lines.append(f"    acc = SEEDR[({a} >> 23) & 127]")
         elif op == prog.OP_SEEDS:
-            lines.append(f"    acc = SEEDS[({a} >> 25) & 63]")
+            lines.append(f"    acc = SEEDS[({a} >> 24) & 127]")
         if f["wb"]:
-            dyn = {prog.DYN_NONE: "0", prog.DYN_DZ: "dz", prog.DYN_DZ2: "(dz >> 1)"}[f["dyn"]]
+            z = f["z"]
+            dyn = {prog.DYN_NONE: "0", prog.DYN_DZ: f"dz[{z}]",
+                   prog.DYN_DZ2: f"(dz[{z}] >> 1)"}[f["dyn"]]
             lines.append(f"    s = {f['sh']} - {dyn}")
             lines.append("    s = 0 if s < 0 else 63 if s > 63 else s")
             lines.append(f"    w = ((acc + {_H64}) & {_M64}) - {_H64}")
@@ -101,13 +105,20 @@ class Estimator:
         self.invalid = 0
         self.sat = 0
 
-    def run(self, entry: str, x1=0, x2=0, lam=0, kappa=0, gs1=0, gs2=0):
-        """Run one program; special inputs are raw integers in the formats of
-        program.SPECIALS. Returns True if the program ended valid."""
-        self.acc, self.invalid, sat = _RUN[entry](self.rf, self.out, self.acc, x1, x2,
-                                                  lam, kappa, gs1, gs2)
+    def run(self, entry: str, x1=0, x2=0, lam_k=8, freeze=0, kappa=0, dg=0):
+        """Run one program. x1, x2: s1.15 normalised sample (u << g); lam_k: lambda =
+        1/(1 + 2**-k); freeze: no forgetting (the trace bound); kappa: u8.8 (the
+        engine's input); dg: input gain change (RESET). Returns True if the program
+        ended valid."""
+        onel = (1 << 23) + (0 if freeze else 1 << (23 - lam_k))
+        self.acc, self.invalid, sat = _RUN[entry](
+            self.rf, self.out, self.acc, x1 << 15, x2 << 15, onel, kappa << 15,
+            1 << (24 - dg), 1 << (24 - 2 * dg))
         self.sat |= sat
         return not self.invalid
 
     def theta(self):
-        return [self.rf[prog.REGS[n]] for n in prog.THETA]
+        """theta in the paper's form (s9.23 integers; the register holds theta3 / 2)."""
+        t = [self.rf[prog.REGS[n]] for n in prog.THETA]
+        t[2] *= 2
+        return t

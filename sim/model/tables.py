@@ -29,8 +29,8 @@ octant-local phase. What j means depends on the table kind (rtl/octant.v):
   floor(ph / 128) = #{k : j >= L_k} and ceil(ph / 128) = #{k : j >= U_k} for the first
   j with ph >= 128 k (L_k) and ph > 128 (k - 1) (U_k), k = 1..HBIN_N; 2048 where no row
   reaches it (PH is non-decreasing in j). ``bin_buckets`` arranges them for the RTL.
-* ``seed_recip()`` / ``seed_isqrt()``: 64-entry Newton-Raphson seeds, u1.15 (the engine
-  places them in s2.30 as seed << 15).
+* ``seed_recip()`` / ``seed_isqrt()``: 128-entry seeds of the engine's reciprocal and
+  inverse square root, u1.15 (the engine places them in s2.30 as seed << 15).
 """
 import math
 
@@ -97,14 +97,21 @@ def bin_buckets(thresholds: list[int]) -> list[tuple[int, int]]:
     return out
 
 
+SEED_AW = 7               # seed tables: 128 entries each (one block RAM for both)
+
+
 def seed_recip() -> list[int]:
-    """u1.15 seeds of 1/m; index = bits [29:24] of m in [2**30, 2**31), m = 1 + (i+.5)/64."""
-    return [round((1 << 15) / (1 + (i + 0.5) / 64)) for i in range(64)]
+    """u1.15 seeds of 1/m; index i = bits [29:23] of m in [2**30, 2**31) (s2.30), the bin
+    m in [1 + i/128, 1 + (i+1)/128): the value that minimises the largest relative error
+    over the bin, 2 / (m_lo + m_hi)."""
+    return [round((1 << 15) * 2 / (2 + (2 * i + 1) / 128)) for i in range(1 << SEED_AW)]
 
 
 def seed_isqrt() -> list[int]:
-    """u1.15 seeds of 1/sqrt(m); index = bits [30:25] of m in s3.29, m = (i + .5)/16."""
-    return [round((1 << 15) * 4 / math.sqrt(max(i, 16) + 0.5)) for i in range(64)]
+    """u1.15 seeds of 1/sqrt(m); index i = bits [30:24] of m in [2**29, 2**31) (s3.29, m in
+    [1, 4)), the bin m in [i/32, (i+1)/32) (i >= 32): 1/sqrt at the bin's centre
+    (entries below 32 are never used)."""
+    return [round((1 << 15) / math.sqrt((max(i, 32) + 0.5) / 32)) for i in range(1 << SEED_AW)]
 
 
 def hexlines(values, width: int) -> str:

@@ -9,7 +9,8 @@ from sim.model.estimator import Estimator
 
 @pytest.mark.parametrize("amp", [0.1, 0.3, 0.6, 0.95])
 def test_estimator_matches_float_reference(amp):
-    """Same samples, same RLS (lambda = 1/(1 + 2**-k)): the extracted parameters agree."""
+    """Same samples, same RLS (lambda = 1/(1 + 2**-k), the same trace bound): the extracted
+    parameters agree, and the trace of P the engine reports is the float one's."""
     sig = siggen.Signal(A1=amp, A2=amp * 0.9, m1=0.02 * amp, m2=-0.01 * amp, phi=0.1,
                         noise=0.005)
     rng = np.random.default_rng(3)
@@ -18,13 +19,15 @@ def test_estimator_matches_float_reference(amp):
     g = max(c for c in range(4) if (max(np.abs(u1).max(), np.abs(u2).max()) * 2 ** c) < 2 ** 14
             ) if amp < 0.5 else 0
     est = Estimator()
-    est.run("reset", kappa=64 << 8 << 15, gs1=1 << 24, gs2=1 << 24)
+    est.run("reset", kappa=64 << 8, dg=0)
+    bound = (5 * (64 << 8)) >> 4              # the trace bound, as sim.model.core applies it
     ref = reference.Rls(lam_k=8, kappa=64.0)
     for a, b in zip(u1, u2):
         a, b = int(a) << g, int(b) << g
-        ok = est.run("update", x1=a << 15, x2=b << 15, lam=1 << 15)
+        ok = est.run("update", x1=a, x2=b, lam_k=8, freeze=int(est.out[6] >= bound))
         ref.update(a / 32768, b / 32768)
     assert ok
+    assert est.run("extract")
     a1, r, m1, m2, phi = reference.extract(ref.theta)
     m1q, m2q, c1, c12, c2 = est.out[:5]
     s = 2.0 ** -g
@@ -35,6 +38,7 @@ def test_estimator_matches_float_reference(amp):
     assert c2 / 4096 == pytest.approx(r / (a1 * np.cos(phi)), rel=2e-3)
     # and the float reference found the true ellipse (in normalised units)
     assert a1 * s == pytest.approx(sig.A1, rel=0.01)
+    assert est.out[6] / 16 == pytest.approx(np.trace(ref.P), rel=0.05, abs=0.1)
 
 
 def assert_near_floor(r, x, a, sig, start, pitch=4000.0, interp=100, limit=1.3):
