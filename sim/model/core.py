@@ -238,7 +238,7 @@ class Core:
 
     def feed(self, u1_code, u2_code, strobes=None, trace=False):
         """Run the next samples (ADC codes); returns a dict of per-sample arrays for them
-        (and, as lists since power-up, the jumps and the estimator's schedule)."""
+        (and, as a list since power-up, the jumps; the schedule: schedule_samples())."""
         cfg = self.cfg
         u1_code = np.asarray(u1_code, dtype=np.int64)
         u2_code = np.asarray(u2_code, dtype=np.int64)
@@ -318,9 +318,13 @@ class Core:
         if n:
             self.t_last = int(t[-1])
             self.t_pieces.append(t)
+            # the bundle events no later sample can see are dropped (the one in force
+            # for the next sample stays), so pieces stay cheap however long the run
+            keep = bisect.bisect_right(self.ev_edge, self.t_last) - 1
+            if keep > 0:
+                del self.ev_edge[:keep], self.ev_bundle[:keep], self.ev_flags[:keep]
         res = dict(jumps=list(self.jumps), count=count, a=a_pin, b=b_pin, fault=fault,
-                   n_updates=self.n_updates, sched=self.schedule_samples(),
-                   illegal_count=self.ill_count)
+                   n_updates=self.n_updates, illegal_count=self.ill_count)
         if trace:
             g, m1, m2, c1, c12, c2 = bund.T
             res.update({k: fr[k] for k in ("u1c", "u2c", "ax", "ay", "xn", "yn", "phase",
@@ -467,5 +471,9 @@ class Core:
 
 
 def run(u1_code, u2_code, cfg: Config = Config(), strobes=None, trace=False):
-    """Run the core on ADC codes from power-up; returns a dict of per-sample arrays."""
-    return Core(cfg).feed(u1_code, u2_code, strobes=strobes, trace=trace)
+    """Run the core on ADC codes from power-up; returns a dict of per-sample arrays, and
+    the estimator's schedule (Core.schedule_samples)."""
+    c = Core(cfg)
+    res = c.feed(u1_code, u2_code, strobes=strobes, trace=trace)
+    res["sched"] = c.schedule_samples()
+    return res
