@@ -39,7 +39,10 @@ module finequad_core #(
     // 1: the n * phase product with `*` (a DSP block); 0: in logic (iCE40 UP5K)
     parameter [0:0] OPT_NTH_DSP = 1'b1,
     // 1: octant normalisation in parallel (shorter path, more logic; same values)
-    parameter [0:0] OPT_PAR_NORM = 1'b0
+    parameter [0:0] OPT_PAR_NORM = 1'b0,
+    // 1: adaptive harmonic compensation of the fine phase (rtl/harmonic.v); 0: none
+    // (rtl/phase.v; HARM reads 0: for devices too small for it)
+    parameter [0:0] OPT_HARMONIC = 1'b1
 ) (
     input  wire                      clk,
     input  wire                      rst,
@@ -166,11 +169,22 @@ module finequad_core #(
     wire [11:0] l_ph;
     wire h_valid;
     wire [12:0] h_phase, h_phase_c;
-    harmonic u_harmonic (
-        .clk(clk), .valid_i(o_valid), .oct2_i(o_oct2), .neg_i(o_neg), .bin_i(o_bin),
-        .ph_i(l_ph), .apply_i(r_happly), .learn_i(r_hlearn), .mu_i(r_hmu),
-        .clear_i(r_hclear), .valid_o(h_valid), .phase_o(h_phase), .phase_c_o(h_phase_c)
-    );
+    generate
+        if (OPT_HARMONIC) begin : g_harm
+            harmonic u_harmonic (
+                .clk(clk), .valid_i(o_valid), .oct2_i(o_oct2), .neg_i(o_neg), .bin_i(o_bin),
+                .ph_i(l_ph), .apply_i(r_happly), .learn_i(r_hlearn), .mu_i(r_hmu),
+                .clear_i(r_hclear), .valid_o(h_valid), .phase_o(h_phase),
+                .phase_c_o(h_phase_c)
+            );
+        end else begin : g_noharm
+            phase u_phase (
+                .clk(clk), .valid_i(o_valid), .oct2_i(o_oct2), .neg_i(o_neg), .ph_i(l_ph),
+                .valid_o(h_valid), .phase_o(h_phase), .phase_c_o(h_phase_c)
+            );
+            wire unused_h = &{1'b0, o_bin, r_happly, r_hlearn, r_hmu, r_hclear, 1'b0};
+        end
+    endgenerate
     // ---- t+7 .. t+8: n-th order phase and sines -------------------------------------------------
     wire n_valid, l_valid, l_cneg, l_sneg;
     wire [21:0] n_prod;
@@ -268,7 +282,7 @@ module finequad_core #(
                 6'h0f: reg_rdata <= {{16{b_c12[15]}}, b_c12};
                 6'h10: reg_rdata <= {{16{b_c2[15]}}, b_c2};
                 6'h11: reg_rdata <= e_updates;
-                6'h12: reg_rdata <= {26'd0, r_hmu, 2'd0, r_hlearn, r_happly};
+                6'h12: reg_rdata <= OPT_HARMONIC ? {26'd0, r_hmu, 2'd0, r_hlearn, r_happly} : 32'd0;
                 6'h13: reg_rdata <= {16'd0, r_jump_off, 4'd0, r_jump_min};
                 6'h14: reg_rdata <= {16'd0, e_jumps};
                 6'h15: reg_rdata <= {23'd0, r_absrc, r_absep};

@@ -7,7 +7,7 @@
 //
 // Datapath: one 32x32 multiplier (4 iCE40 DSP blocks), 64-bit accumulator, register file
 // of 64 x 32 bits in two block-RAM copies (two read ports), a rounding, saturating
-// write-back, and forwarding of the two youngest results to the operands.
+// write-back, and forwarding of the two youngest results to operand A.
 // Pipeline of an instruction in slot k of a program started on edge S:
 //   S+k    fetch      instr_q   <= rom[entry + k]
 //   S+k+1  read       rda/rdb   <= rf[a], rf[b]
@@ -18,9 +18,9 @@
 //   S+k+5  accumulate acc       <= (clr ? 0 : acc) +- prod_q; shift sh - dyn
 //   S+k+6  round      res_q     <= sat32(rnd(acc >>> shift)), and the 16-bit OUT value
 //   S+k+7  write      rf[dst] / out[dst] <= res; END: the program ends
-// A register written in slot k is read from the register file from slot k + 7 on and
-// forwarded from the round (slot k + 5) and write (slot k + 6) stages, so slot k + 5
-// may use it (program.HAZARD = 5).
+// A register written in slot k is read from the register file from slot k + 7 on; as
+// operand A it is forwarded from the round (slot k + 5) and write (slot k + 6) stages, so
+// slot k + 5 may use it (program.HAZARD_A = 5, HAZARD_B = 7).
 // Special inputs (latched on start_i): X1, X2 (s2.30 from the s1.15 sample), ONEL
 // (s9.23, 1 + 2**-k, or 1 when freeze_i), KAPPA (s9.23), GS1, GS2 (s8.24, 2**-dg,
 // 2**-2dg). A may be a register, X1 or X2; B any register or special.
@@ -86,6 +86,42 @@ module rls_engine #(
     wire signed [31:0] gs1 = 32'sd1 <<< (6'sd24 - dg6);                     // s8.24
     wire signed [31:0] gs2 = 32'sd1 <<< (6'sd24 - (dg6 <<< 1));
 
+    // leading zeros of a byte, then of 64 bits from the first non-zero byte (a two-level
+    // tree: a byte priority and a byte count side by side)
+    function automatic [2:0] lzc8(input [7:0] v);
+        casez (v)
+            8'b1???????: lzc8 = 3'd0;
+            8'b01??????: lzc8 = 3'd1;
+            8'b001?????: lzc8 = 3'd2;
+            8'b0001????: lzc8 = 3'd3;
+            8'b00001???: lzc8 = 3'd4;
+            8'b000001??: lzc8 = 3'd5;
+            8'b0000001?: lzc8 = 3'd6;
+            default:     lzc8 = 3'd7;
+        endcase
+    endfunction
+    function automatic [5:0] lzc64(input [63:0] v);   // v != 0
+        reg [7:0]  nzb;
+        reg [23:0] lzb;
+        integer k;
+        begin
+            for (k = 0; k < 8; k = k + 1) begin
+                nzb[k] = |v[63-8*k -: 8];
+                lzb[3*k +: 3] = lzc8(v[63-8*k -: 8]);
+            end
+            casez (nzb)
+                8'b???????1: lzc64 = {3'd0, lzb[2:0]};
+                8'b??????10: lzc64 = {3'd1, lzb[5:3]};
+                8'b?????100: lzc64 = {3'd2, lzb[8:6]};
+                8'b????1000: lzc64 = {3'd3, lzb[11:9]};
+                8'b???10000: lzc64 = {3'd4, lzb[14:12]};
+                8'b??100000: lzc64 = {3'd5, lzb[17:15]};
+                8'b?1000000: lzc64 = {3'd6, lzb[20:18]};
+                default:     lzc64 = {3'd7, lzb[23:21]};
+            endcase
+        end
+    endfunction
+
     // ---- fetch ----------------------------------------------------------------------------
     // Fetching runs from start_i until END is fetched; the word fetched behind END is
     // squashed (v0 low).
@@ -134,7 +170,7 @@ module rls_engine #(
     reg  [31:0] bv;
     always @* begin
         if (!b1[6])
-            bv = (fw6 && b1[5:0] == fd6) ? res_q : (fw7 && b1[5:0] == fd7) ? res_w : rdb;
+            bv = rdb;
         else case (b1[2:0])
             3'd0: bv = x1_30;
             3'd1: bv = x2_30;
@@ -145,19 +181,11 @@ module rls_engine #(
             default: bv = 32'd0;
         endcase
     end
-    // leading zeros of A (A > 0) minus one: the left shift that puts the MSB at bit 30
-    function automatic [4:0] nzf(input [30:0] x);
-        integer k;
-        begin
-            nzf = 5'd30;
-            for (k = 0; k < 31; k = k + 1)
-                if (x[k])
-                    nzf = 5'd30 - k[4:0];
-        end
-    endfunction
     wire [2:0] op1 = i1[2:0];
     wire       a_pos = !av[31] && (|av[30:0]);
-    wire [4:0] nz = nzf(av[30:0]);
+    // leading zeros of A (A > 0) minus one: the left shift that puts the MSB at bit 30
+    wire [5:0] nz6 = lzc64({av[30:0], 1'b1, 32'd0});
+    wire [4:0] nz = nz6[4:0];
     reg  [4:0] dz0 = 0, dz1 = 0;
     reg  signed [31:0] opa_q = 0, opb_q = 0;
     reg  [15:0] seed_q = 0;
@@ -235,16 +263,22 @@ module rls_engine #(
     wire       clr4 = i4[3] || seed4;
     reg signed [63:0] acc = 0;
     reg [5:0]  sh_q = 0;
+    reg signed [7:0] th32 = 0, th33 = 0, th16 = 0, th17 = 0;   // 64 - k - s
     reg [35:0] i5 = 0;
     reg        v5 = 1'b0;
     wire [1:0] dyn4 = i4[8:7];
     wire [6:0] dyn_amt = (dyn4 == 2'd1) ? {2'd0, dz4} : (dyn4 == 2'd2) ? {3'd0, dz4[4:1]} : 7'd0;
     wire signed [7:0] sh_raw = $signed({2'b00, i4[14:9]}) - $signed({1'b0, dyn_amt});
     wire [63:0] px = prod_q ^ {64{neg4}};     // -prod = ~prod + 1: the +1 is the carry in
+    wire [5:0]  sh_eff = sh_raw[7] ? 6'd0 : sh_raw[5:0];
     always @(posedge clk) begin
         if (en4)
             acc <= (clr4 ? 64'd0 : acc) + px + {63'd0, neg4};
-        sh_q <= sh_raw[7] ? 6'd0 : sh_raw[5:0];
+        sh_q <= sh_eff;
+        th32 <= 8'sd32 - $signed({2'b00, sh_eff});
+        th33 <= 8'sd31 - $signed({2'b00, sh_eff});
+        th16 <= 8'sd48 - $signed({2'b00, sh_eff});
+        th17 <= 8'sd47 - $signed({2'b00, sh_eff});
         i5 <= i4;
         v5 <= v4;
         if (rst)
@@ -252,25 +286,37 @@ module rls_engine #(
     end
 
     // ---- round and saturate ----------------------------------------------------------------------
-    // rnd_shr(v, s) = (v + 2**(s-1)) >> s = ((v << 1 >> s) + 1) >> 1 (s = 0 too): shift,
-    // then an increment. r fits OW bits when bits [65:OW] of t + 1 are sign copies; with c
-    // the carry out of t[OW-1:0], X = t[65:OW] + c is uniform for X in {0, -1} (c = 0) or
-    // X in {-1, -2} (c = 1).
-    wire signed [65:0] t = $signed({acc[63], acc, 1'b0}) >>> sh_q;
-    wire [65:0] t_inc = t + 66'd1;
-    wire c32 = &t[31:0];
-    wire c16 = &t[15:0];
-    wire fit32 = c32 ? ((&t[65:32]) || (&t[65:33] && !t[32]))
-                     : ((&t[65:32]) || !(|t[65:32]));
-    wire fit16 = c16 ? ((&t[65:16]) || (&t[65:17] && !t[16]))
-                     : ((&t[65:16]) || !(|t[65:16]));
+    // rnd_shr(v, s) = (v + 2**(s-1)) >> s = (t + 1) >> 1 with t = (v << 1) >>> s (s = 0
+    // too): the 34-bit window w = t[33:0] and an increment give the low 32 bits of the
+    // result. It fits OW bits when t[65:OW] + c is uniform, c the carry out of t[OW-1:0]
+    // (c = 1 exactly when t[OW-1:0] is all ones): for c = 0 when t[65:OW] is uniform, for
+    // c = 1 when t is negative and t[65:OW+1] is uniform. t[65:k] is uniform when the
+    // accumulator's leading sign bits reach down to bit k + s - 1: lsc >= 65 - k - s,
+    // lsc = the number of leading bits equal to acc[63] (1..64).
+    wire [96:0] t0 = {{32{acc[63]}}, acc, 1'b0};
+    wire [96:0] tw = t0 >> sh_q;              // the window's source bits are below 97
+    wire [33:0] w  = tw[33:0];
+    wire [33:0] w_inc = w + 34'd1;
+    // lsc - 1 = leading zeros of the bits that differ from the sign (a 1 below them keeps
+    // it defined when all 63 equal the sign: lsc = 64)
+    wire [5:0] lsc1 = lzc64({acc[62:0] ^ {63{acc[63]}}, 1'b1});
+    // uniform tops: lsc >= 65 - k - s <=> lsc1 >= 64 - k - s (thresholds from s, registered
+    // with it in the accumulate stage; negative ones hold for any lsc1)
+    wire       u32 = ($signed({2'b00, lsc1}) >= th32);   // t[65:32]
+    wire       u33 = ($signed({2'b00, lsc1}) >= th33);   // t[65:33]
+    wire       u16 = ($signed({2'b00, lsc1}) >= th16);   // t[65:16]
+    wire       u17 = ($signed({2'b00, lsc1}) >= th17);   // t[65:17]
+    wire       c32 = &w[31:0];
+    wire       c16 = &w[15:0];
+    wire       fit32 = c32 ? (acc[63] && u33) : u32;
+    wire       fit16 = c16 ? (acc[63] && u17) : u16;
     reg  signed [15:0] res16 = 0;
     reg         res16_sat = 1'b0;
     reg  [35:0] i6 = 0;
     reg         v6 = 1'b0;
     always @(posedge clk) begin
-        res_q <= fit32 ? t_inc[32:1] : (t[65] ? 32'sh80000000 : 32'sh7fffffff);
-        res16 <= fit16 ? t_inc[16:1] : (t[65] ? 16'sh8000 : 16'sh7fff);
+        res_q <= fit32 ? w_inc[32:1] : (acc[63] ? 32'sh80000000 : 32'sh7fffffff);
+        res16 <= fit16 ? w_inc[16:1] : (acc[63] ? 16'sh8000 : 16'sh7fff);
         res16_sat <= !fit16;
         if (v5 && i5[5] && !i5[6] && !fit32)
             sat_o <= 1'b1;
@@ -324,7 +370,7 @@ module rls_engine #(
     end
 
     wire unused = &{1'b0, i6[29:7], i6[4:3], i5[29:15], i5[4:0], i3[35:3], i2[35:16],
-                    i2[14:0], dz3, sh_raw[6], t_inc[65:33], t_inc[0], b1[5:3], a1[5:1],
-                    op2, i4[35:15], 1'b0};
+                    i2[14:0], dz3, sh_raw[6], w_inc[33], w_inc[0], tw[96:34], b1[5:3], a1[5:1],
+                    op2, i4[35:15], nz6[5], 1'b0};
 endmodule
 `resetall

@@ -101,6 +101,7 @@ class Config:
     TABLE: str = "exact"
     COUNT_W: int = 32
     G_INIT: int = 0
+    OPT_HARMONIC: int = 1    # 0: no harmonic compensation (rtl/phase.v), HARM reads 0
     interp: int = 100        # n, 1..511
     count_mode: int = 0      # CTRL bit 3: counter mode, 0 phase (4 n phase, nothing
                              # lost below half a period per sample), 1 edge (x4 of A/B)
@@ -257,7 +258,7 @@ class Core:
         phase = fr["phase"]
         # harmonic compensation between the fine phase and the counter (rtl/harmonic.v)
         learn = self._per_sample(cfg.harm_learn, n)
-        self.harm_used = self.harm_used or bool(np.any(learn))
+        self.harm_used = self.harm_used or (bool(np.any(learn)) and bool(cfg.OPT_HARMONIC))
         if self.harm_used:
             # arrivals on t + HARM_AT; a clear written on edge w is high on w + 1 (a clear
             # seen by an earlier piece is not repeated)

@@ -36,6 +36,7 @@ Programs:
   extract  theta -> the correction bundle m1, m2, c1, c12, c2 (OUT); invalid when theta
            is not an ellipse or a coefficient does not fit its format
 """
+import dataclasses
 from dataclasses import dataclass, field
 
 # ---- opcodes and fields (rtl/rls_engine.v decodes the same) -----------------------------
@@ -44,9 +45,11 @@ DYN_NONE, DYN_DZ, DYN_DZ2 = range(3)
 FIXED_ENTRY = {"reset": 0, "update": 32, "extract": 168}   # rtl/estimator.v ENTRY_*
 ROM_W = 36                     # instruction word width
 RF_DEPTH = 64                  # register file depth
-HAZARD = 5                     # a register written by the instruction in slot p may be
-                               # read by the instruction in slot p + HAZARD or later
-                               # (rtl/rls_engine.v forwards results 5 and 6 slots old)
+HAZARD_A = 5                   # a register written by the instruction in slot p may be
+HAZARD_B = 7                   # read as operand A by the instruction in slot p + HAZARD_A
+                               # or later (rtl/rls_engine.v forwards results 5 and 6 slots
+                               # old to A), as operand B from slot p + HAZARD_B on; the
+                               # scheduler swaps a product's operands where that helps
 
 # Special inputs (index >= 64), latched by the engine at program start or taken from the
 # estimator's stable registers. A may be X1 or X2; B may be any of them.
@@ -330,44 +333,72 @@ def _conflict(earlier: Group, later: Group) -> bool:
     return bool(lw & (er | ew) or lr & ew)
 
 
+def _ready_as(ready, r, which, slot):
+    """Register r may be read as operand `which` ('a' or 'b') in `slot`."""
+    if r in SPECIALS:
+        return True
+    t = ready.get(r)
+    return t is None or t[0 if which == "a" else 1] <= slot
+
+
+def _fit(ins: Instr, ready, slot):
+    """How ins can be issued in slot: 'keep', 'swap' (a MAC with its operands exchanged)
+    or None."""
+    dz_ok = all(_ready_as(ready, r, "a", slot) for r in ins.reads() if r.startswith("dz"))
+    if not dz_ok:
+        return None
+    if ins.op != OP_MAC:
+        return "keep" if all(_ready_as(ready, r, "a", slot) for r in ins.reads()) else None
+    if _ready_as(ready, ins.a, "a", slot) and _ready_as(ready, ins.b, "b", slot):
+        return "keep"
+    if (ins.b not in SPECIALS or ins.b in A_SPECIALS) and \
+            _ready_as(ready, ins.b, "a", slot) and _ready_as(ready, ins.a, "b", slot):
+        return "swap"
+    return None
+
+
 def schedule(prog: Asm) -> list[Instr]:
     """List scheduling of groups: a group may be issued before earlier groups it does not
     depend on; among the groups whose operands are ready, the one with the longest
-    dependent chain to the end goes first; NOPs fill slots where none is ready."""
+    dependent chain to the end goes first; NOPs fill slots where none is ready. A
+    product's operands are exchanged when that lets it issue earlier (the engine forwards
+    young results to operand A only)."""
     pending = list(prog.groups)
     end = pending.pop()                       # END stays last
     n = len(pending)
-    # height: the longest chain of results (HAZARD per step, plus the group's length)
+    # height: the longest chain of results (HAZARD_A per step, plus the group's length)
     # from a group to the end of the program
     height = [0] * n
     for i in range(n - 1, -1, -1):
         h = len(pending[i].instrs)
         for j in range(i + 1, n):
             if _conflict(pending[i], pending[j]):
-                h = max(h, len(pending[i].instrs) - 1 + HAZARD + height[j])
+                h = max(h, len(pending[i].instrs) - 1 + HAZARD_A + height[j])
         height[i] = h
     order = list(range(n))
     ready: dict = {}
     out: list[Instr] = []
     while order:
-        chosen = None
+        chosen, fits = None, None
         for pos, gi in enumerate(order):
             g = pending[gi]
             if any(_conflict(pending[e], g) for e in order[:pos]):
                 continue
             slot = len(out)
-            if all(ready.get(r, 0) <= slot + k
-                   for k, ins in enumerate(g.instrs) for r in ins.reads()):
-                if chosen is None or height[gi] > height[order[chosen]]:
-                    chosen = pos
+            f = [_fit(ins, ready, slot + k) for k, ins in enumerate(g.instrs)]
+            if all(f) and (chosen is None or height[gi] > height[order[chosen]]):
+                chosen, fits = pos, f
         if chosen is None:
             out.append(Instr(OP_NOP))
             continue
         g = pending[order.pop(chosen)]
-        for ins in g.instrs:
+        for ins, f in zip(g.instrs, fits):
+            if f == "swap":
+                ins = dataclasses.replace(ins, a=ins.b, b=ins.a)
             slot = len(out)
             for w in ins.writes():
-                ready[w] = slot + (1 if w.startswith("dz") else HAZARD)
+                ready[w] = (slot + 1, slot + 1) if w.startswith("dz") else \
+                    (slot + HAZARD_A, slot + HAZARD_B)
             out.append(ins)
     out.extend(end.instrs)   # END acts in the write-back stage, after every earlier write
     return out

@@ -48,20 +48,23 @@ def assert_near_floor(r, x, a, sig, start, pitch=4000.0, interp=100, limit=1.3):
 
 
 def test_program_is_hazard_free():
-    """Every register read comes HAZARD slots after the write that it depends on."""
-    last_write = {}
+    """Every register read as operand A comes HAZARD_A slots after the write it depends on
+    (the engine forwards to A), as operand B HAZARD_B slots after it; a dz is read after
+    the NORM that writes it."""
     for name, entry in program.ENTRY.items():
-        last_write.clear()
+        last_write = {}
         k = 0
         while True:
             f = program.decode(program.ROM[entry + k])
             if f["op"] == program.OP_END:
                 break
             if f["op"] != program.OP_NOP:
-                reads = [f["a"]] + ([f["b"]] if f["op"] == program.OP_MAC and f["b"] < 64 else [])
-                for r in reads:
-                    if r in last_write:
-                        assert k - last_write[r] >= program.HAZARD, (name, k, r)
+                reads = [(f["a"], program.HAZARD_A)]
+                if f["op"] == program.OP_MAC:
+                    reads.append((f["b"], program.HAZARD_B))
+                for r, hz in reads:
+                    if r < 64 and r in last_write:
+                        assert k - last_write[r] >= hz, (name, k, r)
                 if f["wb"] and not f["out"]:
                     last_write[f["dst"]] = k
             k += 1
