@@ -263,7 +263,6 @@ module rls_engine #(
     wire       clr4 = i4[3] || seed4;
     reg signed [63:0] acc = 0;
     reg [5:0]  sh_q = 0;
-    reg signed [7:0] th32 = 0, th33 = 0, th16 = 0, th17 = 0;   // 64 - k - s
     reg [35:0] i5 = 0;
     reg        v5 = 1'b0;
     wire [1:0] dyn4 = i4[8:7];
@@ -275,10 +274,6 @@ module rls_engine #(
         if (en4)
             acc <= (clr4 ? 64'd0 : acc) + px + {63'd0, neg4};
         sh_q <= sh_eff;
-        th32 <= 8'sd32 - $signed({2'b00, sh_eff});
-        th33 <= 8'sd31 - $signed({2'b00, sh_eff});
-        th16 <= 8'sd48 - $signed({2'b00, sh_eff});
-        th17 <= 8'sd47 - $signed({2'b00, sh_eff});
         i5 <= i4;
         v5 <= v4;
         if (rst)
@@ -286,37 +281,25 @@ module rls_engine #(
     end
 
     // ---- round and saturate ----------------------------------------------------------------------
-    // rnd_shr(v, s) = (v + 2**(s-1)) >> s = (t + 1) >> 1 with t = (v << 1) >>> s (s = 0
-    // too): the 34-bit window w = t[33:0] and an increment give the low 32 bits of the
-    // result. It fits OW bits when t[65:OW] + c is uniform, c the carry out of t[OW-1:0]
-    // (c = 1 exactly when t[OW-1:0] is all ones): for c = 0 when t[65:OW] is uniform, for
-    // c = 1 when t is negative and t[65:OW+1] is uniform. t[65:k] is uniform when the
-    // accumulator's leading sign bits reach down to bit k + s - 1: lsc >= 65 - k - s,
-    // lsc = the number of leading bits equal to acc[63] (1..64).
-    wire [96:0] t0 = {{32{acc[63]}}, acc, 1'b0};
-    wire [96:0] tw = t0 >> sh_q;              // the window's source bits are below 97
-    wire [33:0] w  = tw[33:0];
-    wire [33:0] w_inc = w + 34'd1;
-    // lsc - 1 = leading zeros of the bits that differ from the sign (a 1 below them keeps
-    // it defined when all 63 equal the sign: lsc = 64)
-    wire [5:0] lsc1 = lzc64({acc[62:0] ^ {63{acc[63]}}, 1'b1});
-    // uniform tops: lsc >= 65 - k - s <=> lsc1 >= 64 - k - s (thresholds from s, registered
-    // with it in the accumulate stage; negative ones hold for any lsc1)
-    wire       u32 = ($signed({2'b00, lsc1}) >= th32);   // t[65:32]
-    wire       u33 = ($signed({2'b00, lsc1}) >= th33);   // t[65:33]
-    wire       u16 = ($signed({2'b00, lsc1}) >= th16);   // t[65:16]
-    wire       u17 = ($signed({2'b00, lsc1}) >= th17);   // t[65:17]
-    wire       c32 = &w[31:0];
-    wire       c16 = &w[15:0];
-    wire       fit32 = c32 ? (acc[63] && u33) : u32;
-    wire       fit16 = c16 ? (acc[63] && u17) : u16;
+    // rnd_shr(v, s) = (v + 2**(s-1)) >> s = ((v << 1 >>> s) + 1) >> 1 (s = 0 too): shift,
+    // then an increment. r fits OW bits when bits [65:OW] of t + 1 are sign copies; with c
+    // the carry out of t[OW-1:0], X = t[65:OW] + c is uniform for X in {0, -1} (c = 0) or
+    // X in {-1, -2} (c = 1).
+    wire signed [65:0] t = $signed({acc[63], acc, 1'b0}) >>> sh_q;
+    wire [32:0] t_inc = t[32:0] + 33'd1;
+    wire c32 = &t[31:0];
+    wire c16 = &t[15:0];
+    wire fit32 = c32 ? ((&t[65:32]) || (&t[65:33] && !t[32]))
+                     : ((&t[65:32]) || !(|t[65:32]));
+    wire fit16 = c16 ? ((&t[65:16]) || (&t[65:17] && !t[16]))
+                     : ((&t[65:16]) || !(|t[65:16]));
     reg  signed [15:0] res16 = 0;
     reg         res16_sat = 1'b0;
     reg  [35:0] i6 = 0;
     reg         v6 = 1'b0;
     always @(posedge clk) begin
-        res_q <= fit32 ? w_inc[32:1] : (acc[63] ? 32'sh80000000 : 32'sh7fffffff);
-        res16 <= fit16 ? w_inc[16:1] : (acc[63] ? 16'sh8000 : 16'sh7fff);
+        res_q <= fit32 ? t_inc[32:1] : (t[65] ? 32'sh80000000 : 32'sh7fffffff);
+        res16 <= fit16 ? t_inc[16:1] : (t[65] ? 16'sh8000 : 16'sh7fff);
         res16_sat <= !fit16;
         if (v5 && i5[5] && !i5[6] && !fit32)
             sat_o <= 1'b1;
@@ -370,7 +353,7 @@ module rls_engine #(
     end
 
     wire unused = &{1'b0, i6[29:7], i6[4:3], i5[29:15], i5[4:0], i3[35:3], i2[35:16],
-                    i2[14:0], dz3, sh_raw[6], w_inc[33], w_inc[0], tw[96:34], b1[5:3], a1[5:1],
+                    i2[14:0], dz3, sh_raw[6], t_inc[0], b1[5:3], a1[5:1],
                     op2, i4[35:15], nz6[5], 1'b0};
 endmodule
 `resetall
