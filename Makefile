@@ -25,7 +25,7 @@ HDIR    := $(BUILD)/rtlsim_$(TABLE)_adc$(ADC_W)
 HARNESS := $(HDIR)/Vfinequad_core
 
 .PHONY: help deps demo rtlsim model test lint tables bitstream vcdcompare clean harnesses \
-        bench-accuracy limits
+        bench-accuracy limits formal
 
 help:            ## this list
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed 's/:.*## /\t/'
@@ -79,9 +79,13 @@ demo: deps harnesses ## main job: paper-like recording -> RTL == model, error vs
 bitstream:       ## Yosys + nextpnr-ice40 + icepack for the iCEBreaker; prints resources and Fmax
 	scripts/bitstream.sh $(BUILD)/bitstream
 
-test: deps lint harnesses ## all tests: lint, table check, model tests, cocotb (Icarus + Verilator)
+test: deps lint harnesses ## all tests: lint, table check, formal proofs, model tests, cocotb (Icarus + Verilator)
 	$(PY) scripts/gen_tables.py --check
+	$(PY) scripts/formal.py
 	$(PY) -m pytest -q sim/tests cocotb_tests
+
+formal: deps     ## formal proofs (SymbiYosys + z3): every task of sim/formal/*.sby
+	$(PY) scripts/formal.py
 
 VCDCMP  ?= $(BUILD)/vcdcompare
 SAMPLES ?= 20000

@@ -91,5 +91,91 @@ module abgen #(
         a_o = 1'b1; b_o = 1'b1; pos_o = {COUNT_W{1'b0}}; backlog_o = 16'sd0;
         ovf_o = 1'b0; ovf_sticky_o = 1'b0;
     end
+
+`ifdef FORMAL
+    // ---- formal properties (sim/formal/abgen.sby; every input free on every clock) ------------
+    //  P1 never both a_o and b_o change.
+    //  P2 the quadrant code {~b, a ^ b} of rtl/counter.v equals pos_o mod 4, so an x4
+    //     decoder counting a_o/b_o reads pos_o.
+    //  P3 pos_o moves by 0 or +-1, and only toward the target: by sign(target - pos) of the
+    //     edge (modular difference).
+    //  P4 an A/B edge only when at least max(sep, 1) clocks have passed since the last one
+    //     (a ghost timer from the A/B changes, independent of cnt).
+    //  P5 no pacing lost: target != pos and max(sep, 1) clocks passed -> pos moved.
+    //  P6 ovf_o == |target - pos| > bound on the edge; backlog_o == sat16(target - pos);
+    //     ovf_sticky_o == previous sticky | ovf_o.
+    //  P7 after rst: pos 0, A = B = 1, flags 0.
+    reg                      f_past_valid = 1'b0;
+    reg                      f_rst = 1'b0;
+    reg signed [COUNT_W-1:0] f_target = 0, f_pos = 0;
+    reg [7:0]                f_sep = 8'd0;
+    reg [15:0]               f_bound = 16'd0;
+    reg                      f_a = 1'b1, f_b = 1'b1, f_sticky = 1'b0;
+    reg [7:0]                f_cnt = 8'hFF;
+    always @(posedge clk) begin
+        f_past_valid <= 1'b1;
+        f_cnt    <= cnt;
+        f_rst    <= rst;
+        f_target <= target_i;
+        f_pos    <= pos_o;
+        f_sep    <= sep_i;
+        f_bound  <= bound_i;
+        f_a      <= a_o;
+        f_b      <= b_o;
+        f_sticky <= ovf_sticky_o;
+    end
+    wire                     f_achg = (a_o != f_a), f_bchg = (b_o != f_b);
+    wire                     f_edge = f_achg || f_bchg;
+    wire signed [COUNT_W-1:0] f_d = f_target - f_pos;          // modular, on the last edge
+    wire [COUNT_W:0]         f_absd = f_d[COUNT_W-1] ? -{f_d[COUNT_W-1], f_d} : {1'b0, f_d};
+    wire [7:0]               f_sep_e = (f_sep == 8'd0) ? 8'd1 : f_sep;
+    wire signed [15:0]       f_sat_d = (f_d > 32767) ? 16'sh7FFF : (f_d < -32768) ? 16'sh8000
+                                                                              : f_d[15:0];
+    wire signed [COUNT_W-1:0] f_dpos = pos_o - f_pos;
+    // after edge e: the clocks that had passed since the last A/B change when e was taken
+    // (saturating at 255; 255 after rst and at start)
+    reg [7:0] f_gap = 8'd255;
+    always @(posedge clk) begin
+        if (rst)
+            f_gap <= 8'd255;
+        else if (f_past_valid && !f_rst && f_edge)
+            f_gap <= 8'd1;
+        else if (f_gap != 8'd255)
+            f_gap <= f_gap + 8'd1;
+    end
+    always @(*) begin
+        if (f_past_valid && !f_rst) begin
+            assert (!(f_achg && f_bchg));                                        // P1
+            assert ({~b_o, a_o ^ b_o} == pos_o[1:0]);                            // P2
+            assert (f_dpos == 0 || (f_dpos == 1 && !f_d[COUNT_W-1] && f_d != 0)
+                    || (f_dpos == -1 && f_d[COUNT_W-1]));                        // P3
+            assert (f_edge == (f_dpos != 0));
+            if (f_edge)
+                assert (f_gap >= f_sep_e);                                       // P4
+            if (f_d != 0 && f_gap >= f_sep_e)
+                assert (f_edge);                                                 // P5
+            assert (ovf_o == (f_absd > {{(COUNT_W-15){1'b0}}, f_bound}));       // P6
+            assert (backlog_o == f_sat_d);
+            assert (ovf_sticky_o == (f_sticky | ovf_o));
+        end
+        if (f_past_valid && f_rst)
+            assert (pos_o == 0 && a_o && b_o && !ovf_o && !ovf_sticky_o
+                    && backlog_o == 0);                                          // P7
+        // the ghost timer is the block's own timer as it stood before the edge (an
+        // invariant for the induction; the ghost restarts with rst)
+        if (f_past_valid && !f_rst)
+            assert (f_gap == f_cnt);
+        assert ({~b_o, a_o ^ b_o} == pos_o[1:0]);
+    end
+    // reachability: a paced burst (an edge right at the separation after a long backlog),
+    // an overflow that clears, a reversal mid-backlog
+    always @(posedge clk) begin
+        if (f_past_valid && !f_rst) begin
+            cover (f_edge && f_sep_e == 8'd5 && f_gap == 8'd5 && f_absd > 3);
+            cover (f_sticky && !ovf_o && f_d != 0);
+            cover (f_edge && f_dpos == -1 && f_target > f_pos + 2);
+        end
+    end
+`endif
 endmodule
 `resetall
