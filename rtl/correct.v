@@ -10,17 +10,15 @@
 //        d    = sat16(x - m)                                  s1.15
 //        c1, c12, c2 registered with d (the DSP blocks' input registers)
 //   t+1  p1 = d1 c1, p12 = d1 c12, p2 = d2 c2                 s5.27 (three DSP products)
-//   t+2  r1 = floor((p1 + 2**12) / 2**13), r2 = floor((p12 + p2 + 2**12) / 2**13)
-//                                                             s2.14: round half up
-//        ax = min(|r1|, 32767), xn = r1 < 0; ay, yn from r2    u15 magnitude, sign
-// The magnitude of a negative r is formed beside r, not from it: with h = v >> 13,
-// r = h + v[12] and -r = ~h + !v[12], so the octant logic gets |r| in the same stage.
+//   t+2  v1 = p1, v2 = p12 + p2                               s6.27
+//        ax = min(32767, (v1 ^ s1) >> 13), xn = s1 = v1 < 0    u15 magnitude (s2.14
+//        ay, yn likewise from v2                              units: unit circle 16384)
 // Flags (registered with the values they describe):
 //   clip_o (t)   the code sits on an ADC rail
 //   nsat_o (t)   x leaves s1.15: the input gain saturates (the estimator excludes the
 //                sample and resets; the fast path still uses d)
 //   dsat_o (t)   x - m leaves s1.15 (d saturated)
-//   rsat_o (t+2) r1 or r2 leaves s16 (the corrected signal saturates)
+//   rsat_o (t+2) a magnitude reaches 2 (the corrected signal saturates)
 module correct #(
     // ADC word width, 12..16, two's complement
     parameter ADC_W = 16
@@ -100,28 +98,22 @@ module correct #(
         v1q <= valid0_o;
     end
 
-    // ---- t+2: rounding, magnitudes, signs --------------------------------------------------
-    // r = (v >> 13) + v[12] (round half up); r < 0 exactly when v < -4096; for r < 0,
-    // |r| = -r = ~(v >> 13) + !v[12]. Both increments run side by side after v's sum.
+    // ---- t+2: magnitudes and signs ---------------------------------------------------------
+    // v = p1 or p12 + p2 (s6.27); the octant logic takes |u| = floor(|v| / 2**13) as
+    // (v ^ sign) >> 13, so no carry chain follows the sum: for v < 0 this is
+    // floor((|v| - 1) / 2**13), 1 / 2**27 of a unit below |v|'s, and u is truncated, not
+    // rounded (a bias of half an LSB of the unit circle, 3e-5: 0.01 nm on a 4 um scale).
     wire signed [32:0] v1 = {p1[31], p1};
     wire signed [32:0] v2 = {p12[31], p12} + {p2[31], p2};
-    wire [19:0] h1 = v1[32:13], h2 = v2[32:13];          // v >> 13, s20
-    wire [20:0] rp1 = {h1[19], h1} + {20'd0, v1[12]};            // r, s21
-    wire [20:0] rn1 = ~{h1[19], h1} + {20'd0, !v1[12]};          // -r
-    wire [20:0] rp2 = {h2[19], h2} + {20'd0, v2[12]};
-    wire [20:0] rn2 = ~{h2[19], h2} + {20'd0, !v2[12]};
-    wire        n1 = rp1[20], n2 = rp2[20];                     // r < 0
-    wire [20:0] q1 = n1 ? rn1 : rp1;                            // |r|, u21
-    wire [20:0] q2 = n2 ? rn2 : rp2;
-    // r leaves s16: r >= 32768, or r <= -32769 (|r| >= 32769)
-    wire        o1 = (q1[20:15] != 6'd0) && (n1 ? (q1[20:15] != 6'd1 || q1[14:0] != 15'd0) : 1'b1);
-    wire        o2 = (q2[20:15] != 6'd0) && (n2 ? (q2[20:15] != 6'd1 || q2[14:0] != 15'd0) : 1'b1);
+    wire        n1 = v1[32], n2 = v2[32];                        // v < 0
+    wire [19:0] q1 = v1[32:13] ^ {20{n1}};                       // |u|, u20
+    wire [19:0] q2 = v2[32:13] ^ {20{n2}};
     always @(posedge clk) begin
-        ax_o <= (q1[20:15] != 6'd0) ? 15'h7fff : q1[14:0];
-        ay_o <= (q2[20:15] != 6'd0) ? 15'h7fff : q2[14:0];
+        ax_o <= (q1[19:15] != 5'd0) ? 15'h7fff : q1[14:0];
+        ay_o <= (q2[19:15] != 5'd0) ? 15'h7fff : q2[14:0];
         xn_o <= n1;
         yn_o <= n2;
-        rsat_o <= o1 || o2;
+        rsat_o <= (q1[19:15] != 5'd0) || (q2[19:15] != 5'd0);  // |u| >= 2 (32768)
         valid_o <= v1q;
     end
 
@@ -130,6 +122,6 @@ module correct #(
         dsat_o = 1'b0; valid_o = 1'b0; ax_o = 0; ay_o = 0; xn_o = 1'b0; yn_o = 1'b0;
         rsat_o = 1'b0;
     end
-    wire unused = &{1'b0, v1[11:0], v2[11:0], 1'b0};
+    wire unused = &{1'b0, v1[12:0], v2[12:0], 1'b0};
 endmodule
 `resetall

@@ -8,9 +8,9 @@ exactly what the RTL computes. Formats (sI.F: I integer bits including the sign)
   m       s1.15   offsets, normalised units                     (bundle)
   c       s4.12   correction coefficients c1, c12, c2           (bundle)
   d       s1.15   sat16(x - m)                                  (rtl/correct.v)
-  r       s2.14   corrected signals, round half up of the       (rtl/correct.v, Eq. 9)
-                  products / 2**13 (unit circle = 16384); the
-                  fast path keeps only |r| (u15, saturated) and the sign
+  u       s2.14   corrected signals (unit circle = 16384): the   (rtl/correct.v, Eq. 9)
+                  fast path keeps |u| = (v ^ sign) >> 13 (u15,
+                  saturated) and the sign of the products' sum v
   j       u11     octant-local table address: exact table       (rtl/octant.v, Table 2)
                   |small|/|large| in steps of 1/2048, paper table
                   |small| in steps of 1/2048 of the unit radius
@@ -45,22 +45,25 @@ def align(code, adc_w):
 
 def correct(u1r, u2r, g, m1, m2, c1, c12, c2):
     """Input gain, offsets and Eq. 9 as three products (rtl/correct.v):
-        x = u_raw * 2**g,  d = sat16(x - m),  u1c = c1 d1,  u2c = c12 d1 + c2 d2,
-        r = floor((product + 2**12) / 2**13)   (s2.14, round half up)
-    Returns a dict: ax, ay (u15: min(|r|, 32767)), xn, yn (r < 0), u1c, u2c (r
-    saturated to s16, for traces), nsat (x leaves s1.15), csat (d or r saturated)."""
+        x = u_raw * 2**g,  d = sat16(x - m),  v1 = c1 d1,  v2 = c12 d1 + c2 d2  (s6.27),
+        |u| = (v ^ sign) >> 13 (s2.14 units: floor(|v| / 2**13) for v >= 0, of
+        (|v| - 1) for v < 0; no carry after the sum), saturated to 32767.
+    Returns a dict: ax, ay (u15), xn, yn (v < 0), u1c, u2c (+-|u|, for traces), nsat (x
+    leaves s1.15), csat (d saturated, or |u| reached 32768)."""
     g = np.asarray(g, dtype=I64)
     x1, x2 = np.asarray(u1r, dtype=I64) << g, np.asarray(u2r, dtype=I64) << g
     e1, e2 = x1 - m1, x2 - m2
     d1, d2 = _sat(e1, 16), _sat(e2, 16)
-    r1 = (d1 * c1 + 4096) >> 13
-    r2 = (d1 * c12 + d2 * c2 + 4096) >> 13
-    u1c, u2c = _sat(r1, 16), _sat(r2, 16)
+    v1 = d1 * c1
+    v2 = d1 * c12 + d2 * c2
+    q1 = (v1 ^ (v1 >> 63)) >> 13
+    q2 = (v2 ^ (v2 >> 63)) >> 13
+    ax, ay = np.minimum(q1, 32767), np.minimum(q2, 32767)
+    xn, yn = (v1 < 0).astype(I64), (v2 < 0).astype(I64)
     nsat = (x1 != _sat(x1, 16)) | (x2 != _sat(x2, 16))
-    csat = (d1 != e1) | (d2 != e2) | (u1c != r1) | (u2c != r2)
-    return dict(ax=np.minimum(np.abs(r1), 32767), ay=np.minimum(np.abs(r2), 32767),
-                xn=(r1 < 0).astype(I64), yn=(r2 < 0).astype(I64), u1c=u1c, u2c=u2c,
-                nsat=nsat, csat=csat)
+    csat = (d1 != e1) | (d2 != e2) | (q1 > 32767) | (q2 > 32767)
+    return dict(ax=ax, ay=ay, xn=xn, yn=yn, u1c=np.where(xn == 1, -ax, ax),
+                u2c=np.where(yn == 1, -ay, ay), nsat=nsat, csat=csat)
 
 
 _RECIP = np.array(recip_table(), dtype=I64)
