@@ -38,17 +38,21 @@ module abgen #(
     output reg                       ovf_o,        // |target - pos| > bound (registered)
     output reg                       ovf_sticky_o  // ovf seen since rst
 );
-    // d = target - pos, s(COUNT_W).0 modular
+    // d = target - pos, s(COUNT_W).0 modular; whether it is zero comes from an equality
+    // tree beside the subtraction, and pos +- 1 from the register, so a step only waits
+    // for d's sign
     wire signed [COUNT_W-1:0] d = target_i - pos_o;
     wire        neg = d[COUNT_W-1];
-    wire        nz  = |d;
+    wire        nz  = (target_i != pos_o);
 
     // timer: u8 clocks since the last edge, 1..255 (saturating)
     reg  [7:0]  cnt = 8'hFF;
     wire        step = nz && (cnt >= sep_i);
 
     // next position and its A/B (quadrant q = pos mod 4)
-    wire [COUNT_W-1:0] pos_n = pos_o + {{(COUNT_W-1){neg}}, 1'b1};   // pos +- 1
+    wire [COUNT_W-1:0] pos_up = pos_o + 1'b1;
+    wire [COUNT_W-1:0] pos_dn = pos_o - 1'b1;
+    wire [COUNT_W-1:0] pos_n = neg ? pos_dn : pos_up;
     wire [1:0]         q_n   = pos_n[1:0];
 
     // |d| > bound: with m = d ^ {sign} (= d if d >= 0, = |d| - 1 if d < 0)
