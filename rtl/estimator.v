@@ -25,11 +25,7 @@ module estimator #(
     // updates after power-up before the input gain is checked (reset if it changes)
     parameter WARMUP = 64,
     // edges from a sample's arrival (smp_valid_i) to its fine phase (ph_valid_i)
-    parameter PH_DELAY = 5,
-    // program entries (sim/model/program.py ENTRY)
-    parameter [7:0] ENTRY_RESET = 8'd0,
-    parameter [7:0] ENTRY_UPDATE = 8'd32,
-    parameter [7:0] ENTRY_EXTRACT = 8'd168
+    parameter PH_DELAY = 5
 ) (
     input  wire               clk,
     input  wire               rst,
@@ -62,6 +58,7 @@ module estimator #(
     output reg  [15:0]        jumps_o,     // jumps detected (wraps)
     output wire               sat_o        // engine saturated a register (sticky)
 );
+`include "rls_entries.vh"                  // ENTRY_RESET, _UPDATE, _EXTRACT (program.py)
     reg [1:0]  g_eng = G_INIT;
     reg [14:0] peak = 0;
     reg        reset_pend = 1'b1;

@@ -14,13 +14,15 @@
 //   S+k+2  operands   opa/opb   (forwarded result, register, or special input); NORM,
 //                     CHK on A; the seed table read with A's bits
 //   S+k+3  multiply   four 16x16 partial products (DSP blocks); the seed
-//   S+k+4  product    prod_q    <= {hh, ll} + ((hl + lh) << 16), or the seed << 15
+//   S+k+4  product    prod_q    <= {hh, ll} + (hl << 16) + (lh << 16) (carry save, one
+//                     carry chain), or the seed << 15
 //   S+k+5  accumulate acc       <= (clr ? 0 : acc) +- prod_q; shift sh - dyn
-//   S+k+6  round      res_q     <= sat32(rnd(acc >>> shift)), and the 16-bit OUT value
-//   S+k+7  write      rf[dst] / out[dst] <= res; END: the program ends
-// A register written in slot k is read from the register file from slot k + 7 on; as
-// operand A it is forwarded from the round (slot k + 5) and write (slot k + 6) stages, so
-// slot k + 5 may use it (program.HAZARD_A = 5, HAZARD_B = 7).
+//   S+k+6  shift      t_q       <= (acc << 1) >>> shift
+//   S+k+7  round      res_q     <= sat32((t_q + 1) >>> 1), and the 16-bit OUT value
+//   S+k+8  write      rf[dst] / out[dst] <= res; END: the program ends
+// A register written in slot k is read from the register file from slot k + 8 on; as
+// operand A it is forwarded from the round (slot k + 6) and write (slot k + 7) stages, so
+// slot k + 6 may use it (program.HAZARD_A = 6, HAZARD_B = 8).
 // Special inputs (latched on start_i): X1, X2 (s2.30 from the s1.15 sample), ONEL
 // (s9.23, 1 + 2**-k, or 1 when freeze_i), KAPPA (s9.23), GS1, GS2 (s8.24, 2**-dg,
 // 2**-2dg). A may be a register, X1 or X2; B any register or special.
@@ -159,7 +161,7 @@ module rls_engine #(
     end
 
     // ---- operands: forwarding, specials, NORM, CHK, seed ------------------------------------
-    // results in flight: res_q (round stage, slot - 5) and res_w (write stage, slot - 6)
+    // results in flight: res_q (round stage, slot - 6) and res_w (write stage, slot - 7)
     reg signed [31:0] res_q = 0, res_w = 0;
     reg        fw6 = 1'b0, fw7 = 1'b0;    // res_q / res_w is a register write
     reg [5:0]  fd6 = 0, fd7 = 0;          // its destination
@@ -237,17 +239,21 @@ module rls_engine #(
     end
     wire [2:0] op3 = i3[2:0];
 
-    // ---- product: {hh, ll} + (hl + lh) << 16, or the seed (s2.30) -------------------------------
+    // ---- product: {hh, ll} + (hl + lh) << 16 (carry save, then one chain), or the seed --------
     reg signed [63:0] prod_q = 0;
     reg [35:0] i4 = 0;
     reg        v4 = 1'b0;
     reg [4:0]  dz4 = 0;
-    wire signed [32:0] mid = $signed({pp_hl[31], pp_hl}) + $signed({pp_lh[31], pp_lh});
+    wire [47:0] pa = {pp_hh, pp_ll[31:16]};                             // bits 63..16
+    wire [47:0] pb = {{16{pp_hl[31]}}, pp_hl};
+    wire [47:0] pc = {{16{pp_lh[31]}}, pp_lh};
+    wire [47:0] cs_s = pa ^ pb ^ pc;
+    wire [47:0] cs_c = {(pa[46:0] & pb[46:0]) | (pa[46:0] & pc[46:0]) | (pb[46:0] & pc[46:0]), 1'b0};
     always @(posedge clk) begin
         if (op3 == OP_SEEDR || op3 == OP_SEEDS)
             prod_q <= {33'd0, seed3, 15'd0};
         else
-            prod_q <= $signed({pp_hh, pp_ll}) + $signed({{15{mid[32]}}, mid, 16'd0});
+            prod_q <= {cs_s + cs_c, pp_ll[15:0]};
         i4  <= i3;
         v4  <= v3;
         dz4 <= dz3;
@@ -280,33 +286,42 @@ module rls_engine #(
             v5 <= 1'b0;
     end
 
-    // ---- round and saturate ----------------------------------------------------------------------
+    // ---- shift, then round and saturate -----------------------------------------------------------
     // rnd_shr(v, s) = (v + 2**(s-1)) >> s = ((v << 1 >>> s) + 1) >> 1 (s = 0 too): shift,
     // then an increment. r fits OW bits when bits [65:OW] of t + 1 are sign copies; with c
     // the carry out of t[OW-1:0], X = t[65:OW] + c is uniform for X in {0, -1} (c = 0) or
     // X in {-1, -2} (c = 1).
-    wire signed [65:0] t = $signed({acc[63], acc, 1'b0}) >>> sh_q;
-    wire [32:0] t_inc = t[32:0] + 33'd1;
-    wire c32 = &t[31:0];
-    wire c16 = &t[15:0];
-    wire fit32 = c32 ? ((&t[65:32]) || (&t[65:33] && !t[32]))
-                     : ((&t[65:32]) || !(|t[65:32]));
-    wire fit16 = c16 ? ((&t[65:16]) || (&t[65:17] && !t[16]))
-                     : ((&t[65:16]) || !(|t[65:16]));
+    reg signed [65:0] t_q = 0;
+    reg  [35:0] i5b = 0;
+    reg         v5b = 1'b0;
+    always @(posedge clk) begin
+        t_q <= $signed({acc[63], acc, 1'b0}) >>> sh_q;
+        i5b <= i5;
+        v5b <= v5;
+        if (rst)
+            v5b <= 1'b0;
+    end
+    wire [32:0] t_inc = t_q[32:0] + 33'd1;
+    wire c32 = &t_q[31:0];
+    wire c16 = &t_q[15:0];
+    wire fit32 = c32 ? ((&t_q[65:32]) || (&t_q[65:33] && !t_q[32]))
+                     : ((&t_q[65:32]) || !(|t_q[65:32]));
+    wire fit16 = c16 ? ((&t_q[65:16]) || (&t_q[65:17] && !t_q[16]))
+                     : ((&t_q[65:16]) || !(|t_q[65:16]));
     reg  signed [15:0] res16 = 0;
     reg         res16_sat = 1'b0;
     reg  [35:0] i6 = 0;
     reg         v6 = 1'b0;
     always @(posedge clk) begin
-        res_q <= fit32 ? t_inc[32:1] : (t[65] ? 32'sh80000000 : 32'sh7fffffff);
-        res16 <= fit16 ? t_inc[16:1] : (t[65] ? 16'sh8000 : 16'sh7fff);
+        res_q <= fit32 ? t_inc[32:1] : (t_q[65] ? 32'sh80000000 : 32'sh7fffffff);
+        res16 <= fit16 ? t_inc[16:1] : (t_q[65] ? 16'sh8000 : 16'sh7fff);
         res16_sat <= !fit16;
-        if (v5 && i5[5] && !i5[6] && !fit32)
+        if (v5b && i5b[5] && !i5b[6] && !fit32)
             sat_o <= 1'b1;
-        fw6 <= v5 && i5[5] && !i5[6];
-        fd6 <= i5[35:30];
-        i6 <= i5;
-        v6 <= v5;
+        fw6 <= v5b && i5b[5] && !i5b[6];
+        fd6 <= i5b[35:30];
+        i6 <= i5b;
+        v6 <= v5b;
         if (rst) begin
             v6 <= 1'b0;
             fw6 <= 1'b0;
@@ -352,7 +367,7 @@ module rls_engine #(
         busy_o = 1'b0; out_o = 0; sat_o = 1'b0;
     end
 
-    wire unused = &{1'b0, i6[29:7], i6[4:3], i5[29:15], i5[4:0], i3[35:3], i2[35:16],
+    wire unused = &{1'b0, i6[29:7], i6[4:3], i5b[29:15], i5b[4:0], i5[29:7], i5[4:0], i3[35:3], i2[35:16],
                     i2[14:0], dz3, sh_raw[6], t_inc[0], b1[5:3], a1[5:1],
                     op2, i4[35:15], nz6[5], 1'b0};
 endmodule

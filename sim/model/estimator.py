@@ -17,8 +17,9 @@ _H64 = 1 << (ACC_W - 1)
 
 # The instruction in slot k of a program started on edge S writes its result on edge
 # S + k + PIPE (rtl/rls_engine.v: fetch, read, operands, multiply, product, accumulate,
-# round, write); END in slot k ends the program (busy clears, commit) on edge S + k + PIPE.
-PIPE = 7
+# shift, round, write); END in slot k ends the program (busy clears, commit) on edge
+# S + k + PIPE.
+PIPE = 8
 
 
 def program_cycles(entry: str) -> int:

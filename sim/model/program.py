@@ -42,12 +42,11 @@ from dataclasses import dataclass, field
 # ---- opcodes and fields (rtl/rls_engine.v decodes the same) -----------------------------
 OP_NOP, OP_MAC, OP_NORMR, OP_NORMS, OP_SEEDR, OP_SEEDS, OP_CHK, OP_END = range(8)
 DYN_NONE, DYN_DZ, DYN_DZ2 = range(3)
-FIXED_ENTRY = {"reset": 0, "update": 32, "extract": 168}   # rtl/estimator.v ENTRY_*
 ROM_W = 36                     # instruction word width
 RF_DEPTH = 64                  # register file depth
-HAZARD_A = 5                   # a register written by the instruction in slot p may be
-HAZARD_B = 7                   # read as operand A by the instruction in slot p + HAZARD_A
-                               # or later (rtl/rls_engine.v forwards results 5 and 6 slots
+HAZARD_A = 6                   # a register written by the instruction in slot p may be
+HAZARD_B = 8                   # read as operand A by the instruction in slot p + HAZARD_A
+                               # or later (rtl/rls_engine.v forwards results 6 and 7 slots
                                # old to A), as operand B from slot p + HAZARD_B on; the
                                # scheduler swaps a product's operands where that helps
 
@@ -434,11 +433,7 @@ def build():
              "extract": extract_program()}
     regs = allocate(progs.values())
     rom, entry = [], {}
-    for name, p in progs.items():
-        if name in FIXED_ENTRY:
-            if len(rom) > FIXED_ENTRY[name]:
-                raise ValueError(f"program before '{name}' overlaps its entry {FIXED_ENTRY[name]}")
-            rom += [encode(Instr(OP_NOP), regs)] * (FIXED_ENTRY[name] - len(rom))
+    for name, p in progs.items():           # packed; rtl/tables/rls_entries.vh tells the RTL
         entry[name] = len(rom)
         rom += [encode(i, regs) for i in schedule(p)]
     init = [0] * RF_DEPTH
