@@ -11,9 +11,9 @@
 // Pipeline of an instruction in slot k of a program started on edge S:
 //   S+k    fetch      instr_q   <= rom[entry + k]
 //   S+k+1  read       rda/rdb   <= rf[a], rf[b]
-//   S+k+2  operands   opa/opb   (forwarded result, register, or special input); NORM,
-//                     CHK on A; the seed table read with A's bits
-//   S+k+3  multiply   four 16x16 partial products (DSP blocks); the seed
+//   S+k+2  operands   opa/opb   (forwarded result, register, or special input); the
+//                     seed table read with A's bits
+//   S+k+3  multiply   four 16x16 partial products (DSP blocks); the seed; NORM, CHK on A
 //   S+k+4  product    prod_q    <= {hh, ll} + (hl << 16) + (lh << 16) (carry save, one
 //                     carry chain), or the seed << 15
 //   S+k+5  accumulate acc       <= (clr ? 0 : acc) +- prod_q; shift sh - dyn
@@ -184,36 +184,43 @@ module rls_engine #(
         endcase
     end
     wire [2:0] op1 = i1[2:0];
-    wire       a_pos = !av[31] && (|av[30:0]);
-    // leading zeros of A (A > 0) minus one: the left shift that puts the MSB at bit 30
-    wire [5:0] nz6 = lzc64({av[30:0], 1'b1, 32'd0});
-    wire [4:0] nz = nz6[4:0];
-    reg  [4:0] dz0 = 0, dz1 = 0;
     reg  signed [31:0] opa_q = 0, opb_q = 0;
     reg  [15:0] seed_q = 0;
     reg  [35:0] i2 = 0;
     reg         v2 = 1'b0;
-    reg         inval_q = 1'b0;
-    wire        norm1 = v1 && (op1 == OP_NORMR || op1 == OP_NORMS);
-    wire [4:0]  dzn = a_pos ? (op1 == OP_NORMS ? {nz[4:1], 1'b0} : nz) : 5'd0;
     always @(posedge clk) begin
         opa_q  <= av;
         opb_q  <= bv;
         seed_q <= seeds_rom[(op1 == OP_SEEDS) ? {1'b1, av[30:24]} : {1'b0, av[29:23]}];
-        if (norm1 && !i1[15])
-            dz0 <= dzn;
-        if (norm1 && i1[15])
-            dz1 <= dzn;
         i2 <= i1;
         v2 <= v1;
+        if (rst)
+            v2 <= 1'b0;
+    end
+
+    // ---- NORM and CHK, on the registered operand (the multiply stage) -----------------------
+    // A NORM's dz is written on the edge that samples the next slot's dz (dz3 below), so the
+    // next slot sees it. Leading zeros of A (A > 0) minus one: the left shift that puts the
+    // MSB at bit 30.
+    wire [2:0]  op2 = i2[2:0];
+    wire        a_pos = !opa_q[31] && (|opa_q[30:0]);
+    wire [5:0]  nz6 = lzc64({opa_q[30:0], 1'b1, 32'd0});
+    wire [4:0]  nz = nz6[4:0];
+    wire        norm2 = v2 && (op2 == OP_NORMR || op2 == OP_NORMS);
+    wire [4:0]  dzn = a_pos ? (op2 == OP_NORMS ? {nz[4:1], 1'b0} : nz) : 5'd0;
+    reg  [4:0]  dz0 = 0, dz1 = 0;
+    reg         inval_q = 1'b0;
+    always @(posedge clk) begin
+        if (norm2 && !i2[15])
+            dz0 <= dzn;
+        if (norm2 && i2[15])
+            dz1 <= dzn;
         if (start_i)
             inval_q <= 1'b0;
-        else if (v1 && (op1 == OP_NORMR || op1 == OP_NORMS || op1 == OP_CHK) && !a_pos)
+        else if (v2 && (op2 == OP_NORMR || op2 == OP_NORMS || op2 == OP_CHK) && !a_pos)
             inval_q <= 1'b1;
         else if (wb6 && i6[6] && res16_sat)
             inval_q <= 1'b1;
-        if (rst)
-            v2 <= 1'b0;
     end
 
     // ---- multiply: four registered 16x16 partial products ---------------------------------------
@@ -224,7 +231,6 @@ module rls_engine #(
     reg [35:0] i3 = 0;
     reg        v3 = 1'b0;
     reg [4:0]  dz3 = 0;
-    wire [2:0] op2 = i2[2:0];
     always @(posedge clk) begin
         pp_ll <= $signed({1'b0, opa_q[15:0]}) * $signed({1'b0, opb_q[15:0]});
         pp_lh <= $signed({1'b0, opa_q[15:0]}) * $signed(opb_q[31:16]);
