@@ -82,11 +82,21 @@ module rls_engine #(
     end
     wire signed [31:0] x1_30 = {sp_x1[15], sp_x1, 15'd0};                  // s2.30
     wire signed [31:0] x2_30 = {sp_x2[15], sp_x2, 15'd0};
-    wire signed [31:0] onel = (32'sd1 <<< 23) | (sp_frz ? 32'sd0 : (32'sd1 <<< (5'd23 - sp_k)));
+    // the powers of two, decoded one bit at a time (a shifter here was the UP5K's
+    // critical path): ONEL = 2**23 + 2**(23 - k) (or 2**23 when frozen), GS1 = 2**(24 - dg),
+    // GS2 = 2**(24 - 2 dg)
+    reg [31:0] onel, gs1, gs2;
+    wire signed [31:0] dgi = {{29{sp_dg[2]}}, sp_dg};
+    wire signed [31:0] ki = {27'd0, sp_k};
+    integer bi;
+    always @* begin
+        for (bi = 0; bi < 32; bi = bi + 1) begin
+            onel[bi] = (bi == 23) || (!sp_frz && ki == 23 - bi);
+            gs1[bi]  = (dgi == 24 - bi);
+            gs2[bi]  = (dgi + dgi == 24 - bi);
+        end
+    end
     wire signed [31:0] kap = {1'b0, sp_kappa, 15'd0};                       // s9.23
-    wire signed [5:0]  dg6 = {{3{sp_dg[2]}}, sp_dg};
-    wire signed [31:0] gs1 = 32'sd1 <<< (6'sd24 - dg6);                     // s8.24
-    wire signed [31:0] gs2 = 32'sd1 <<< (6'sd24 - (dg6 <<< 1));
 
     // leading zeros of a byte, then of 64 bits from the first non-zero byte (a two-level
     // tree: a byte priority and a byte count side by side)
