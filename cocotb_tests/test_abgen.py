@@ -9,8 +9,9 @@ the same stream). Independently of the model, in this file:
   * no two edges closer than sep clocks (sep of the later edge, 0 as 1);
   * no pacing lost: when the decoder is off the target and sep clocks have passed since
     the last edge, an edge happens (the backlog is paid at the maximum allowed rate);
-  * ovf_o == |target_i - pos| > bound_i with pos the decoder count before the edge,
-    backlog_o == that difference saturated to s16, ovf_sticky_o == OR of ovf_o since rst.
+  * ovf_o == |target_i - pos| > bound_i of the edge before (pos the decoder count before
+    that edge; 0 on the first edge after rst), backlog_o == that difference saturated to
+    s16, ovf_sticky_o == OR of ovf_o since rst.
 Streams: slow moves, jumps of thousands of counts, reversals mid-backlog, sep changes
 (0, 1, 2..7, 255), bounds small enough that ovf toggles, rst in the middle of a backlog,
 backlog saturation, a modular (short-way) difference at COUNT_W = 18."""
@@ -223,6 +224,7 @@ async def abgen_streams(dut):
     last_edge = None
     sticky = 0
     n_edges = 0
+    prev_diff, prev_bound = 0, 0          # the edge before (its flags show on this one)
     for i in range(n):
         dut.rst.value = S.rst[i]
         dut.target_i.value = S.target[i] & ((1 << cw) - 1)
@@ -237,17 +239,20 @@ async def abgen_streams(dut):
         a, b, pos, backlog, ovf, stk = got
         if S.rst[i]:
             prev_ab, dec, last_edge, sticky = (a, b), 0, None, 0
+            prev_diff, prev_bound = 0, 0
             if (a, b) != (1, 1) or pos != 0:
                 bad.append(f"clock {i}: after rst a={a} b={b} pos={pos}")
             continue
         # ---- independent checks
         dec_before = dec
         diff = wrapw(S.target[i] - dec_before, cw)     # target - pos on this edge
-        if ovf != int(abs(diff) > S.bound[i]):
-            bad.append(f"clock {i}: ovf_o={ovf}, |{S.target[i]} - {dec_before}| vs "
-                       f"bound {S.bound[i]}")
-        if backlog != max(-32768, min(32767, diff)):
-            bad.append(f"clock {i}: backlog_o={backlog}, target - pos = {diff}")
+        if ovf != int(abs(prev_diff) > prev_bound):
+            bad.append(f"clock {i}: ovf_o={ovf}, the edge before: |target - pos| = "
+                       f"{abs(prev_diff)} vs bound {prev_bound}")
+        if backlog != max(-32768, min(32767, prev_diff)):
+            bad.append(f"clock {i}: backlog_o={backlog}, the edge before: target - pos = "
+                       f"{prev_diff}")
+        prev_diff, prev_bound = diff, S.bound[i]
         sticky |= ovf
         if stk != sticky:
             bad.append(f"clock {i}: ovf_sticky_o={stk}, OR of ovf_o = {sticky}")

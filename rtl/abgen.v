@@ -12,9 +12,10 @@
 //   (a_o, b_o) <= AB(pos) with AB(q) for q = pos mod 4: 0 (1,1), 1 (0,1), 2 (0,0), 3 (1,0)
 //   i.e. the quadrant code {~b, a ^ b} of rtl/counter.v (edge mode) is pos mod 4: one of
 //   A/B toggles per step, never both; counting up is (1,1)->(0,1)->(0,0)->(1,0)->(1,1).
-//   backlog_o <= sat16(d),  ovf_o <= |d| > bound_i,  ovf_sticky_o <= ovf_sticky_o | that
-// backlog_o and ovf_o describe the distance on the edge, before that edge's step:
-// after edge e, backlog_o = target_i(e) - pos_o(after edge e-1).
+//   d_q <= d,  bound_q <= bound_i;  from those (the edge before):
+//   backlog_o <= sat16(d_q),  ovf_o <= |d_q| > bound_q,  ovf_sticky_o <= ovf_sticky_o | that
+// backlog_o and ovf_o describe the distance one edge before, before that edge's step:
+// after edge e, backlog_o = target_i(e-1) - pos_o(after edge e-2) (0 after rst).
 // d is the modular difference, so a wrapping target (a counter running over 2^COUNT_W)
 // is followed the short way; it equals the plain difference while |target - pos| stays
 // below 2^(COUNT_W-1). Nothing is lost: the backlog is paid at one count per sep clocks.
@@ -55,18 +56,23 @@ module abgen #(
     wire [COUNT_W-1:0] pos_n = neg ? pos_dn : pos_up;
     wire [1:0]         q_n   = pos_n[1:0];
 
+    // the flags come from d registered (one edge later: the subtraction and the
+    // comparison in one clock were the UP5K's critical path)
+    reg signed [COUNT_W-1:0] d_q = 0;
+    reg        [15:0]        bound_q = 16'd0;
+    wire       neg_q = d_q[COUNT_W-1];
     // |d| > bound: with m = d ^ {sign} (= d if d >= 0, = |d| - 1 if d < 0)
     //   d >= 0: m > bound  <=> m + ~bound     >= 2^16 (or m >= 2^16)
     //   d <  0: m >= bound <=> m + ~bound + 1 >= 2^16 (or m >= 2^16)
-    wire [COUNT_W-1:0] m = d ^ {COUNT_W{neg}};
+    wire [COUNT_W-1:0] m = d_q ^ {COUNT_W{neg_q}};
     /* verilator lint_off UNUSEDSIGNAL */
-    wire [16:0]        cmp = {1'b0, m[15:0]} + {1'b0, ~bound_i} + {16'd0, neg};
+    wire [16:0]        cmp = {1'b0, m[15:0]} + {1'b0, ~bound_q} + {16'd0, neg_q};
     /* verilator lint_on UNUSEDSIGNAL */
     wire               ovf_n = (|m[COUNT_W-1:16]) | cmp[16];  // only the carry is used
 
     // backlog: d saturated to s16
     wire        fits = (m[COUNT_W-1:15] == {(COUNT_W-15){1'b0}});
-    wire [15:0] bl_n = fits ? d[15:0] : {neg, {15{~neg}}};
+    wire [15:0] bl_n = fits ? d_q[15:0] : {neg_q, {15{~neg_q}}};
 
     always @(posedge clk) begin
         if (step) begin
@@ -77,6 +83,8 @@ module abgen #(
         end else if (cnt != 8'hFF) begin
             cnt   <= cnt + 8'd1;
         end
+        d_q          <= d;
+        bound_q      <= bound_i;
         backlog_o    <= bl_n;
         ovf_o        <= ovf_n;
         ovf_sticky_o <= ovf_sticky_o | ovf_n;
@@ -85,6 +93,7 @@ module abgen #(
             a_o          <= 1'b1;
             b_o          <= 1'b1;
             cnt          <= 8'hFF;
+            d_q          <= {COUNT_W{1'b0}};
             backlog_o    <= 16'sd0;
             ovf_o        <= 1'b0;
             ovf_sticky_o <= 1'b0;
@@ -106,8 +115,8 @@ module abgen #(
     //  P4 an A/B edge only when at least max(sep, 1) clocks have passed since the last one
     //     (a ghost timer from the A/B changes, independent of cnt).
     //  P5 no pacing lost: target != pos and max(sep, 1) clocks passed -> pos moved.
-    //  P6 ovf_o == |target - pos| > bound on the edge; backlog_o == sat16(target - pos);
-    //     ovf_sticky_o == previous sticky | ovf_o.
+    //  P6 ovf_o == |target - pos| > bound on the edge before; backlog_o == sat16(target -
+    //     pos) of that edge; ovf_sticky_o == previous sticky | ovf_o.
     //  P7 after rst: pos 0, A = B = 1, flags 0.
     reg                      f_past_valid = 1'b0;
     reg                      f_rst = 1'b0;
@@ -116,9 +125,17 @@ module abgen #(
     reg [15:0]               f_bound = 16'd0;
     reg                      f_a = 1'b1, f_b = 1'b1, f_sticky = 1'b0;
     reg [7:0]                f_cnt = 8'hFF;
+    reg                      f_rst2 = 1'b1;               // rst two edges back (or start)
+    reg [COUNT_W:0]          f_absd2 = 0;                 // |d| and bound of the edge before
+    reg [15:0]               f_bound2 = 16'd0;
+    reg signed [15:0]        f_sat_d2 = 16'sd0;
     always @(posedge clk) begin
         f_past_valid <= 1'b1;
         f_cnt    <= cnt;
+        f_rst2   <= f_rst || !f_past_valid;
+        f_absd2  <= f_absd;
+        f_bound2 <= f_bound;
+        f_sat_d2 <= f_sat_d;
         f_rst    <= rst;
         f_target <= target_i;
         f_pos    <= pos_o;
@@ -158,13 +175,18 @@ module abgen #(
                 assert (f_gap >= f_sep_e);                                       // P4
             if (f_d != 0 && f_gap >= f_sep_e)
                 assert (f_edge);                                                 // P5
-            assert (ovf_o == (f_absd > {{(COUNT_W-15){1'b0}}, f_bound}));       // P6
-            assert (backlog_o == f_sat_d);
+            if (!f_rst2) begin
+                assert (ovf_o == (f_absd2 > {{(COUNT_W-15){1'b0}}, f_bound2}));  // P6
+                assert (backlog_o == f_sat_d2);
+            end
             assert (ovf_sticky_o == (f_sticky | ovf_o));
         end
         if (f_past_valid && f_rst)
             assert (pos_o == 0 && a_o && b_o && !ovf_o && !ovf_sticky_o
-                    && backlog_o == 0);                                          // P7
+                    && backlog_o == 0 && d_q == 0);                              // P7
+        // the registered distance is the one of the edge before (induction invariant)
+        if (f_past_valid && !f_rst)
+            assert (d_q == f_d);
         // the ghost timer is the block's own timer as it stood before the edge (an
         // invariant for the induction; the ghost restarts with rst)
         if (f_past_valid && !f_rst)

@@ -8,9 +8,10 @@ saturating; 255 after reset):
     step  = d != 0 and cnt >= sep[i]          (sep 0 acts as 1)
     pos  += sign(d) if step;  cnt = 1 if step else min(cnt + 1, 255)
     (a, b) = AB[pos % 4],  AB = (1,1), (0,1), (0,0), (1,0)   (counting up)
-    backlog = sat(d, 16);  ovf = |d| > bound[i];  sticky |= ovf
+    backlog = sat(d', 16);  ovf = |d'| > bound[i-1];  sticky |= ovf
 
-backlog and ovf describe d on the edge, before the step of that edge. The returned
+with d' the d of the edge before (0 after reset): backlog and ovf describe the distance
+one edge before, before that edge's step (rtl/abgen.v registers d first). The returned
 arrays hold the outputs after each edge (what the RTL shows half a clock later).
 The state starts at reset (pos 0, A = B = 1, cnt 255, flags 0); `state` continues a run.
 """
@@ -29,6 +30,8 @@ class AbgenState:
     pos: int = 0
     cnt: int = CNT_MAX
     sticky: int = 0
+    d: int = 0                # d of the last edge (its flags show on the next one)
+    bound: int = 0            # bound of the last edge
 
 
 def ab_of(pos: int):
@@ -45,7 +48,7 @@ def abgen(target, sep, bound, count_w=32, state=None):
     sep = np.broadcast_to(np.asarray(sep, dtype=np.int64), (n,))
     bound = np.broadcast_to(np.asarray(bound, dtype=np.int64), (n,))
     st = state if state is not None else AbgenState()
-    pos, cnt, sticky = st.pos, st.cnt, st.sticky
+    pos, cnt, sticky, dp, bp = st.pos, st.cnt, st.sticky, st.d, st.bound
     out_pos = np.empty(n, dtype=np.int64)
     out_bl = np.empty(n, dtype=np.int64)
     out_ovf = np.empty(n, dtype=np.int8)
@@ -53,18 +56,19 @@ def abgen(target, sep, bound, count_w=32, state=None):
     tl, sl, bl = target.tolist(), sep.tolist(), bound.tolist()
     for i in range(n):
         d = wrap(tl[i] - pos, count_w)
-        ovf = 1 if abs(d) > bl[i] else 0
+        ovf = 1 if abs(dp) > bp else 0
         sticky |= ovf
-        out_bl[i] = sat(d, 16)
+        out_bl[i] = sat(dp, 16)
         out_ovf[i] = ovf
         out_sticky[i] = sticky
+        dp, bp = d, bl[i]
         if d != 0 and cnt >= sl[i]:
             pos = wrap(pos + (1 if d > 0 else -1), count_w)
             cnt = 1
         elif cnt < CNT_MAX:
             cnt += 1
         out_pos[i] = pos
-    st.pos, st.cnt, st.sticky = pos, cnt, sticky
+    st.pos, st.cnt, st.sticky, st.d, st.bound = pos, cnt, sticky, dp, bp
     q = out_pos & 3
     a = np.array([1, 0, 0, 1], dtype=np.int8)[q]
     b = np.array([1, 1, 0, 0], dtype=np.int8)[q]
@@ -118,36 +122,52 @@ def abgen_fast(target, sep, bound, count_w=32, state=None):
     half = 1 << (count_w - 1)
     out_pos = ((out_pos + half) & ((1 << count_w) - 1)) - half
     dd = ((target - pos_before + half) & ((1 << count_w) - 1)) - half
-    ovf = (np.abs(dd) > bound).astype(np.int8)
+    # the flags of edge i come from the d of edge i - 1
+    ddp = np.concatenate(([st.d], dd[:-1])) if n else dd
+    bdp = np.concatenate(([st.bound], bound[:-1])) if n else bound
+    ovf = (np.abs(ddp) > bdp).astype(np.int8)
     sticky = (np.maximum.accumulate(ovf) | st.sticky).astype(np.int8) if n else ovf
     st.pos, st.cnt = pos, cnt
     st.sticky = int(sticky[-1]) if n else st.sticky
+    if n:
+        st.d, st.bound = int(dd[-1]), int(bound[-1])
     q = out_pos & 3
     a = np.array([1, 0, 0, 1], dtype=np.int8)[q]
     b = np.array([1, 1, 0, 0], dtype=np.int8)[q]
-    return dict(a=a, b=b, pos=out_pos, backlog=np.clip(dd, -32768, 32767),
+    return dict(a=a, b=b, pos=out_pos, backlog=np.clip(ddp, -32768, 32767),
                 ovf=ovf, sticky=sticky)
+
+
+def _run(pos, cnt, target, edges, sep, count_w):
+    """(pos, cnt) after `edges` edges with a constant target (closed form)."""
+    if edges <= 0:
+        return pos, cnt
+    s = max(sep, 1)
+    d = wrap(target - pos, count_w)
+    first = max(0, s - cnt)                 # offset of the first step in the run
+    if d == 0 or edges <= first:
+        return pos, min(cnt + edges, CNT_MAX)
+    steps = min(abs(d), (edges - 1 - first) // s + 1)
+    last = first + (steps - 1) * s          # offset of the last step
+    return wrap(pos + (steps if d > 0 else -steps), count_w), min(edges - last, CNT_MAX)
 
 
 def advance(st: AbgenState, target: int, edges: int, sep: int, bound: int, count_w=32):
     """Run `edges` clock edges of abgen() with a constant target and settings, in closed
     form (a step every max(sep, 1) edges once the timer allows, until pos meets the
-    target); updates `st` (pos, cnt, sticky). The overflow flag of an edge describes the
-    distance before its step, so over a run it is largest on the first edge."""
+    target); updates `st`. The overflow flag of an edge shows the distance of the edge
+    before it, before that edge's step: over a run the distance is largest on its first
+    edge."""
     if edges <= 0:
         return
-    s = max(sep, 1)
-    d = wrap(target - st.pos, count_w)
-    if d != 0 and abs(d) > bound:
+    if abs(st.d) > st.bound:                # the edge before the run, shown on its first
         st.sticky = 1
-    first = max(0, s - st.cnt)              # offset of the first step in the run
-    if d == 0 or edges <= first:
-        st.cnt = min(st.cnt + edges, CNT_MAX)
-        return
-    steps = min(abs(d), (edges - 1 - first) // s + 1)
-    st.pos = wrap(st.pos + (steps if d > 0 else -steps), count_w)
-    last = first + (steps - 1) * s          # offset of the last step
-    st.cnt = min(edges - last, CNT_MAX)
+    d0 = wrap(target - st.pos, count_w)
+    if edges >= 2 and abs(d0) > bound:
+        st.sticky = 1
+    pos_last, cnt_last = _run(st.pos, st.cnt, target, edges - 1, sep, count_w)
+    st.d, st.bound = wrap(target - pos_last, count_w), bound     # the run's last edge
+    st.pos, st.cnt = _run(pos_last, cnt_last, target, 1, sep, count_w)
 
 
 class Follower:
