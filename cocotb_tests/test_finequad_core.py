@@ -39,8 +39,7 @@ import pytest
 import fqtb
 from sim.model import core as core_model
 
-CORE_SOURCES = ("finequad_core", "correct", "octant", "lut", "pulse", "counter",
-                "estimator", "rls_engine", "sat_round", "harmonic")
+CORE_SOURCES = fqtb.core_sources()
 
 
 OUT_LATENCY = core_model.LATENCY   # sim/model/core.py: the pipeline timing the RTL must have
@@ -70,7 +69,7 @@ SCENARIOS = {
 def test_core(sim, scenario):
     sc = SCENARIOS[scenario]
     n = int(os.environ.get("FQ_CORE_SAMPLES", 0)) or sc["n"][sim]
-    fqtb.run_block(sim, "finequad_core", fqtb.sources(*CORE_SOURCES), "test_finequad_core",
+    fqtb.run_block(sim, "finequad_core", CORE_SOURCES, "test_finequad_core",
                    parameters=dict(TABLE_DIR=fqtb.qstr(fqtb.TABLE_DIR),
                                    TABLE_EXACT=sc["exact"]),
                    extra_env=dict(SCENARIO=scenario, SAMPLES=n), testcase="core_run")

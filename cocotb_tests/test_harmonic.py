@@ -295,15 +295,14 @@ async def harmonic_stream(dut):
 # off, apply on again with mu = 5; the count of every sample and the HARM read-back must
 # equal the model's. (The estimator calibrates meanwhile; the block sees whatever phase
 # comes.)
-CORE_SOURCES = ("finequad_core", "correct", "octant", "lut", "pulse", "counter",
-                "estimator", "rls_engine", "sat_round", "harmonic")
+CORE_SOURCES = fqtb.core_sources()
 HARM_ADDR = 0x12
 
 
 @pytest.mark.parametrize("sim", fqtb.SIMULATORS)
 def test_core_harmonic(sim):
     n = {"icarus": 7000, "verilator": 40000}[sim]
-    fqtb.run_block(sim, "finequad_core", fqtb.sources(*CORE_SOURCES), "test_harmonic",
+    fqtb.run_block(sim, "finequad_core", CORE_SOURCES, "test_harmonic",
                    parameters=dict(TABLE_DIR=fqtb.qstr(fqtb.TABLE_DIR), TABLE_EXACT=1),
                    extra_env=dict(SAMPLES=n), testcase="core_harmonic")
 

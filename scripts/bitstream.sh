@@ -9,12 +9,11 @@ out=${1:-build/bitstream}
 seed=${2:-1}
 mhz=33          # the PLL of rtl/boards/top_icebreaker.v
 mkdir -p "$out"
-rtl="rtl/boards/top_icebreaker.v rtl/finequad_core.v rtl/correct.v rtl/octant.v rtl/lut.v \
-     rtl/pulse.v rtl/counter.v rtl/estimator.v rtl/rls_engine.v rtl/sat_round.v rtl/harmonic.v"
+rtl="rtl/boards/top_icebreaker.v $(grep -v '^#' rtl/finequad_core.f | tr '\n' ' ')"
 for t in yosys nextpnr-ice40 icepack; do
     command -v $t >/dev/null || { echo "bitstream: error: $t not found (apt-get install yosys nextpnr-ice40 fpga-icestorm)" >&2; exit 2; }
 done
-yosys -q -l "$out/yosys.log" -p "read_verilog $rtl;
+yosys -q -l "$out/yosys.log" -p "read_verilog -Irtl/tables $rtl;
     chparam -set TABLE_DIR \"$PWD/rtl/tables/\" finequad_core;
     synth_ice40 -dsp -top top_icebreaker -json $out/top.json"
 nextpnr-ice40 --up5k --package sg48 --json "$out/top.json" --pcf constraints/icebreaker.pcf \
