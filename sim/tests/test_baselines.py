@@ -208,24 +208,37 @@ def test_paper_literal_keeps_last_valid_parameters_on_a_short_arc():
     assert net_truth > 100 and abs(net - net_truth) <= 2
 
 
-class LamRls(reference.Rls):
-    """reference.Rls with lambda given directly."""
+class LiteralRls:
+    """Eqs. 5-7 as printed, in numpy: regressor (u1^2, u2^2, u1 u2, u1, u2), lambda given
+    directly, no trace bound (reference.Rls is the gateware's twin, which has both)."""
 
-    def __init__(self, lam, kappa):
-        super().__init__(kappa=kappa)
-        self.lam = lam
+    def __init__(self, lam, kappa, theta0=(4.0, 4.0, 0.0, 0.0, 0.0)):
+        self.lam, self.kappa = lam, kappa
+        self.theta = np.array(theta0, dtype=float)
+        self.reset()
+
+    def reset(self):
+        self.P = self.kappa * np.eye(5)
+
+    def update(self, u1, u2):
+        phi = np.array([u1 * u1, u2 * u2, u1 * u2, u1, u2])
+        h = self.P @ phi
+        k = h / (self.lam + phi @ h)
+        self.theta = self.theta + k * (1.0 - phi @ self.theta)
+        self.P = (self.P - np.outer(k, h)) / self.lam
+        return self.theta
 
 
 def test_paper_literal_rls_and_parameters_match_a_plain_loop():
     """The unrolled RLS and the vectorised Eq. 8 / keep-last-valid equal a straightforward
-    per-sample loop over reference.Rls and reference.extract (noisy creep, so that invalid
+    per-sample loop over LiteralRls and reference.extract (noisy creep, so that invalid
     thetas occur)."""
     rng = np.random.default_rng(4)
     a = np.concatenate([np.linspace(0, 0.2, 800), 0.2 + 2 * np.pi * np.arange(1, 1201) / 300])
     u1 = 0.6 * np.cos(a) + 0.03 + 0.003 * rng.standard_normal(len(a))
     u2 = 0.5 * np.sin(a - 0.1) - 0.02 + 0.003 * rng.standard_normal(len(a))
     r = baselines.paper_literal(u1, u2, 10, lam=0.99, kappa=500.0, reset_every=700)
-    rls = LamRls(0.99, 500.0)
+    rls = LiteralRls(0.99, 500.0)
     p = (0.5, 1.0, 0.0, 0.0, 0.0)
     want, invalid = [], 0
     for k in range(len(a)):
