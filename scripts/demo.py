@@ -107,7 +107,10 @@ def main():
             same = (d / f"rtl_{table}.csv").read_bytes() == (d / f"model_{table}.csv").read_bytes()
         s, err = score(res, x, a, sig, args.interp)
         s["rtl_equals_model"] = same
-        s["illegal_ab_steps"] = int(np.sum((res["fault"] >> core.FAULT_BITS["illegal"]) & 1))
+        s["overspeed_samples"] = int(np.sum((res["fault"] >> core.FAULT_BITS["ovs"]) & 1))
+        # steps where both Eq. 12 pulses changed at once (what the paper's edge counter
+        # would lose; the default phase-mode counter does not use the pulses)
+        s["illegal_pulse_steps"] = int(res["illegal_count"])
         s["estimator_updates"] = res["n_updates"]
         s["phase_err_moving_rms_nm"], s["phase_err_moving_peak_nm"] = phase_error(
             res, x, a, s["scored_from_sample"])

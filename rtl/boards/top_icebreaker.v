@@ -63,12 +63,15 @@ module top_icebreaker (
 
     wire        m_valid, m_a, m_b;
     wire [31:0] m_count;
-    wire [5:0]  m_fault;
+    wire [6:0]  m_fault;
     wire [31:0] reg_rdata;
-    finequad_core #(.ADC_W(12)) u_core (
+    // the UP5K's 8 DSP blocks are taken (correction 3, estimator 4, octant 1): the n-th
+    // order product in logic
+    finequad_core #(.ADC_W(12), .OPT_NTH_DSP(1'b0)) u_core (
         .clk(clk), .rst(rst),
         .s_valid(s_valid), .s_u1(s_u1), .s_u2(s_u2),
-        .reg_we(1'b0), .reg_addr(5'h00), .reg_wdata(32'd0), .reg_rdata(reg_rdata),
+        .reg_we(1'b0), .reg_re(1'b1), .reg_addr(6'h00), .reg_wdata(32'd0),
+        .reg_rdata(reg_rdata),
         .m_valid(m_valid), .m_count(m_count), .m_a(m_a), .m_b(m_b), .m_fault(m_fault)
     );
     assign P1B1 = m_a;
@@ -79,6 +82,6 @@ module top_icebreaker (
             seen_fault <= 1'b1;
     assign LEDR_N = !seen_fault;
     assign LEDG_N = reg_rdata[0];                 // status bit 0: not calibrated
-    wire unused = &{1'b0, m_count, reg_rdata[31:1], m_fault[5:4], 1'b0};
+    wire unused = &{1'b0, m_count, reg_rdata[31:1], m_fault[6:4], 1'b0};
 endmodule
 `resetall
