@@ -237,7 +237,7 @@ module rls_engine #(
     // (the low halves are unsigned: {1'b0, x[15:0]} makes each product a signed 17x16 that
     // still fits one DSP block)
     reg signed [31:0] pp_ll = 0, pp_lh = 0, pp_hl = 0, pp_hh = 0;
-    reg [15:0] seed3 = 0;
+    reg [15:0] seed3_q = 0;
     reg [35:0] i3 = 0;
     reg        v3 = 1'b0;
     reg [4:0]  dz3 = 0;
@@ -246,7 +246,7 @@ module rls_engine #(
         pp_lh <= $signed({1'b0, opa_q[15:0]}) * $signed(opb_q[31:16]);
         pp_hl <= $signed(opa_q[31:16]) * $signed({1'b0, opb_q[15:0]});
         pp_hh <= $signed(opa_q[31:16]) * $signed(opb_q[31:16]);
-        seed3 <= seed_q;
+        seed3_q <= seed_q;
         dz3 <= i2[15] ? dz1 : dz0;       // the dz this instruction's write-back uses
         i3  <= i2;
         v3  <= v2;
@@ -255,10 +255,16 @@ module rls_engine #(
     end
     wire [2:0] op3 = i3[2:0];
 
-    // ---- product: {hh, ll} + (hl + lh) << 16 (carry save, then one chain), or the seed --------
-    reg signed [63:0] prod_q = 0;
+    // ---- product: {hh, ll} + (hl + lh) << 16 (carry save, then one chain), or the seed; the
+    // accumulate controls decoded here, and the product negated for a subtraction (-prod =
+    // ~prod + 1: the +1 is the accumulate's carry in), so that the accumulate stage is the
+    // 64-bit carry chain alone ------------------------------------------------------------------
+    wire       seed3 = (op3 == OP_SEEDR || op3 == OP_SEEDS);
+    wire       neg3 = i3[4] && !seed3;
+    reg signed [63:0] prod_q = 0;        // the product, or its complement when neg4
     reg [35:0] i4 = 0;
     reg        v4 = 1'b0;
+    reg        en4 = 1'b0, neg4 = 1'b0, clr4 = 1'b0;
     reg [4:0]  dz4 = 0;
     wire [47:0] pa = {pp_hh, pp_ll[31:16]};                             // bits 63..16
     wire [47:0] pb = {{16{pp_hl[31]}}, pp_hl};
@@ -266,23 +272,23 @@ module rls_engine #(
     wire [47:0] cs_s = pa ^ pb ^ pc;
     wire [47:0] cs_c = {(pa[46:0] & pb[46:0]) | (pa[46:0] & pc[46:0]) | (pb[46:0] & pc[46:0]), 1'b0};
     always @(posedge clk) begin
-        if (op3 == OP_SEEDR || op3 == OP_SEEDS)
-            prod_q <= {33'd0, seed3, 15'd0};
+        if (seed3)
+            prod_q <= {33'd0, seed3_q, 15'd0};
         else
-            prod_q <= {cs_s + cs_c, pp_ll[15:0]};
+            prod_q <= {cs_s + cs_c, pp_ll[15:0]} ^ {64{neg3}};
+        en4  <= v3 && (op3 == OP_MAC || seed3);
+        neg4 <= neg3;
+        clr4 <= i3[3] || seed3;
         i4  <= i3;
         v4  <= v3;
         dz4 <= dz3;
-        if (rst)
+        if (rst) begin
             v4 <= 1'b0;
+            en4 <= 1'b0;
+        end
     end
 
     // ---- accumulate; the write-back shift sh - dyn (clamped to 0..63) ----------------------------
-    wire [2:0] op4 = i4[2:0];
-    wire       seed4 = (op4 == OP_SEEDR || op4 == OP_SEEDS);
-    wire       en4 = v4 && (op4 == OP_MAC || seed4);
-    wire       neg4 = i4[4] && !seed4;
-    wire       clr4 = i4[3] || seed4;
     reg signed [63:0] acc = 0;
     reg [5:0]  sh_q = 0;
     reg [35:0] i5 = 0;
@@ -290,11 +296,10 @@ module rls_engine #(
     wire [1:0] dyn4 = i4[8:7];
     wire [6:0] dyn_amt = (dyn4 == 2'd1) ? {2'd0, dz4} : (dyn4 == 2'd2) ? {3'd0, dz4[4:1]} : 7'd0;
     wire signed [7:0] sh_raw = $signed({2'b00, i4[14:9]}) - $signed({1'b0, dyn_amt});
-    wire [63:0] px = prod_q ^ {64{neg4}};     // -prod = ~prod + 1: the +1 is the carry in
     wire [5:0]  sh_eff = sh_raw[7] ? 6'd0 : sh_raw[5:0];
     always @(posedge clk) begin
         if (en4)
-            acc <= (clr4 ? 64'd0 : acc) + px + {63'd0, neg4};
+            acc <= (clr4 ? 64'd0 : acc) + prod_q + {63'd0, neg4};
         sh_q <= sh_eff;
         i5 <= i4;
         v5 <= v4;
