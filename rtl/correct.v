@@ -74,7 +74,8 @@ module correct #(
     wire [14:0] am2 = ab2[15] ? 15'h7fff : ab2[14:0];
     wire signed [ADC_W-1:0] rail_hi = {1'b0, {(ADC_W-1){1'b1}}};
     wire signed [ADC_W-1:0] rail_lo = {1'b1, {(ADC_W-1){1'b0}}};
-    reg signed [15:0] d1 = 0, d2 = 0, c1q = 0, c12q = 0, c2q = 0;
+    (* keep *) reg signed [15:0] d1 = 0, d2 = 0;
+    reg signed [15:0] c1q = 0, c12q = 0, c2q = 0;
     always @(posedge clk) begin
         d1 <= ef1 ? e1[15:0] : (e1[19] ? -16'sd32768 : 16'sd32767);
         d2 <= ef2 ? e2[15:0] : (e2[19] ? -16'sd32768 : 16'sd32767);
@@ -103,17 +104,26 @@ module correct #(
     // (v ^ sign) >> 13, so no carry chain follows the sum: for v < 0 this is
     // floor((|v| - 1) / 2**13), 1 / 2**27 of a unit below |v|'s, and u is truncated, not
     // rounded (a bias of half an LSB of the unit circle, 3e-5: 0.01 nm on a 4 um scale).
+    // The sum's bits [32:13] by carry select: both values of the upper 20 bits (carry in 0
+    // and 1) beside the carry out of the low 13, chosen by AND-OR (a multiplexer would let
+    // synthesis share the two adders again).
     wire signed [32:0] v1 = {p1[31], p1};
-    wire signed [32:0] v2 = {p12[31], p12} + {p2[31], p2};
-    wire        n1 = v1[32], n2 = v2[32];                        // v < 0
+    wire [13:0] lo2  = {1'b0, p12[12:0]} + {1'b0, p2[12:0]};
+    wire [19:0] hi20 = {p12[31], p12[31:13]} + {p2[31], p2[31:13]};
+    wire [20:0] hi21c = {p12[31], p12[31:13], 1'b1} + {p2[31], p2[31:13], 1'b1};   // + 1
+    wire [19:0] hi21 = hi21c[20:1];
+    wire [19:0] csel = {20{lo2[13]}};
+    wire [19:0] v2h  = (hi21 & csel) | (hi20 & ~csel);           // (p12 + p2) >> 13
+    wire        n1 = v1[32], n2 = v2h[19];                       // v < 0
     wire [19:0] q1 = v1[32:13] ^ {20{n1}};                       // |u|, u20
-    wire [19:0] q2 = v2[32:13] ^ {20{n2}};
+    wire [19:0] q2 = v2h ^ {20{n2}};
+    wire        sat1 = (q1[19:15] != 5'd0), sat2 = (q2[19:15] != 5'd0);
     always @(posedge clk) begin
-        ax_o <= (q1[19:15] != 5'd0) ? 15'h7fff : q1[14:0];
-        ay_o <= (q2[19:15] != 5'd0) ? 15'h7fff : q2[14:0];
+        ax_o <= sat1 ? 15'h7fff : q1[14:0];
+        ay_o <= sat2 ? 15'h7fff : q2[14:0];
         xn_o <= n1;
         yn_o <= n2;
-        rsat_o <= (q1[19:15] != 5'd0) || (q2[19:15] != 5'd0);  // |u| >= 2 (32768)
+        rsat_o <= sat1 || sat2;                                   // |u| >= 2 (32768)
         valid_o <= v1q;
     end
 
@@ -122,6 +132,6 @@ module correct #(
         dsat_o = 1'b0; valid_o = 1'b0; ax_o = 0; ay_o = 0; xn_o = 1'b0; yn_o = 1'b0;
         rsat_o = 1'b0;
     end
-    wire unused = &{1'b0, v1[12:0], v2[12:0], 1'b0};
+    wire unused = &{1'b0, v1[12:0], lo2[12:0], hi21c[0], 1'b0};
 endmodule
 `resetall

@@ -38,8 +38,6 @@ module finequad_core #(
     parameter [1:0] G_INIT = 2'd0,
     // 1: the n * phase product with `*` (a DSP block); 0: in logic (iCE40 UP5K)
     parameter [0:0] OPT_NTH_DSP = 1'b1,
-    // 1: octant normalisation in parallel (shorter path, more logic; same values)
-    parameter [0:0] OPT_PAR_NORM = 1'b0,
     // 1: adaptive harmonic compensation of the fine phase (rtl/harmonic.v); 0: none
     // (rtl/phase.v; HARM reads 0: for devices too small for it)
     parameter [0:0] OPT_HARMONIC = 1'b1
@@ -160,7 +158,7 @@ module finequad_core #(
     wire [10:0] o_j;
     wire [5:0] o_bin;
     wire [1:0] o_oct2;
-    octant #(.TABLE_DIR(TABLE_DIR), .TABLE_EXACT(TABLE_EXACT), .OPT_PAR_NORM(OPT_PAR_NORM))
+    octant #(.TABLE_DIR(TABLE_DIR), .TABLE_EXACT(TABLE_EXACT))
     u_octant (
         .clk(clk), .valid_i(c_valid), .ax_i(c_ax), .ay_i(c_ay), .xn_i(c_xn), .yn_i(c_yn),
         .valid_o(o_valid), .j_o(o_j), .bin_o(o_bin), .oct2_o(o_oct2), .neg_o(o_neg)

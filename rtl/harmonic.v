@@ -12,10 +12,9 @@
 //                                               samples arriving during a clear
 //   phase_o   = phase                            (u13: the estimator's and the bins' phase)
 //   phase_c_o = apply ? phase - corr : phase     (u13, wraps: the counter's phase)
-//   corr is not formed on its own: with A = 256 Ah + Al and R >>> 6 = 256 Rh + Rl,
-//   corr = Ah - Rh - (Al < Rl), so phase - corr is one three-input sum of
-//   (2048 oct2 + neg + 1 + Rh) (registered beforehand), ph ^ {neg}, and ~Ah, with the
-//   borrow (Al < Rl) as its carry in.
+//   corr is not formed on its own: phase - corr = floor((256 phase + ~A + R' + 256) / 256)
+//   with R' = R >>> 6, one three-input sum of 256 (ph ^ {neg}), ~A and a constant part
+//   registered beforehand (stage 3 below).
 //   observer of pc = phase - corr (always, also while apply is off):
 //     E = wrap18(pc * 32 - P);  P += (V >>> 8) + (E >>> KA);  V += E * 2^(8 - KB)
 //     P u13.5 (wraps with the period), V s13.13 units/sample (wraps), E s13.5;
@@ -68,6 +67,10 @@ module harmonic (
     localparam [22:0] R0 = -23'sd8192;
 
     // ---- table RAM -------------------------------------------------------------------------
+    // A read and a write of the same word on one edge happen (one sample per clock); the
+    // block RAM's result is then undefined (iCE40), so the read is taken as the word before
+    // the write by construction (stage 2): no collision logic from synthesis.
+    (* no_rw_check *)
     reg [15:0] mem [0:63];
     integer mi;
     initial
@@ -110,23 +113,29 @@ module harmonic (
     end
 
     // ---- stage 2 (edge a + 1): table read (sees the writes on edges <= a); the constant
-    // parts of the phase sums: base + neg (+ 1 + Rh where the correction is used) ---------
-    reg  [15:0] rd_q = 16'd0;
+    // parts of the phase sums: 256 (base + neg) (+ R' + 256 where the correction is used) --
+    // A commit that writes the word being read on the same edge: the read is the word
+    // before the write, which is lha (the candidate's entry; nothing else writes that word
+    // while its update is pending). A sweep's write may hit the read too: the samples
+    // read during a sweep are not corrected and not learned from, their read is unused.
+    reg  [15:0] rd_raw = 16'd0;
+    reg         cw2 = 1'b0;                     // a commit wrote lb on the read's edge
     wire [5:0]  swa = 6'd0 - swp[5:0];          // sweep address 0, 1, .., 63
     wire [5:0]  wa = sweeping ? swa : lb;       // (a named 6-bit wire: Icarus 11 indexes
     always @(posedge clk) begin                 //  with a wider difference otherwise)
-        rd_q <= mem[bin_i];
+        rd_raw <= mem[bin_i];
+        cw2 <= commit && !sweeping;
         if (sweeping || commit)
             mem[wa] <= hp;
     end
     wire [12:0] base1 = {oct1, 11'd0} + {12'd0, neg1};
-    wire [12:0] rh = {{4{r_sum[22]}}, r_sum[22:14]};   // Rh = (R >>> 6) >>> 8, s9
     wire        ublk = !blk1;                          // the correction is used (pc)
     wire        uapl = ublk && apply_i;                // and applied (phase_c_o)
+    wire [20:0] rq = {{4{r_sum[22]}}, r_sum[22:6]} + 21'd256;   // R >>> 6, plus 256
     reg         v2 = 1'b0, cand2 = 1'b0, blk2 = 1'b0, ok2 = 1'b0, neg2 = 1'b0;
     reg         ub2 = 1'b0, ua2 = 1'b0;
-    reg  [12:0] k0 = 13'd0, kb = 13'd0, ka = 13'd0;
-    reg  [7:0]  rl2 = 8'd0;                            // Rl = (R >>> 6) mod 256
+    reg  [12:0] k0 = 13'd0;
+    reg  [20:0] kb = 21'd0, ka = 21'd0;
     reg  [5:0]  bin2 = 6'd0;
     always @(posedge clk) begin
         v2 <= v1;
@@ -136,24 +145,40 @@ module harmonic (
         neg2 <= neg1;
         bin2 <= bin_i;
         k0 <= base1;
-        kb <= base1 + 13'd1 + (ublk ? rh : 13'd0);
-        ka <= base1 + 13'd1 + (uapl ? rh : 13'd0);
+        kb <= {base1, 8'd0} + (ublk ? rq : 21'd0);
+        ka <= {base1, 8'd0} + (uapl ? rq : 21'd0);
         ub2 <= ublk;
         ua2 <= uapl;
-        rl2 <= r_sum[13:6];
     end
 
     // ---- stage 3 (edge a + 2): the phases; a candidate's entry ------------------------------
+    // phase - corr = phase - floor((A - R') / 256), R' = R >>> 6, is
+    // floor((256 phase + ~A + R' + 256) / 256): bits [20:8] of one three-input sum (mod
+    // 2**21) of 256 phx, ~A (sign-extended) and 256 (base + neg) + R' + 256 (kb, ka),
+    // reduced by a carry-save step to one carry chain. Where the correction is not used,
+    // the last two are 0 and 256 (base + neg).
+    // (lb is the committed word's address until the next candidate's stage 3, at least
+    // eight arrivals after the commit)
+    wire [15:0] rd_q = (cw2 && lb == bin2) ? lha : rd_raw;
     wire [12:0] phx = {1'b0, ph_i} ^ {13{neg2}};        // +ph, or -ph - 1 (neg)
-    wire [12:0] nah = ~{{5{rd_q[15]}}, rd_q[15:8]};     // ~Ah = -Ah - 1
-    wire        brw = (rd_q[7:0] < rl2);                // Al < Rl
-    wire [12:0] pc = kb + phx + (ub2 ? nah : 13'h1fff) + {12'd0, ub2 & brw};
+    wire [20:0] nax = ~{{5{rd_q[15]}}, rd_q};           // ~A, sign-extended
+    function automatic [20:0] sum3(input [20:0] x, input [20:0] y, input [20:0] z);
+        reg [20:0] s3, c3;
+        begin
+            s3 = x ^ y ^ z;
+            c3 = {(x[19:0] & y[19:0]) | (x[19:0] & z[19:0]) | (y[19:0] & z[19:0]), 1'b0};
+            sum3 = s3 + c3;
+        end
+    endfunction
+    wire [20:0] pcs = sum3({phx, 8'd0}, ub2 ? nax : 21'd0, kb);
+    wire [20:0] pas = sum3({phx, 8'd0}, ua2 ? nax : 21'd0, ka);
+    wire [12:0] pc = pcs[20:8];
     reg  [12:0] pc3 = 13'd0;
     reg         v3 = 1'b0, cand3 = 1'b0, lok = 1'b0;
     always @(posedge clk) begin
         valid_o <= v2;
         phase_o <= k0 + phx;
-        phase_c_o <= ka + phx + (ua2 ? nah : 13'h1fff) + {12'd0, ua2 & brw};
+        phase_c_o <= pas[20:8];
         v3 <= v2;
         cand3 <= v2 && cand2;
         pc3 <= pc;
@@ -233,6 +258,6 @@ module harmonic (
             end
         end
     end
-    wire unused = &{1'b0, av[16:0], y_w[1:0], r_sum[5:0], blk2, 1'b0};
+    wire unused = &{1'b0, av[16:0], y_w[1:0], r_sum[5:0], blk2, pcs[7:0], pas[7:0], 1'b0};
 endmodule
 `resetall

@@ -27,14 +27,11 @@
 //        j_o     u11   exact: min(2047, (p + 2**15) >> 16) = round(2048 t), clipped; paper: jp
 //        bin_o   u6    (base +- PH[j]) >> 7: 16 oct2 + floor(PH[j] / 128), or, when neg,
 //                      16 oct2 - ceil(PH[j] / 128), mod 64; floor and ceil are counts of
-//                      thresholds j reaches (rtl/tables/hbin.vh, sim/model/tables.py
-//                      bin_buckets)
+//                      thresholds j reaches, found from p without the rounding add
+//                      (rtl/tables/hbin.vh, sim/model/tables.py bin_buckets)
 module octant #(
     parameter TABLE_DIR = "rtl/tables/",
-    parameter [0:0] TABLE_EXACT = 1'b1,
-    // 1: normalise both magnitudes in parallel and select after the comparison (shorter
-    // path, more logic; the same values)
-    parameter [0:0] OPT_PAR_NORM = 1'b0
+    parameter [0:0] TABLE_EXACT = 1'b1
 ) (
     input  wire        clk,
     input  wire        valid_i,
@@ -54,36 +51,44 @@ module octant #(
     initial
         $readmemh({TABLE_DIR, "recip.hex"}, rcp_rom);
 
-    function [3:0] lzc15;               // leading zeros in 15 bits, 14 for 0
-        input [14:0] v;
-        integer b;
+    // leading zeros in 15 bits, 14 for 0 and 1: those of the 16 bits {v[14:1], 1, 1}, as
+    // a two-level tree (nibble priority beside the nibbles' own counts)
+    function automatic [1:0] lzc4(input [3:0] v);
+        casez (v)
+            4'b1???: lzc4 = 2'd0;
+            4'b01??: lzc4 = 2'd1;
+            4'b001?: lzc4 = 2'd2;
+            default: lzc4 = 2'd3;
+        endcase
+    endfunction
+    /* verilator lint_off UNUSEDSIGNAL */
+    function automatic [3:0] lzc15(input [14:0] v);     // v[0] does not matter
+        reg [15:0] w;
         begin
-            lzc15 = 4'd14;
-            for (b = 0; b < 15; b = b + 1)
-                if (v[b])
-                    lzc15 = 4'd14 - b[3:0];
+            w = {v[14:1], 2'b11};
+            casez ({|w[15:12], |w[11:8], |w[7:4]})
+                3'b1??:  lzc15 = {2'd0, lzc4(w[15:12])};
+                3'b01?:  lzc15 = {2'd1, lzc4(w[11:8])};
+                3'b001:  lzc15 = {2'd2, lzc4(w[7:4])};
+                default: lzc15 = {2'd3, lzc4(w[3:0])};
+            endcase
         end
     endfunction
+    /* verilator lint_on UNUSEDSIGNAL */
 
     // ---- e+1: octant, normalisation, reciprocal ------------------------------------------
     wire        low = (ay_i <= ax_i);
     wire [14:0] sm = low ? ay_i : ax_i;         // small
+    // both magnitudes normalised by their own leading zeros and by the other's, side by
+    // side with the comparison, which then only selects (AND-OR: with a multiplexer,
+    // synthesis shares the shifters behind the comparison, a longer path)
     wire [3:0]  zx = lzc15(ax_i);
     wire [3:0]  zy = lzc15(ay_i);
-    wire [14:0] ln, ns;                          // large << zl (bit 15 is 0), small << zl
-    generate
-        if (OPT_PAR_NORM) begin : g_par
-            wire [14:0] lx = ax_i << zx, ly = ay_i << zy;      // each magnitude normalised
-            wire [14:0] sx = ay_i << zx, sy = ax_i << zy;      // the other one, same shift
-            assign ln = low ? lx : ly;
-            assign ns = low ? sx : sy;
-        end else begin : g_ser
-            wire [14:0] lg = low ? ax_i : ay_i;     // large
-            wire [3:0]  zl = low ? zx : zy;
-            assign ln = lg << zl;
-            assign ns = sm << zl;
-        end
-    endgenerate
+    wire [14:0] lx = ax_i << zx, ly = ay_i << zy;      // large, if it is ax / ay
+    wire [14:0] sx = ay_i << zx, sy = ax_i << zy;      // small, shifted as that large
+    wire [14:0] sel = {15{low}};
+    wire [14:0] ln = (lx & sel) | (ly & ~sel);   // large << zl (bit 15 is 0), zl = lzc15(large)
+    wire [14:0] ns = (sx & sel) | (sy & ~sel);   // small << zl
     wire [15:0] jq = ({1'b0, sm} + 16'd4) >> 3;
     reg  [13:0] rcp = 0;
     reg  [13:0] sn = 0;
@@ -120,17 +125,43 @@ module octant #(
     wire [28:0] psum = {1'b0, p} + 29'h8000;
     wire [10:0] jr = (psum[28:27] != 2'b00) ? 11'd2047 : psum[26:16];
     assign j_o = TABLE_EXACT ? jr : jp_q;
-    // #{k : j >= T_k} from the bucket of 128 rows that j falls in: the thresholds below
-    // the bucket (a 16-entry table in logic) plus the one inside it, if j reaches it
+    // The bin counts the thresholds T_k that j reaches, on the scale t = floor(p / 2**15)
+    // (j = (t + 1) >> 1, j >= T <=> t >= 2 T - 1; t = 4095 where j clips; paper: t = 2 j),
+    // so it does not wait for the rounding add: the count of the thresholds below t's
+    // bucket of 256 (a 16-entry table) plus the one inside it, if t reaches it.
     localparam [63:0]  HB_LO_N = TABLE_EXACT ? HB_LO_EXACT_N : HB_LO_PAPER_N;
-    localparam [127:0] HB_LO_T = TABLE_EXACT ? HB_LO_EXACT_T : HB_LO_PAPER_T;
+    localparam [143:0] HB_LO_T = TABLE_EXACT ? HB_LO_EXACT_T : HB_LO_PAPER_T;
     localparam [63:0]  HB_HI_N = TABLE_EXACT ? HB_HI_EXACT_N : HB_HI_PAPER_N;
-    localparam [127:0] HB_HI_T = TABLE_EXACT ? HB_HI_EXACT_T : HB_HI_PAPER_T;
-    wire [3:0]  bk = j_o[10:7];
-    wire [3:0]  bn = neg_2 ? HB_HI_N[4*bk +: 4] : HB_LO_N[4*bk +: 4];
-    wire [7:0]  bt = neg_2 ? HB_HI_T[8*bk +: 8] : HB_LO_T[8*bk +: 8];
-    wire [3:0]  cnt = bn + {3'd0, ({1'b0, j_o[6:0]} >= bt)};   // floor or ceil(PH[j] / 128)
-    assign bin_o = neg_2 ? {oct2_2, 4'd0} - {2'd0, cnt} : {oct2_2, 4'd0} + {2'd0, cnt};
+    localparam [143:0] HB_HI_T = TABLE_EXACT ? HB_HI_EXACT_T : HB_HI_PAPER_T;
+    // bin = (16 oct2 + cnt) mod 64, or (16 oct2 - cnt) mod 64 when neg, cnt = N + c <= 12:
+    // {oct2 - br, lo} with {br, lo} from the tables below, per bucket and c (no adder)
+    function [79:0] offsets(input [63:0] nt, input neg, input inc);
+        integer k;
+        reg [3:0] c;
+        begin
+            for (k = 0; k < 16; k = k + 1) begin
+                c = nt[4*k +: 4] + {3'd0, inc};
+                offsets[5*k +: 5] = neg ? {c != 4'd0, 4'd0 - c} : {1'b0, c};
+            end
+        end
+    endfunction
+    localparam [79:0] OFF_LO0 = offsets(HB_LO_N, 1'b0, 1'b0);
+    localparam [79:0] OFF_LO1 = offsets(HB_LO_N, 1'b0, 1'b1);
+    localparam [79:0] OFF_HI0 = offsets(HB_HI_N, 1'b1, 1'b0);
+    localparam [79:0] OFF_HI1 = offsets(HB_HI_N, 1'b1, 1'b1);
+    // t = {bk, tl}; the exact table's clip (p >= 2**27, t = 4095) is taken at the end
+    wire [11:0] tq = TABLE_EXACT ? p[26:15] : {jp_q, 1'b0};
+    wire        clip = TABLE_EXACT ? p[27] : 1'b0;
+    wire [3:0]  bk = tq[11:8];
+    wire [8:0]  bt = neg_2 ? HB_HI_T[9*bk +: 9] : HB_LO_T[9*bk +: 9];
+    wire        c  = ({1'b0, tq[7:0]} >= bt);
+    wire [4:0]  o0 = neg_2 ? OFF_HI0[5*bk +: 5] : OFF_LO0[5*bk +: 5];
+    wire [4:0]  o1 = neg_2 ? OFF_HI1[5*bk +: 5] : OFF_LO1[5*bk +: 5];
+    // t = 4095 counts every threshold of bucket 15 (the last one is below 4095)
+    wire [4:0]  oc = neg_2 ? (HB_HI_T[9*15 +: 9] == 9'd256 ? OFF_HI0[5*15 +: 5] : OFF_HI1[5*15 +: 5])
+                           : (HB_LO_T[9*15 +: 9] == 9'd256 ? OFF_LO0[5*15 +: 5] : OFF_LO1[5*15 +: 5]);
+    wire [4:0]  o  = clip ? oc : c ? o1 : o0;
+    assign bin_o = {oct2_2 - {1'b0, o[4]}, o[3:0]};
 
     wire unused = &{1'b0, psum[15:0], jq[2:0], ns[0], ln[14], ln[4:0], 1'b0};
 endmodule

@@ -83,17 +83,21 @@ def bin_thresholds(kind: str = "exact") -> tuple[list[int], list[int]]:
 
 
 def bin_buckets(thresholds: list[int]) -> list[tuple[int, int]]:
-    """The thresholds as rtl/octant.v looks them up: for each bucket of 128 rows
-    (j >> 7, 16 buckets), (count of thresholds at or below its first row, the one
-    threshold inside it minus the first row, or 128 for none), so that
-    #{k : j >= T_k} = count + ((j & 127) >= inside). The thresholds are more than 128
-    rows apart, so a bucket holds at most one."""
-    assert all(b - a > 128 for a, b in zip(thresholds, thresholds[1:]) if b < ROWS)
+    """The thresholds as rtl/octant.v looks them up, on the scale t = floor(p / 2**15)
+    of its ratio product p (exact table: j = round(p / 2**16) = (t + 1) >> 1, t = 4095
+    when j clips at 2047; paper table: t = 2 j), on which j >= T <=> t >= 2 T - 1. For
+    each of the 16 buckets of 256 (t >> 8): (count of thresholds at or below its first
+    t, the one threshold inside it minus the first t, or 256 for none), so that
+    #{k : j >= T_k} = count + ((t & 255) >= inside). Thresholds that no row reaches
+    (T >= ROWS) are left out; the rest are more than 128 rows apart, so a bucket holds at
+    most one."""
+    tt = [2 * t - 1 for t in thresholds if t < ROWS]
+    assert all(b - a > 256 for a, b in zip(tt, tt[1:]))
     out = []
-    for b in range(ROWS >> 7):
-        lo = b << 7
-        inside = [t - lo for t in thresholds if lo < t < lo + 128]
-        out.append((sum(t <= lo for t in thresholds), inside[0] if inside else 128))
+    for b in range(16):
+        lo = b << 8
+        inside = [t - lo for t in tt if lo < t < lo + 256]
+        out.append((sum(t <= lo for t in tt), inside[0] if inside else 256))
     return out
 
 

@@ -1,0 +1,29 @@
+"""The harmonic bin lookup of rtl/octant.v (tables.bin_buckets, rtl/tables/hbin.vh)
+against the bin it stands for, for every value of the ratio scale t it sees."""
+import pytest
+
+from sim.model import tables
+
+
+@pytest.mark.parametrize("kind", tables.KINDS)
+def test_bin_buckets_give_floor_and_ceil_of_the_phase_bin(kind):
+    """For every t (exact: floor(p / 2**15), 0..4095 with 4095 where j clips; paper: 2 j),
+    count + ((t & 255) >= inside) of t's bucket equals floor(PH[j] / 128) (LO set, neg = 0)
+    and ceil(PH[j] / 128) (HI set, neg = 1), j = min(2047, (t + 1) >> 1)."""
+    ph = tables.phase_table(kind)
+    lo, hi = tables.bin_thresholds(kind)
+    ts = range(4096) if kind == "exact" else range(0, 4096, 2)
+    for thr, want in ((lo, lambda v: v // 128), (hi, lambda v: -(-v // 128))):
+        bk = tables.bin_buckets(thr)
+        assert len(bk) == 16
+        for t in ts:
+            j = min(tables.ROWS - 1, (t + 1) >> 1)
+            n, inside = bk[t >> 8]
+            assert n + ((t & 255) >= inside) == want(ph[j]), (kind, t, j)
+
+
+def test_bin_buckets_hold_at_most_one_threshold_each():
+    for kind in tables.KINDS:
+        for thr in tables.bin_thresholds(kind):
+            for n, inside in tables.bin_buckets(thr):
+                assert 0 <= n <= 15 and 0 <= inside <= 256
