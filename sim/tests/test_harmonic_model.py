@@ -31,7 +31,10 @@ def _score(sc, a, count):
 
 
 def _count_off(r):
-    return fp.counter(r["a"], r["b"], r["phase"], N_INTERP)[0]
+    """The phase-mode count of the uncorrected fine phase (rtl/counter.v with the product
+    n * phase that rtl/lut.v forms)."""
+    ph = np.asarray(r["phase"], dtype=np.int64)
+    return fp.counter(ph, ph * N_INTERP, N_INTERP)[0]
 
 
 def phase_error(phase, a, lo, hi):
