@@ -1,8 +1,18 @@
-"""correct: input gain and Eq. 9 against sim.model.fastpath.normalize + correct.
+"""correct: alignment, input gain, offsets and Eq. 9 against sim.model.fastpath.align and
+correct (bit for bit), for 16- and 12-bit ADC codes.
 
-Latency 5 (rtl/correct.v): a sample (with its coefficient bundle) presented on edge e is on
-the outputs after edge e + 4. Samples are streamed back to back (one per clock) and with idle gaps
-(during which the data inputs carry garbage)."""
+Timing (rtl/correct.v; sim.model.core.CORR_AT): a sample with its coefficient bundle
+presented for edge e gives raw1_o, raw2_o, amax_o, clip_o, nsat_o, dsat_o, valid0_o after
+edge e, and ax_o, ay_o, xn_o, yn_o, rsat_o, valid_o after edge e + CORR_AT. Every output
+of every sample is checked; the valid outputs must be high after exactly those edges.
+Samples are streamed back to back (one per clock) and with idle gaps (the data inputs
+carry garbage while valid_i is low).
+
+Directed vectors: zero and full scale at every gain (the gain's saturation both ways),
+the ADC rails (clip), saturation of d = x - m on each channel and just inside it, products
+to the rails and just inside, the |u| = 2 (32768) saturation of the magnitudes, the
+truncation of (v ^ sign) >> 13 at multiples of 2**13 +-1 for both signs; then seeded
+random bundles, realistic (a calibration's range) and arbitrary."""
 import random
 
 import pytest
@@ -10,118 +20,148 @@ import pytest
 import fqtb
 
 
+@pytest.mark.parametrize("adc_w", [16, 12], ids=["ADC16", "ADC12"])
 @pytest.mark.parametrize("sim", fqtb.SIMULATORS)
-def test_correct(sim):
-    fqtb.run_block(sim, "correct", fqtb.sources("correct", "sat_round"), "test_correct")
+def test_correct(sim, adc_w):
+    fqtb.run_block(sim, "correct", fqtb.sources("correct"), "test_correct",
+                   parameters=dict(ADC_W=adc_w), extra_env=dict(ADC_W=adc_w))
 
 
 # ---- cocotb side ------------------------------------------------------------------------
 import cocotb  # noqa: E402
 
-LATENCY = 5
 S16 = (-32768, 32767)
 BUNDLE0 = (0, 0, 0, 8192, 0, 8192)      # g, m1, m2, c1, c12, c2 (reset values)
 
 
-def directed():
-    """(u1, u2, g, m1, m2, c1, c12, c2) vectors for the corner cases."""
+def directed(adc_w):
+    """(u1, u2, g, m1, m2, c1, c12, c2) vectors for the corner cases; u in ADC codes."""
+    sh = 16 - adc_w
+    lo, hi = -(1 << (adc_w - 1)), (1 << (adc_w - 1)) - 1
+
+    def code(v16):                       # an s1.15 value as the nearest ADC code
+        return max(lo, min(hi, v16 >> sh))
+
     v = []
-    full = [0, 1, -1, 32767, -32768, 16383, 16384, -16384, -16385, 8191, 8192, -8193,
-            4095, 4096, -4097]
-    # zero, full scale, saturation of u << g in both directions, every gain
+    full = [0, 1, -1, 32767, -32768, 32766, -32767, 16383, 16384, -16384, -16385, 8191,
+            8192, -8193, 4095, 4096, -4097]
+    # zero, full scale and the rails, saturation of u << g both ways, every gain
     for g in range(4):
         for u in full:
-            v.append((u, -u if u != -32768 else 32767, g, *BUNDLE0[1:]))
-    # saturation of d = u_n - m (both ways, each channel), and just not saturating
+            c = code(u)
+            v.append((c, -c if c != lo else hi, g, *BUNDLE0[1:]))
+    # saturation of d = x - m (both ways, each channel), and just not saturating
     for un, m in [(32767, -1), (32767, -32768), (-32768, 1), (-32768, 32767), (32767, 0),
                   (-32768, 0), (32766, -1), (-32767, 1), (0, -32768), (-1, 32767)]:
-        v.append((un, 0, 0, m, 0, 8192, 0, 8192))
-        v.append((0, un, 0, 0, m, 8192, 0, 8192))
-    # products: p1 = d1 c1 and p12 + p2 to the rails and just inside
+        v.append((code(un), 0, 0, m, 0, 8192, 0, 8192))
+        v.append((0, code(un), 0, 0, m, 8192, 0, 8192))
+    # products p1 = d1 c1 and p12 + p2 to the rails and just inside
     for d1, c1 in [(-32768, -32768), (32767, 32767), (-32768, 32767), (32767, -32768),
                    (16384, 8192), (16384, 8191), (-16384, 8192), (-16384, 8193),
                    (12288, 10923), (-12288, 10923)]:
-        v.append((d1, 0, 0, 0, 0, c1, 0, 8192))
+        v.append((code(d1), 0, 0, 0, 0, c1, 0, 8192))
     for d1, d2, c12, c2 in [(32767, 32767, 32767, 32767), (-32768, -32768, 32767, 32767),
                             (-32768, 32767, 32767, -32768), (16384, 16384, 4096, 4096),
                             (16384, 16384, 4096, 4095), (-16384, -16384, 4096, 4097),
                             (32767, -32768, 32767, 32767), (-32768, -32768, -32768, -32768)]:
-        v.append((d1, d2, 0, 0, 0, 8192, c12, c2))
-    # rounding ties of the >> 13: d c = k 8192 + 4096 (+-1)
+        v.append((code(d1), code(d2), 0, 0, 0, 8192, c12, c2))
+    # |u| = 2 (32768 in s2.14) and just below: v = d c = 2**28 - 1 .. 2**28 + 1 and negative
+    for d, c in [(16384, 16384), (16384, 16383), (-16384, 16384), (-16384, 16383),
+                 (32767, 8193), (-32768, 8192)]:
+        v.append((code(d), code(d), 0, 0, 0, c, c, 0))
+    # the truncation of (v ^ sign) >> 13: v = k 2**13 + e, e in -1, 0, 1 (c1 = 1: v1 = d1)
     for k in (-3, -2, -1, 0, 1, 2, 3):
         for e in (-1, 0, 1):
-            p = k * 8192 + 4096 + e
-            # p = d1 * c1 with c1 = 1 -> d1 = p
-            if -32768 <= p <= 32767:
-                v.append((p, p, 0, 0, 0, 1, 1, 0))
-                v.append((p, -p, 0, 0, 0, -1, 0, 1))
+            p = (k << 13) + e
+            if lo <= p >> sh and (p >> sh) <= hi and (p >> sh) << sh == p:
+                v.append((p >> sh, p >> sh, 0, 0, 0, 1, 1, 0))
+                v.append((p >> sh, -(p >> sh), 0, 0, 0, -1, 0, 1))
+            # with an offset, every e is reachable for any ADC width
+            v.append((0, 0, 0, -p, -p, 1, 0, 1))
     return v
 
 
-def random_vectors(rng, n):
+def random_vectors(rng, n, adc_w):
+    lo, hi = -(1 << (adc_w - 1)), (1 << (adc_w - 1)) - 1
     v = []
     for _ in range(n):
         r = rng.random()
         if r < 0.5:     # realistic: amplitudes, offsets and coefficients of a calibration
             g = rng.randint(0, 3)
-            a = rng.randint(2000, 32767 >> g)
+            a = rng.randint(hi >> 4, hi >> g)
             u1 = rng.randint(-a, a)
             u2 = rng.randint(-a, a)
             b = (g, rng.randint(-3000, 3000), rng.randint(-3000, 3000),
                  rng.randint(4096, 16384), rng.randint(-3000, 3000), rng.randint(4096, 16384))
         else:           # anything
-            u1, u2 = rng.randint(*S16), rng.randint(*S16)
+            u1, u2 = rng.randint(lo, hi), rng.randint(lo, hi)
             b = (rng.randint(0, 3), rng.randint(*S16), rng.randint(*S16),
                  rng.randint(*S16), rng.randint(*S16), rng.randint(*S16))
         v.append((u1, u2, *b))
     return v
 
 
-def model(vec):
+def model(vec, adc_w):
+    """Per sample: (outputs after edge e, outputs after edge e + CORR_AT)."""
     import numpy as np
     from sim.model import fastpath as fp
 
     a = np.array(vec, dtype=np.int64)
     u1, u2, g, m1, m2, c1, c12, c2 = a.T
-    u1n, ns1 = fp.normalize(u1, g)
-    u2n, ns2 = fp.normalize(u2, g)
-    u1c, u2c, csat = fp.correct(u1n, u2n, m1, m2, c1, c12, c2)
-    return [tuple(int(x) for x in t) for t in zip(u1c, u2c, ns1 | ns2, csat)]
+    r1, k1 = fp.align(u1, adc_w)
+    r2, k2 = fp.align(u2, adc_w)
+    fr = fp.correct(r1, r2, g, m1, m2, c1, c12, c2)
+    amax = np.minimum(np.maximum(np.abs(r1), np.abs(r2)), 32767)
+    early = zip(r1, r2, amax, k1 | k2, fr["nsat"], fr["dsat"])
+    late = zip(fr["ax"], fr["ay"], fr["xn"], fr["yn"], fr["rsat"])
+    return ([tuple(int(x) for x in t) for t in early],
+            [tuple(int(x) for x in t) for t in late])
 
 
 PORTS_IN = ("u1_i", "u2_i", "g_i", "m1_i", "m2_i", "c1_i", "c12_i", "c2_i")
 
 
-async def stream(dut, vec, gaps, rng):
-    """Present vec[i] on edge e_i (gaps[i] idle clocks before it); check every output."""
+async def stream(dut, vec, gaps, rng, adc_w):
+    """Present vec[i] for edge e_i (gaps[i] idle clocks before it); check every output."""
+    from sim.model.core import CORR_AT
+
     bench = fqtb.ClockedBench(dut)
     await bench.start()
-    exp = model(vec)
-    # edge of every sample
+    early, late = model(vec, adc_w)
     edges, e = [], 0
     for gap in gaps:
         e += gap
         edges.append(e)
         e += 1
     by_edge = {e: i for i, e in enumerate(edges)}
-    out_at = {e + LATENCY - 1: i for i, e in enumerate(edges)}
-    last = edges[-1] + LATENCY + 2
+    at0 = {e: i for i, e in enumerate(edges)}
+    at2 = {e + CORR_AT: i for i, e in enumerate(edges)}
+    last = edges[-1] + CORR_AT + 2
     bad = []
     seen = 0
     for e in range(-1, last + 1):
         # slot after edge e: outputs of edge e, then inputs for edge e + 1
         if e >= 0:
-            valid = fqtb.uval(dut.valid_o)
-            if e in out_at:
-                i = out_at[e]
-                got = (fqtb.sval(dut.u1c_o), fqtb.sval(dut.u2c_o), fqtb.uval(dut.nsat_o),
-                       fqtb.uval(dut.csat_o))
-                if valid != 1 or got != exp[i]:
-                    bad.append(f"sample {i} {vec[i]}: valid={valid} (u1c,u2c,nsat,csat)="
-                               f"{got}, model {exp[i]}")
+            v0, v2 = fqtb.uval(dut.valid0_o), fqtb.uval(dut.valid_o)
+            if (v0 == 1) != (e in at0):
+                bad.append(f"valid0_o={v0} after edge {e}")
+            if (v2 == 1) != (e in at2):
+                bad.append(f"valid_o={v2} after edge {e}")
+            if e in at0:
+                i = at0[e]
+                got = (fqtb.sval(dut.raw1_o), fqtb.sval(dut.raw2_o), fqtb.uval(dut.amax_o),
+                       fqtb.uval(dut.clip_o), fqtb.uval(dut.nsat_o), fqtb.uval(dut.dsat_o))
+                if got != early[i]:
+                    bad.append(f"sample {i} {vec[i]} edge t: (raw1,raw2,amax,clip,nsat,dsat)="
+                               f"{got}, model {early[i]}")
+            if e in at2:
+                i = at2[e]
+                got = (fqtb.uval(dut.ax_o), fqtb.uval(dut.ay_o), fqtb.uval(dut.xn_o),
+                       fqtb.uval(dut.yn_o), fqtb.uval(dut.rsat_o))
+                if got != late[i]:
+                    bad.append(f"sample {i} {vec[i]} edge t+{CORR_AT}: (ax,ay,xn,yn,rsat)="
+                               f"{got}, model {late[i]}")
                 seen += 1
-            elif valid:
-                bad.append(f"valid_o high after edge {e}, no sample due")
         nxt = e + 1
         if nxt in by_edge:
             for p, x in zip(PORTS_IN, vec[by_edge[nxt]]):
@@ -129,7 +169,7 @@ async def stream(dut, vec, gaps, rng):
             dut.valid_i.value = 1
         else:           # idle: garbage on the data inputs
             dut.valid_i.value = 0
-            for p, x in zip(PORTS_IN, random_vectors(rng, 1)[0]):
+            for p, x in zip(PORTS_IN, random_vectors(rng, 1, adc_w)[0]):
                 getattr(dut, p).value = x
         await bench.step()
     assert seen == len(vec)
@@ -139,16 +179,18 @@ async def stream(dut, vec, gaps, rng):
 @cocotb.test()
 async def correct_back_to_back(dut):
     """Directed corners then seeded random vectors with random bundles, one per clock."""
+    adc_w = fqtb.env_int("ADC_W")
     rng = random.Random(101)
-    vec = directed() + random_vectors(rng, 3000)
-    await stream(dut, vec, [0] * len(vec), rng)
+    vec = directed(adc_w) + random_vectors(rng, 3000, adc_w)
+    await stream(dut, vec, [0] * len(vec), rng, adc_w)
 
 
 @cocotb.test()
 async def correct_with_gaps(dut):
     """The same kinds of vectors with 0..3 idle clocks between samples."""
+    adc_w = fqtb.env_int("ADC_W")
     rng = random.Random(202)
-    vec = directed() + random_vectors(rng, 1500)
+    vec = directed(adc_w) + random_vectors(rng, 1500, adc_w)
     rng.shuffle(vec)
     gaps = [rng.choice((0, 0, 1, 2, 3)) for _ in vec]
-    await stream(dut, vec, gaps, rng)
+    await stream(dut, vec, gaps, rng, adc_w)

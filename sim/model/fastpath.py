@@ -49,7 +49,7 @@ def correct(u1r, u2r, g, m1, m2, c1, c12, c2):
         |u| = (v ^ sign) >> 13 (s2.14 units: floor(|v| / 2**13) for v >= 0, of
         (|v| - 1) for v < 0; no carry after the sum), saturated to 32767.
     Returns a dict: ax, ay (u15), xn, yn (v < 0), u1c, u2c (+-|u|, for traces), nsat (x
-    leaves s1.15), csat (d saturated, or |u| reached 32768)."""
+    leaves s1.15), dsat (d saturated), rsat (|u| reached 32768), csat (either)."""
     g = np.asarray(g, dtype=I64)
     x1, x2 = np.asarray(u1r, dtype=I64) << g, np.asarray(u2r, dtype=I64) << g
     e1, e2 = x1 - m1, x2 - m2
@@ -61,9 +61,11 @@ def correct(u1r, u2r, g, m1, m2, c1, c12, c2):
     ax, ay = np.minimum(q1, 32767), np.minimum(q2, 32767)
     xn, yn = (v1 < 0).astype(I64), (v2 < 0).astype(I64)
     nsat = (x1 != _sat(x1, 16)) | (x2 != _sat(x2, 16))
-    csat = (d1 != e1) | (d2 != e2) | (q1 > 32767) | (q2 > 32767)
+    dsat = (d1 != e1) | (d2 != e2)
+    rsat = (q1 > 32767) | (q2 > 32767)
     return dict(ax=ax, ay=ay, xn=xn, yn=yn, u1c=np.where(xn == 1, -ax, ax),
-                u2c=np.where(yn == 1, -ay, ay), nsat=nsat, csat=csat)
+                u2c=np.where(yn == 1, -ay, ay), nsat=nsat, dsat=dsat, rsat=rsat,
+                csat=dsat | rsat)
 
 
 _RECIP = np.array(recip_table(), dtype=I64)
