@@ -1,5 +1,5 @@
-"""harmonic (adaptive compensation of the fine phase) against sim.model.harmonic, bit for
-bit on every sample; and the block inside finequad_core against sim.model.core.
+"""harmonic (fine-phase assembly and adaptive compensation) against sim.model.harmonic,
+bit for bit on every sample; and the block inside finequad_core against sim.model.core.
 
 The block stimulus is a fine-phase stream (units of 1/8192 period) from a moving stage with
 a periodic error and noise, in segments that open and close the learning gate: speeds
@@ -12,12 +12,16 @@ random gaps; apply, learn and mu change at random edges (also while samples are 
 flight) and the table is cleared at random edges, among them every edge around a
 sample's arrival and edges during a running sweep.
 
-Timing contract (rtl/harmonic.v): a sample arrives on the edge a where valid_i is high;
-phase_o/valid_o are registered on edge a + 2; apply_i is sampled on edge a + 2, learn_i
-and mu_i on edge a + 5; a clear pulse sampled on edge w empties the table for the samples
-arriving on edges >= w, and those arriving on edges w .. w + 64 are passed through
-uncorrected (sim.model.harmonic.sweep_flags). valid_o must be high after exactly the edges
-a + 2.
+Timing contract (rtl/harmonic.v): a sample arrives on the edge a where valid_i is high,
+with its octant (oct2_i, neg_i); its harmonic bin bin_i = phase >> 7 is presented for
+edge a + 1 and the phase table's value ph_i for edge a + 2 (the block assembles
+phase = (2048 oct2 +- ph) mod 8192; the test splits each stream phase into such an
+octant and ph); phase_o (uncorrected), phase_c_o (corrected) and valid_o are registered
+on edge a + 2; apply_i is sampled on edge a + 1, learn_i and mu_i on edge a + 5; a clear
+pulse sampled on edge w empties the table for the samples arriving on edges >= w, and
+those arriving on edges w .. w + 64 are passed through uncorrected
+(sim.model.harmonic.sweep_flags). valid_o must be high after exactly the edges a + 2;
+idle inputs carry garbage.
 """
 import random
 
@@ -35,9 +39,19 @@ def test_harmonic(sim, pattern):
 
 
 # ---- stimulus (importable without a simulator) ----------------------------------------------
-OUT_LAT = 2          # phase_o registered on edge a + 2
-APPLY_AT = 2         # apply_i sampled on edge a + 2
+OUT_LAT = 2          # phase_o, phase_c_o registered on edge a + 2
+BIN_AT = 1           # bin_i read on edge a + 1
+PH_AT = 2            # ph_i used on edge a + 2
+APPLY_AT = 1         # apply_i sampled on edge a + 1
 LEARN_AT = 5         # learn_i, mu_i sampled on edge a + 5
+
+
+def split(p):
+    """A fine phase as the octant and the phase table give it: (oct2, neg, ph, bin) with
+    phase = (2048 oct2 + (-ph if neg else ph)) mod 8192, 0 <= ph <= 1024."""
+    oct2 = ((p + 1024) >> 11) & 3
+    d = ((p - 2048 * oct2 + 4096) & 8191) - 4096
+    return oct2, int(d < 0), abs(d), p >> 7
 
 
 def phases(n, rng):
@@ -228,16 +242,23 @@ async def harmonic_stream(dut):
         slots.add(e - 1)
         slots.add(e)
     slots.update(reads)
-    slots = sorted(s for s in slots if s >= 0)
 
     bench = fqtb.ClockedBench(dut)
     a0, l0, m0 = ctrl[0]
     dut.valid_i.value = 0
-    dut.phase_i.value = 0
+    dut.oct2_i.value = 0
+    dut.neg_i.value = 0
+    dut.bin_i.value = 0
+    dut.ph_i.value = 0
     dut.apply_i.value = a0
     dut.learn_i.value = l0
     dut.mu_i.value = m0 - 3
     dut.clear_i.value = 0
+    parts = [split(p) for p in ph]
+    bins = {e + BIN_AT: k for k, e in enumerate(edges)}
+    phs = {e + PH_AT: k for k, e in enumerate(edges)}
+    slots.update(e - 1 for e in list(bins) + list(phs))
+    slots = sorted(s for s in slots if s >= 0)
     await bench.start()
     vlog = []
     cocotb.start_soon(_watch(dut.valid_o, vlog))
@@ -247,15 +268,19 @@ async def harmonic_stream(dut):
         await bench.goto(s)
         k = reads.get(s)
         if k is not None:
-            got[k] = fqtb.uval(dut.phase_o)
+            got[k] = (fqtb.uval(dut.phase_o), fqtb.uval(dut.phase_c_o))
         nxt = s + 1
         k = strobe.get(nxt)
         if k is not None:
             dut.valid_i.value = 1
-            dut.phase_i.value = ph[k]
-        else:
+            dut.oct2_i.value, dut.neg_i.value = parts[k][0], parts[k][1]
+        else:                                          # idle clocks carry garbage
             dut.valid_i.value = 0
-            dut.phase_i.value = junk.randrange(8192)   # idle clocks carry garbage
+            dut.oct2_i.value, dut.neg_i.value = junk.randrange(4), junk.randrange(2)
+        k = bins.get(nxt)
+        dut.bin_i.value = parts[k][3] if k is not None else junk.randrange(64)
+        k = phs.get(nxt)
+        dut.ph_i.value = parts[k][2] if k is not None else junk.randrange(4096)
         if nxt in ctrl:
             a, lr, m = ctrl[nxt]
             dut.apply_i.value = a
@@ -264,10 +289,10 @@ async def harmonic_stream(dut):
         dut.clear_i.value = int(nxt in clear_set)
     await bench.goto(bench.edge + 4)
 
-    bad = [k for k in range(n) if got[k] != int(exp[k])]
+    bad = [k for k in range(n) if got[k] != (ph[k], int(exp[k]))]
     if bad:
-        lines = [f"sample {k} (arrival edge {edges[k]}, phase {ph[k]}): rtl {got[k]}, "
-                 f"model {int(exp[k])}" for k in bad[:12]]
+        lines = [f"sample {k} (arrival edge {edges[k]}, phase {ph[k]}): rtl (phase, "
+                 f"corrected) {got[k]}, model {(ph[k], int(exp[k]))}" for k in bad[:12]]
         raise AssertionError(f"{len(bad)} of {n} samples differ, first:\n" + "\n".join(lines))
     assert h.learned > n // 40, f"only {h.learned} updates: the stimulus hardly learns"
 
@@ -341,8 +366,10 @@ def core_config(t, writes):
     mu = np.full(n, 4, np.int64)
     clears = []
     for w, v in writes:
-        a_new = t + core.PHASE_AT + 3 > w
-        l_new = t + core.PHASE_AT + 6 > w
+        # a write on edge w is seen on the edges after it: apply is sampled on edge
+        # t + HARM_AT + APPLY_AT, learn and mu on t + HARM_AT + LEARN_AT
+        a_new = t + core.HARM_AT + APPLY_AT > w
+        l_new = t + core.HARM_AT + LEARN_AT > w
         apply[a_new] = v & 1
         learn[l_new] = (v >> 1) & 1
         mu[l_new] = ((v >> 4) & 3) + 3
@@ -376,6 +403,7 @@ async def core_harmonic(dut):
     dut.s_u1.value = 0
     dut.s_u2.value = 0
     dut.reg_we.value = 0
+    dut.reg_re.value = 0
     dut.reg_addr.value = 0
     dut.reg_wdata.value = 0
     await bench.start()
@@ -405,8 +433,10 @@ async def core_harmonic(dut):
                              f"{int(res['count'][k])}, phase {int(res['phase'][k])}, "
                              f"phase_c {int(res['phase_c'][k])}")
     await bench.goto(bench.edge + 30)
-    dut.reg_addr.value = HARM_ADDR
-    await bench.settle()
+    dut.reg_addr.value = HARM_ADDR                 # a registered read: reg_re for one edge
+    dut.reg_re.value = 1
+    await bench.step()
+    dut.reg_re.value = 0
     rd = fqtb.uval(dut.reg_rdata)
     exp = writes[-1][1] & 0x33
     assert rd == exp, f"HARM read-back {rd:#x}, expected {exp:#x}"

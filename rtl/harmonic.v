@@ -123,7 +123,13 @@ module harmonic (
     wire [5:0]  swa = 6'd0 - swp[5:0];          // sweep address 0, 1, .., 63
     wire [5:0]  wa = sweeping ? swa : lb;       // (a named 6-bit wire: Icarus 11 indexes
     always @(posedge clk) begin                 //  with a wider difference otherwise)
+`ifdef SYNTHESIS
         rd_raw <= mem[bin_i];
+`else
+        // simulation: the undefined read of a word written on the same edge returns the
+        // word inverted, so that a result relying on it differs from the model
+        rd_raw <= ((sweeping || commit) && wa == bin_i) ? ~mem[bin_i] : mem[bin_i];
+`endif
         cw2 <= commit && !sweeping;
         if (sweeping || commit)
             mem[wa] <= hp;
