@@ -87,12 +87,13 @@ formal: deps     ## formal proofs (SymbiYosys + z3): every task of sim/formal/*.
 
 VCDCMP  ?= $(BUILD)/vcdcompare
 SAMPLES ?= 20000
+SKIP    ?= 20000
 VCDCMP_IN = $(if $(SAMPLES),$(VCDCMP)/in.csv,$(IN))
 
-vcdcompare: deps ## RTL VCD vs the model's reference VCD: IN=in.csv INTERP=n [TABLE=paper] [DIV=d] [SAMPLES=n, empty: all]
+vcdcompare: deps ## RTL VCD vs the model's reference VCD: IN=in.csv INTERP=n [TABLE=paper] [DIV=d] [SAMPLES=n (empty: all) SKIP=k]
 	@mkdir -p $(VCDCMP)
 	@test -f $(IN) || { echo "vcdcompare: error: input '$(IN)' not found (run make demo or give IN=)" >&2; exit 2; }
-	$(if $(SAMPLES),head -n $$(( $(SAMPLES) + 1 )) $(IN) > $(VCDCMP_IN))
+	$(if $(SAMPLES),{ head -n 1 $(IN); tail -n +$$(( $(SKIP) + 2 )) $(IN) | head -n $(SAMPLES); } > $(VCDCMP_IN))
 	$(MAKE) --no-print-directory rtlsim IN=$(VCDCMP_IN) OUT=$(VCDCMP)/rtl.csv VCD=$(VCDCMP)/rtl.vcd
 	$(MAKE) --no-print-directory model IN=$(VCDCMP_IN) OUT=$(VCDCMP)/model.csv VCD=$(VCDCMP)/ref.vcd
 	$(PY) scripts/vcdcompare.py $(VCDCMP)/rtl.vcd $(VCDCMP)/ref.vcd --period-ps 27778

@@ -198,7 +198,7 @@ def test_vcdref_timing_and_names(tmp_path):
     res = core.run(u1, u2, cfg, trace=True)
     path = str(tmp_path / "ref.vcd")
     names = vcdref.write(path, res, cfg)
-    assert f"{SCOPE}.m_count" in names and f"{SCOPE}.u_lut.phase_o" in names
+    assert f"{SCOPE}.m_count" in names and f"{SCOPE}.{vcdref.HARM}.phase_o" in names
     v = VCDVCD(path)
     assert f"{SCOPE}.m_count[31:0]" in v.signals and f"{SCOPE}.m_valid" in v.signals
     tm = vcdref.rtl_timing()
@@ -206,7 +206,7 @@ def test_vcdref_timing_and_names(tmp_path):
     rise = [t for t, x in v[f"{SCOPE}.m_valid"].tv if x == "1"]
     assert rise == [(16 + 5 * k + L) * P for k in range(n)]
     # div=5: one-cycle windows with gaps; phase_o is x in the gaps
-    ph = v[f"{SCOPE}.u_lut.phase_o[12:0]"].tv
+    ph = v[f"{SCOPE}.{vcdref.HARM}.phase_o[12:0]"].tv
     assert ph[0] == (0, "x")
     t_ph = 16 + tm["PHASE_AT"]
     assert ph[1] == (t_ph * P, format(int(res["phase"][0]), "b"))

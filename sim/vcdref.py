@@ -13,38 +13,44 @@ strobed on edge t_k = t0 + k * cfg.div and its results are registered on edge t_
 where L is the stage latency below. The model computes values, not fast-path latencies,
 so these come from the pipeline timing constants of sim/model/core.py (rtl_timing()), which
 the RTL declares as localparams. A comparison therefore checks that the RTL's registers
-follow those latencies and hold the model's values. All these signals change only on rising edges.
+follow those latencies and hold the model's values. All these signals change only on
+rising edges.
 
-    CORR_AT                 correct outputs (gain, offsets, products, round)
-    OCT_AT   = PHASE_AT - 2 octant outputs (lut: +1 phase table, +2 phase_o)
-    PHASE_AT                lut phase_o
-    PN_AT    = PHASE_AT + 2 lut pn_o and sines (+3 n * phase, +4 sine table)
-    AB_AT                   pulse
-    LATENCY                 counter, m_* ports
-
-    signal                          L         kind
-    s_valid                         0         valid       high for one cycle from edge t_k
-    u_correct.valid_o               CORR_AT   valid
-    u_correct.u1c_o, u2c_o          CORR_AT   window      s2.14 corrected signals
-    u_octant.valid_o                OCT_AT    valid
-    u_octant.j_o, oct2_o, neg_o     OCT_AT    window      Table 2 address, octant, sign
-    u_lut.phase_valid_o             PHASE_AT  valid
-    u_lut.phase_o                   PHASE_AT  window      u13 fine phase
-    u_lut.valid_o                   PN_AT     valid
-    u_lut.pn_o                      PN_AT     window      u13 n-th order phase
-    u_pulse.valid_o                 AB_AT     valid
-    u_pulse.a_o, b_o                AB_AT     hold        A/B pulses (only change on valid)
-    u_counter.illegal_o             LATENCY   pulse       = m_fault[3] on the valid cycle
-    u_counter.illegal_count_o       LATENCY   hold
-    m_valid                         LATENCY   valid
-    m_count, m_a, m_b               LATENCY   hold        held between valid cycles
-    m_fault                         LATENCY   window
+    signal                              L             kind
+    s_valid                             0             valid   high for one cycle from t_k
+    u_correct.valid_o                   CORR_AT       valid
+    u_correct.ax_o, ay_o, xn_o, yn_o    CORR_AT       window  |u1c|, |u2c| (s2.14), signs
+    u_octant.valid_o                    OCT_AT        valid
+    u_octant.oct2_o, neg_o              OCT_AT        window  octant (base / 2048), sign
+    u_octant.j_o, bin_o                 ADDR_AT - 1   window  table address, harmonic bin
+                                                              (combinational, read on
+                                                              edge t_k + ADDR_AT)
+    g_harm.u_harmonic.valid_o           PHASE_AT      valid
+    g_harm.u_harmonic.phase_o           PHASE_AT      window  u13 fine phase
+    g_harm.u_harmonic.phase_c_o         PHASE_AT      window  u13 corrected fine phase
+    u_lut.nth_valid_o                   NTH_AT        valid
+    u_lut.prod_o                        NTH_AT        window  u22 n * phase
+    u_lut.valid_o                       SIN_AT        valid
+    u_lut.pn_o                          SIN_AT        window  u13 n-th order phase
+    u_pulse.valid_o                     PULSE_AT      valid
+    u_pulse.a_o, b_o                    PULSE_AT      hold    Eq. 12 pulses
+    u_counter.ill_o                     EDGE_AT       pulse   illegal pulse step (x4)
+    u_counter.ill_count_o               EDGE_AT       hold    u16 count of those
+    u_counter.ovs_o                     LATENCY       pulse   = m_fault[3] on the sample
+    m_valid                             LATENCY       valid
+    m_count                             LATENCY       hold
+    m_fault                             LATENCY       window
+    m_a, m_b                            every edge    edges   the paced A/B pins
+                                                              (sim/model/abgen.py run
+                                                              edge by edge on m_count;
+                                                              with ab_src = 1 the pulses)
 
 kinds:
   valid   1 for the cycle after edge t_k + L, 0 otherwise (exact).
   hold    takes sample k's value after edge t_k + L and keeps it (exact: the RTL only
           updates these registers on a valid sample).
   pulse   sample k's value for one cycle, 0 otherwise (exact: gated with valid in the RTL).
+  edges   the value after every edge (exact).
   window  sample k's value for the one cycle after edge t_k + L and 'x' in every other
           cycle. These registers are also clocked on idle cycles, where they hold the
           datapath's response to the harness's idle input (s_u1 = s_u2 = 0) under
@@ -64,49 +70,82 @@ PERIOD_PS / 2. Only s_valid with t0 = 0 can be affected.
 import numpy as np
 from vcd import VCDWriter
 
-from sim.model import core
+from sim.model import abgen, core
 
 PERIOD_PS = 27778        # sim/harness/harness.cpp (36 MHz)
 T0 = 16                  # edge of the first strobe in the harness
 SCOPE = "TOP.finequad_core"
 X = -1                   # value code for 'x' in the event arrays
 
+TIMING_KEYS = ("CORR_AT", "OCT_AT", "ADDR_AT", "PHASE_AT", "NTH_AT", "SIN_AT", "PULSE_AT",
+               "EDGE_AT", "LATENCY")
+
+
 def rtl_timing():
     """Edges from the strobe to each stage's result register (sim/model/core.py, which
     rtl/finequad_core.v declares as localparams and the tests hold it to)."""
-    return {k: getattr(core, k) for k in ("CORR_AT", "OCT_AT", "PHASE_AT", "PN_AT", "AB_AT",
-                                          "LATENCY")}
+    return {k: getattr(core, k) for k in TIMING_KEYS}
 
 
+def _ill_count(r):
+    return np.cumsum(np.asarray(r["ill"], dtype=np.int64)) & 0xFFFF
+
+
+def _bit(name):
+    return lambda r: (np.asarray(r["fault"]) >> core.FAULT_BITS[name]) & 1
+
+
+HARM = "g_harm.u_harmonic"
 # name (relative to SCOPE), width (int, or the Config field giving it), kind, latency (a
-# key of rtl_timing(), or 0), source: key of res, or a callable res -> array
+# key of rtl_timing(), (key, offset), or 0), source: key of res, or a callable res -> array
 SIGNALS = [
     ("s_valid", 1, "valid", 0, None),
     ("u_correct.valid_o", 1, "valid", "CORR_AT", None),
-    ("u_correct.u1c_o", 16, "window", "CORR_AT", "u1c"),
-    ("u_correct.u2c_o", 16, "window", "CORR_AT", "u2c"),
+    ("u_correct.ax_o", 15, "window", "CORR_AT", "ax"),
+    ("u_correct.ay_o", 15, "window", "CORR_AT", "ay"),
+    ("u_correct.xn_o", 1, "window", "CORR_AT", "xn"),
+    ("u_correct.yn_o", 1, "window", "CORR_AT", "yn"),
     ("u_octant.valid_o", 1, "valid", "OCT_AT", None),
-    ("u_octant.j_o", 11, "window", "OCT_AT", "j"),
     ("u_octant.oct2_o", 2, "window", "OCT_AT", lambda r: np.asarray(r["base"]) >> 11),
     ("u_octant.neg_o", 1, "window", "OCT_AT", "neg"),
-    ("u_lut.phase_valid_o", 1, "valid", "PHASE_AT", None),
-    ("u_lut.phase_o", 13, "window", "PHASE_AT", "phase"),
-    ("u_lut.valid_o", 1, "valid", "PN_AT", None),
-    ("u_lut.pn_o", 13, "window", "PN_AT", "pn"),
-    ("u_pulse.valid_o", 1, "valid", "AB_AT", None),
-    ("u_pulse.a_o", 1, "hold", "AB_AT", "a"),
-    ("u_pulse.b_o", 1, "hold", "AB_AT", "b"),
-    ("u_counter.illegal_o", 1, "pulse", "LATENCY",
-     lambda r: (np.asarray(r["fault"]) >> core.FAULT_BITS["illegal"]) & 1),
-    ("u_counter.illegal_count_o", 32, "hold", "LATENCY", "illegal_count"),
+    ("u_octant.j_o", 11, "window", ("ADDR_AT", -1), "j"),
+    ("u_octant.bin_o", 6, "window", ("ADDR_AT", -1), "bin"),
+    (f"{HARM}.valid_o", 1, "valid", "PHASE_AT", None),
+    (f"{HARM}.phase_o", 13, "window", "PHASE_AT", "phase"),
+    (f"{HARM}.phase_c_o", 13, "window", "PHASE_AT", "phase_c"),
+    ("u_lut.nth_valid_o", 1, "valid", "NTH_AT", None),
+    ("u_lut.prod_o", 22, "window", "NTH_AT", "prod"),
+    ("u_lut.valid_o", 1, "valid", "SIN_AT", None),
+    ("u_lut.pn_o", 13, "window", "SIN_AT", "pn"),
+    ("u_pulse.valid_o", 1, "valid", "PULSE_AT", None),
+    ("u_pulse.a_o", 1, "hold", "PULSE_AT", "pa"),
+    ("u_pulse.b_o", 1, "hold", "PULSE_AT", "pb"),
+    ("u_counter.ill_o", 1, "pulse", "EDGE_AT", "ill"),
+    ("u_counter.ill_count_o", 16, "hold", "EDGE_AT", _ill_count),
+    ("u_counter.ovs_o", 1, "pulse", "LATENCY", _bit("ovs")),
     ("m_valid", 1, "valid", "LATENCY", None),
     ("m_count", "COUNT_W", "hold", "LATENCY", "count"),
-    ("m_a", 1, "hold", "LATENCY", "a"),
-    ("m_b", 1, "hold", "LATENCY", "b"),
-    ("m_fault", 6, "window", "LATENCY", "fault"),
+    ("m_fault", 7, "window", "LATENCY", "fault"),
+    ("m_a", 1, "edges", 0, "a"),
+    ("m_b", 1, "edges", 0, "b"),
 ]
-# initial (power-up) value of the 'hold' signals: rtl/pulse.v, rtl/counter.v
+# initial (power-up) value of the 'hold' and 'edges' signals: rtl/pulse.v, rtl/abgen.v
 INIT = {"u_pulse.a_o": 1, "u_pulse.b_o": 1, "m_a": 1, "m_b": 1}
+
+
+def _pins(res, cfg, t, tm, end):
+    """The A/B pins after every edge 0 .. end: (edges, a, b) where they change. Paced:
+    rtl/abgen.v (sim/model/abgen.py) follows m_count, which takes sample k's count on
+    edge t_k + LATENCY (the target from the edge after). With ab_src = 1 the pins are the
+    Eq. 12 pulses (the hold of u_pulse.a_o / b_o)."""
+    if cfg.ab_src:
+        e = t + tm["PULSE_AT"]
+        return e, np.asarray(res["pa"]), np.asarray(res["pb"])
+    count = np.asarray(res["count"], dtype=np.int64)
+    idx = np.searchsorted(t + tm["LATENCY"], np.arange(end + 1) - 1, side="right") - 1
+    target = np.where(idx >= 0, count[np.maximum(idx, 0)], 0)
+    r = abgen.abgen(target, cfg.ab_sep, cfg.ab_bound, cfg.COUNT_W)
+    return np.arange(end + 1), r["a"].astype(np.int64), r["b"].astype(np.int64)
 
 
 def _source(res, src):
@@ -127,7 +166,7 @@ def _available(res, src):
 
 def _events(kind, on, vals, width):
     """(edges, values) of one signal; on: edges of the sample results (increasing)."""
-    if kind == "hold":
+    if kind in ("hold", "edges"):
         v = np.asarray(vals, dtype=np.int64) & ((1 << width) - 1)
         keep = np.ones(len(v), dtype=bool)
         keep[1:] = v[1:] != v[:-1]          # unchanged holds are not changes
@@ -167,6 +206,13 @@ def write(path, res, cfg, t0=T0, period_ps=PERIOD_PS, strobes=None, signals=None
         raise ValueError(f"vcdref: {len(t)} strobe edges for {n} samples")
     if n > 1 and np.any(np.diff(t) < 1):
         raise ValueError("vcdref: strobe edges must increase")
+    end = (int(t[-1]) + max(tm.values()) + 2) if n else 1   # after the last change
+
+    def lat_of(lat):
+        if isinstance(lat, tuple):
+            return tm[lat[0]] + lat[1]
+        return tm[lat] if isinstance(lat, str) else lat
+
     chosen = []
     for name, width, kind, lat, src in SIGNALS:
         if signals is not None and name not in signals:
@@ -174,16 +220,26 @@ def write(path, res, cfg, t0=T0, period_ps=PERIOD_PS, strobes=None, signals=None
         if src is not None and not _available(res, src):
             continue
         chosen.append((name, getattr(cfg, width) if isinstance(width, str) else width,
-                       kind, tm[lat] if isinstance(lat, str) else lat, src))
+                       kind, lat_of(lat), src))
     if signals is not None:
         missing = set(signals) - {c[0] for c in chosen}
         if missing:
             raise KeyError(f"vcdref: cannot write {sorted(missing)} (unknown signal or "
                            f"res lacks its trace array: run the model with trace=True)")
 
+    pins = None
     all_e, all_s, all_v = [], [], []
     for i, (name, width, kind, lat, src) in enumerate(chosen):
-        e, v = _events(kind, t + lat, _source(res, src), width)
+        if kind == "edges":
+            if pins is None:
+                pins = _pins(res, cfg, t, tm, end)
+            on, vals = pins[0], pins[1 if name == "m_a" else 2]
+            # changes against the power-up value (edge -1 stands for it, then dropped)
+            e, v = _events("hold", np.concatenate([[-1], on]),
+                           np.concatenate([[INIT[name]], vals]), width)
+            e, v = e[1:], v[1:]
+        else:
+            e, v = _events(kind, t + lat, _source(res, src), width)
         all_e.append(e)
         all_s.append(np.full(len(e), i, dtype=np.int64))
         all_v.append(v)
@@ -212,6 +268,5 @@ def write(path, res, cfg, t0=T0, period_ps=PERIOD_PS, strobes=None, signals=None
         change = w.change
         for ti, si, vi in zip(ts.tolist(), s.tolist(), v.tolist()):
             change(vars_[si], ti, "x" if vi < 0 else vi)
-        end = (int(t[-1]) + tm["LATENCY"] + 1) * period_ps if n else period_ps
-        w.close(end)
+        w.close(end * period_ps)
     return [f"{SCOPE}.{c[0]}" for c in chosen]
