@@ -16,20 +16,24 @@ Scenarios (one simulator process each, from power-up):
   paper      TABLE_EXACT=0 (the paper's table), n = 7, strobes every 24 clocks
   reset_req  reset requests written to register 0 (see below), TABLE_EXACT=1
 
-After the last sample the bench reads the registers back: ID (0x1f), the run-time registers
-(0x01..0x07), count (0x08), illegal count (0x09), updates (0x11), status (0x00: uncal and
-hold), gain and coefficients (0x0b..0x10) must equal the model's final state, and the
-sticky faults (0x0a) the OR of all fault words; writing ones to 0x0a clears those bits.
+After the last sample the bench reads the registers back through the registered read
+port (reg_re with reg_addr for one edge, reg_rdata after it): ID (0x1f), the run-time
+registers (0x01..0x07, HARM 0x12, JUMP 0x13, ABGEN 0x15, AB_BOUND 0x16), count (0x08),
+illegal count (0x09), updates (0x11), jumps (0x14), status (0x00: uncal and hold), gain
+and coefficients (0x0b..0x10) must equal the model's final state, the A/B backlog (0x17)
+0 once the pins caught up, and the sticky faults (0x0a) the OR of all fault words (7
+bits); writing ones to 0x0a clears those bits.
 The model's final bundle is that of a phantom sample strobed (in the model only) after every
 program has ended; a reset request on that phantom keeps it from starting an update.
 
 Reset requests (register 0, bit 0): the model (Config.resets) takes the index k of the sample
-whose estimator decision (edge t_k + PHASE_STAGE, sim.model.core.PHASE_STAGE) is the first
-to see the request. A write on edge w is seen by decisions on edges w + 1 and later, so it
-belongs to sample k exactly when t_(k-1) + PHASE_STAGE <= w <= t_k + PHASE_STAGE - 1. The
-test writes requests alternately on the latest edge of that window (t_k + PHASE_STAGE - 1)
-and on the earliest (t_(k-1) + PHASE_STAGE), at samples where attributing the request to
-the neighbouring sample (k + 1, resp. k - 1) would change the model's outputs, so an
+whose arrival decision (edge t_k + RESET_STAGE, sim.model.core.RESET_STAGE: the estimator
+decides on a reset on the edge after a sample's arrival) is the first to see the request.
+A write on edge w is seen by decisions on edges w + 1 and later, so it belongs to sample k
+exactly when t_(k-1) + RESET_STAGE <= w <= t_k + RESET_STAGE - 1. The test writes
+requests alternately on the latest edge of that window (t_k + RESET_STAGE - 1) and on the
+earliest (t_(k-1) + RESET_STAGE), at samples where attributing the request to the
+neighbouring sample (k + 1, resp. k - 1) would change the model's outputs, so an
 off-by-one edge in the RTL cannot pass.
 """
 import os
@@ -136,8 +140,8 @@ REQUEST_AT = (0.15, 0.3, 0.65, 0.75)
 
 def pick_requests(u1, u2, t):
     """Reset requests [(sample k, write edge w)] that the outputs can tell apart from the
-    neighbouring sample: one on the latest edge that belongs to k (t_k + PHASE_STAGE - 1,
-    one edge later would be sample k + 1), one on the earliest (t_(k-1) + PHASE_STAGE, one
+    neighbouring sample: one on the latest edge that belongs to k (t_k + RESET_STAGE - 1,
+    one edge later would be sample k + 1), one on the earliest (t_(k-1) + RESET_STAGE, one
     edge earlier would be sample k - 1), alternately, during the moves (REQUEST_AT)."""
     import numpy as np
     from sim.model import core
@@ -155,8 +159,8 @@ def pick_requests(u1, u2, t):
         for k in range(int(n * frac), int(n * frac) + 100):
             alt = k + 1 if latest else k - 1
             if not (outputs(base + [k]) == outputs(base + [alt])).all():
-                w = int(t[k]) + core.PHASE_STAGE - 1 if latest else \
-                    int(t[k - 1]) + core.PHASE_STAGE
+                w = int(t[k]) + core.RESET_STAGE - 1 if latest else \
+                    int(t[k - 1]) + core.RESET_STAGE
                 chosen.append((k, w))
                 break
         else:
@@ -241,6 +245,7 @@ async def core_run(dut):
     dut.s_u1.value = 0
     dut.s_u2.value = 0
     dut.reg_we.value = 0
+    dut.reg_re.value = 0
     dut.reg_addr.value = 0
     dut.reg_wdata.value = 0
     await bench.start()
@@ -312,8 +317,11 @@ async def core_run(dut):
     await bench.goto(t_ph + 2)
 
     async def rd(addr):
+        await bench.goto(bench.edge + 1)
         dut.reg_addr.value = addr
-        await bench.settle()
+        dut.reg_re.value = 1
+        await bench.goto(bench.edge + 1)
+        dut.reg_re.value = 0
         return fqtb.uval(dut.reg_rdata)
 
     async def wr(addr, data):
@@ -334,36 +342,44 @@ async def core_run(dut):
         if got_v != exp_v:
             bad.append(f"{what}: rtl {got_v:#x}, model {exp_v:#x}")
 
-    check("ID 0x1f", await rd(0x1F), 0x46510001)
+    check("ID 0x1f", await rd(0x1F), core_model.ID)
     masks = dict(interp=0x1FF, eps=0xFFFF, lam_k=0x1F, kappa=0xFFFF, period=0xFFFF,
                  settle=0x3FF, gate=0x1FFF)
     for a, name in zip(range(1, 8), REG_ORDER):
         check(f"{name} 0x{a:02x}", await rd(a), regs[name] & masks[name])
     check("count 0x08", await rd(0x08), u32(res["count"][n - 1]))
-    check("illegal count 0x09", await rd(0x09), u32(res["illegal_count"][n - 1]))
+    check("illegal count 0x09", await rd(0x09), int(np.sum(res["ill"][:n])) & 0xFFFF)
     check("updates 0x11", await rd(0x11), u32(res["n_updates"]))
     fault_ph = int(res["fault"][ph])
     check("status 0x00 [1:0] (uncal, hold)", (await rd(0x00)) & 3,
           ((fault_ph >> 4) & 1) | (((fault_ph >> 5) & 1) << 1))
     check("gain 0x0b", await rd(0x0B), int(res["g"][ph]))
+    cfg = _config(scenario, [])
+    check("HARM 0x12", await rd(0x12),
+          cfg.harm_apply | cfg.harm_learn << 1 | (cfg.harm_mu - 3) << 4)
+    check("JUMP 0x13", await rd(0x13), (0 if cfg.jump_on else 1 << 15) | cfg.jump_min)
+    check("jumps 0x14", await rd(0x14), len(res["jumps"]) & 0xFFFF)
+    check("ABGEN 0x15", await rd(0x15), cfg.ab_src << 8 | cfg.ab_sep)
+    check("AB_BOUND 0x16", await rd(0x16), cfg.ab_bound)
+    check("A/B backlog 0x17", await rd(0x17), 0)
     for a, f in zip(range(0x0C, 0x11), ("m1", "m2", "c1", "c12", "c2")):
         check(f"{f} 0x{a:02x}", await rd(a), u32(res[f][ph]))
     sticky = int(np.bitwise_or.reduce(res["fault"][:n]))
     check("sticky faults 0x0a", await rd(0x0A), sticky)
     # write 1 to clear: a read-only register first (no effect), then two steps
     await wr(0x1F, 0)
-    check("ID 0x1f after a write", await rd(0x1F), 0x46510001)
+    check("ID 0x1f after a write", await rd(0x1F), core_model.ID)
     await wr(0x0A, 0x15)
     check("sticky after writing 0x15", await rd(0x0A), sticky & ~0x15)
     await wr(0x0A, 0x00)
     check("sticky after writing 0", await rd(0x0A), sticky & ~0x15)
-    await wr(0x0A, 0x3F)
-    check("sticky after writing 0x3f", await rd(0x0A), 0)
+    await wr(0x0A, 0x7F)
+    check("sticky after writing 0x7f", await rd(0x0A), 0)
     assert not bad, f"{scenario}: register read-back differs:\n" + "\n".join(bad)
 
     f = res["fault"][:n]
     cov = {name: int(((f >> bit) & 1).sum()) for name, bit in
-           (("clip", 0), ("nsat", 1), ("csat", 2), ("illegal", 3), ("uncal", 4), ("hold", 5))}
+           core_model.FAULT_BITS.items()}
     log.info("scenario %s: %d samples equal (fault bit counts %s), g %s, final count %d, "
              "sticky %#x", scenario, n, cov, sorted(set(res["g"][:n].tolist())),
              int(res["count"][n - 1]), sticky)

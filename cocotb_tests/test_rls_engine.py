@@ -20,7 +20,7 @@ import fqtb
 
 @pytest.mark.parametrize("sim", fqtb.SIMULATORS)
 def test_rls_engine(sim):
-    fqtb.run_block(sim, "rls_engine", fqtb.sources("rls_engine", "sat_round"),
+    fqtb.run_block(sim, "rls_engine", fqtb.sources("rls_engine"),
                    "test_rls_engine",
                    parameters=dict(TABLE_DIR=fqtb.qstr(fqtb.TABLE_DIR)),
                    extra_env=dict(N_PROGRAMS=400))

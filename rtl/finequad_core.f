@@ -9,7 +9,6 @@ rtl/pulse.v
 rtl/counter.v
 rtl/estimator.v
 rtl/rls_engine.v
-rtl/sat_round.v
 rtl/harmonic.v
 rtl/phase.v
 rtl/abgen.v

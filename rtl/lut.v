@@ -39,9 +39,9 @@ module lut #(
     output reg  [21:0]       prod_o,       // u22 n * phase: pn = [12:0], q = [21:11]
     output reg               valid_o,      // latency 2
     output reg  [12:0]       pn_o,         // u13 n-th order phase, aligned with the sines
-    output reg  [SIN_W-2:0]  cos_mag_o,
+    output wire [SIN_W-2:0]  cos_mag_o,
     output reg               cos_neg_o,
-    output reg  [SIN_W-2:0]  sin_mag_o,
+    output wire [SIN_W-2:0]  sin_mag_o,
     output reg               sin_neg_o
 );
     localparam PH_FILE = TABLE_EXACT ? "phase_exact.hex" : "phase_paper.hex";
@@ -130,10 +130,8 @@ module lut #(
         pn_o      <= pn;
         valid_o   <= nth_valid_o;
     end
-    always @* begin
-        sin_mag_o = sraw[SIN_W-2:0];
-        cos_mag_o = craw[SIN_W-2:0];
-    end
+    assign sin_mag_o = sraw[SIN_W-2:0];
+    assign cos_mag_o = craw[SIN_W-2:0];
     initial begin
         nth_valid_o = 1'b0; prod_o = 0; valid_o = 1'b0; pn_o = 0;
         sin_neg_o = 1'b0; cos_neg_o = 1'b0;

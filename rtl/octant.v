@@ -39,11 +39,11 @@ module octant #(
     input  wire [14:0] ay_i,      // u15 |u2c|
     input  wire        xn_i,      // u1c < 0
     input  wire        yn_i,      // u2c < 0
-    output reg         valid_o,
+    output wire        valid_o,
     output wire [10:0] j_o,
     output wire [5:0]  bin_o,
-    output reg  [1:0]  oct2_o,
-    output reg         neg_o
+    output wire [1:0]  oct2_o,
+    output wire        neg_o
 );
 `include "hbin.vh"
 
@@ -103,11 +103,11 @@ module octant #(
         neg_q  <= low ? (xn_i ^ yn_i) : !(xn_i ^ yn_i);
         v1     <= valid_i;
     end
-    always @* begin
-        valid_o = v1;
-        oct2_o = oct2_q;
-        neg_o = neg_q;
-    end
+    // continuous assignments (an always @* of registers that keep their initial value
+    // never runs in Icarus, and its outputs stay x)
+    assign valid_o = v1;
+    assign oct2_o = oct2_q;
+    assign neg_o = neg_q;
 
     // ---- e+2: p = sn * rcp (a DSP block) ------------------------------------------------------
     reg [27:0] p = 0;

@@ -44,8 +44,8 @@ module rls_engine #(
     input  wire [15:0]        kappa_i,     // u8.8 covariance reset value
     input  wire signed [2:0]  dg_i,        // input gain change for the theta rescale, -3..3
     output reg                busy_o,
-    output reg                done_o,      // the program ends on the coming edge
-    output reg                valid_o,     // with done_o: no invalid flag was raised
+    output wire               done_o,      // the program ends on the coming edge
+    output wire               valid_o,     // with done_o: no invalid flag was raised
     output reg  [16*7-1:0]    out_o,       // OUT registers {tr, e, c2, c12, c1, m2, m1}
     output reg                sat_o        // sticky: a register write saturated
 );
@@ -367,10 +367,8 @@ module rls_engine #(
     end
     // END reaches this stage: the program ends on the coming edge. Every earlier
     // instruction has written by then, so out_o and valid_o are final.
-    always @* begin
-        done_o  = v6 && op6 == OP_END;
-        valid_o = !inval_q;
-    end
+    assign done_o  = v6 && op6 == OP_END;
+    assign valid_o = !inval_q;
     integer oi;
     always @(posedge clk) begin
         if (wb6 && i6[6])

@@ -82,6 +82,7 @@ START_DELAY = 1      # the engine starts on the edge after the decision (registe
 LFSR_SEED = 0xACE1   # dither of the estimator's sample choice (see below)
 WARMUP = 64          # updates before the first automatic reset (picks the input gain)
 G_MAX = 3            # input gain 2**g, g in 0..3 (amplitudes down to ~6 % of full scale)
+ID = 0x46510002      # register 0x1f: "FQ" and the version (0.2), rtl/finequad_core.v
 FAULT_BITS = {
     "clip": 0,       # an input code sits on an ADC rail
     "nsat": 1,       # u << g leaves s1.15 in the fast path
