@@ -1,14 +1,24 @@
 """lut (Table 1 through the phase table and the quarter-wave sine table) against
-sim.model.fastpath.Lut, bit for bit, for both table kinds, sine widths 8..16 and both
-forms of the n * phase product (DSP `*` and the carry-save rows in logic).
+sim.model.fastpath.Lut, bit for bit, every output of every sample and both valid outputs
+on every edge, for both table kinds, sine widths 8..16 and both forms of the n * phase
+product (DSP `*` and the carry-save rows in logic).
 
-Timing (rtl/lut.v): an address j_i presented for edge A gives ph_o = PH[j] after edge A
-(the phase table, read on edge t + ADDR_AT in the core). A fine phase with n_i presented
-for edge E (valid_i) gives nth_valid_o and prod_o = n * phase after edge E, and valid_o,
-pn_o and the sines (magnitude and sign) after edge E + 1. The two streams run
-independently, back to back and with idle clocks (garbage inputs); n changes per sample
-in part of the run. Every table address is read (with both extreme n and every octant
-for the phase part), every n from 1 to 511 is used."""
+Timing (rtl/lut.v header; sim.model.core ADDR_AT, PHASE_AT, NTH_AT, SIN_AT): an address
+j_i presented for edge A (= t + ADDR_AT in the core) gives ph_o = PH[j] after edge A (the
+block RAM's output register). A fine phase with n_i presented for edge E (valid_i; the
+phase is registered on t + PHASE_AT, so E = t + PHASE_AT + 1) gives nth_valid_o and
+prod_o = n * phase (u22) after edge E + (NTH_AT - PHASE_AT - 1), and valid_o, pn_o =
+prod mod 8192 and the sines (magnitude, and sign from pn's quadrant: cos negative for
+(pn + 2048) mod 8192 >= 4096, sin for pn >= 4096; the signed values equal Lut.nth's)
+after edge E + (SIN_AT - PHASE_AT - 1).
+
+Vectors: the phase table at every address, then random addresses; the n-th order at
+every n from 0 to 511 (with the phase extremes 0, 8191, around 4096 and a random one),
+every phase with n = 1 (every sine address in every quadrant, for the cosine and the
+sine: checked before the run), every phase of a stride with n = 511, walking ones and
+zeros and alternating bits of n against those of the phase (the carry-save rows and their
+carries), then seeded random pairs. The two streams run independently, back to back and
+with random idle clocks, where the inputs hold random garbage with the valid low."""
 import random
 
 import pytest
@@ -32,8 +42,8 @@ def test_lut(sim, exact, sin_w, dsp):
 import cocotb  # noqa: E402
 
 
-def schedule(rng, count, dense=0.7):
-    """Edges (from 0) for `count` items, back to back with random idle clocks."""
+def schedule(rng, count, dense=0.85):
+    """Edges (from 0) for `count` items, back to back with random idle clocks (1..3)."""
     edges, e = [], 0
     for _ in range(count):
         e += 0 if rng.random() < dense else rng.randint(1, 3)
@@ -42,9 +52,39 @@ def schedule(rng, count, dense=0.7):
     return edges
 
 
+def nth_vectors(rng):
+    """(phase, n) pairs of the n-th order stream (see the module docstring)."""
+    v = []
+    for n in range(0, 512):
+        v += [(rng.randint(0, 8191), n), (0, n), (8191, n), (4095 + rng.randint(0, 1), n)]
+    v += [(p, 1) for p in range(8192)] + [(p, 511) for p in range(1, 8192, 7)]
+    # bit patterns of n against those of the phase: every carry-save row alone, all but
+    # one, every row with all ones, alternating bits
+    ns = sorted({1 << b for b in range(9)} | {511 ^ (1 << b) for b in range(9)}
+                | {511, 0x155, 0x0AA})
+    ps = sorted({1 << b for b in range(13)} | {8191 ^ (1 << b) for b in range(13)}
+                | {8191, 0x1555, 0x0AAA})
+    v += [(p, n) for n in ns for p in ps]
+    v += [(rng.randint(0, 8191), rng.randint(0, 511)) for _ in range(2000)]
+    return v
+
+
+def check_sine_coverage(pn):
+    """Every sine-table address is read for the cosine and for the sine, in every
+    quadrant (so through both the direct and the mirrored address, with both signs)."""
+    seen_s, seen_c = set(), set()
+    for q in pn:
+        c = (q + 2048) & 8191
+        seen_s.add((q >> 11, q & 2047))
+        seen_c.add((c >> 11, c & 2047))
+    want = {(a, k) for a in range(4) for k in range(2048)}
+    assert seen_s == want and seen_c == want
+
+
 @cocotb.test()
 async def lut_all(dut):
     import numpy as np
+    from sim.model import core
     from sim.model import fastpath as fp
 
     exact = fqtb.env_int("TABLE_EXACT")
@@ -52,40 +92,39 @@ async def lut_all(dut):
     assert len(dut.cos_mag_o) == sin_w - 1
     lut = fp.Lut("exact" if exact else "paper", sin_w)
     rng = random.Random(400 + 10 * exact + sin_w)
+    d_ph = 0                                      # ph_o: the RAM's output register
+    d_prod = core.NTH_AT - core.PHASE_AT - 1      # prod_o after edge E + d_prod
+    d_sin = core.SIN_AT - core.PHASE_AT - 1       # sines after edge E + d_sin
 
     # phase-table stream: every address, then random ones
     js = list(range(2048)) + [rng.randint(0, 2047) for _ in range(2000)]
-    # n-th order stream: every n with random phases and the phase extremes, then every
-    # phase with n = 1 and n = 511, then random (phase, n) pairs
-    nth = []
-    for n in range(1, 512):
-        nth += [(rng.randint(0, 8191), n), (0, n), (8191, n), (4095 + rng.randint(0, 1), n)]
-    nth += [(p, 1) for p in range(0, 8192, 3)] + [(p, 511) for p in range(1, 8192, 5)]
-    nth += [(rng.randint(0, 8191), rng.randint(1, 511)) for _ in range(3000)]
+    nth = nth_vectors(rng)
     ph_exp = [int(lut.ph[j]) for j in js]
     a = np.array(nth, dtype=np.int64)
     prod, pn, cosn, sinn = lut.nth(a[:, 0], a[:, 1])
-    nth_exp = [(int(p), int(q), int(abs(c)), int(c < 0 or (((q + 2048) & 8191) >= 4096)),
-                int(abs(s)), int(q >= 4096), int(c), int(s))
-               for p, q, c, s in zip(prod, pn, cosn, sinn)]
+    check_sine_coverage(pn.tolist())
+    assert set(a[:, 1].tolist()) == set(range(512))
+    nth_exp = [(int(p), int(q), int(c), int(s)) for p, q, c, s in zip(prod, pn, cosn, sinn)]
 
     ej = schedule(rng, len(js))
     en = schedule(rng, len(nth))
     j_at = {e: i for i, e in enumerate(ej)}
     n_at = {e: i for i, e in enumerate(en)}
-    ph_out = {e: i for i, e in enumerate(ej)}           # ph_o after edge A
-    p_out = {e: i for i, e in enumerate(en)}            # prod_o after edge E
-    s_out = {e + 1: i for i, e in enumerate(en)}        # sines after edge E + 1
+    ph_out = {e + d_ph: i for i, e in enumerate(ej)}
+    p_out = {e + d_prod: i for i, e in enumerate(en)}
+    s_out = {e + d_sin: i for i, e in enumerate(en)}
 
     bench = fqtb.ClockedBench(dut)
     await bench.start()
     bad = []
-    last = max(ej[-1], en[-1] + 1) + 2
+    last = max(ej[-1] + d_ph, en[-1] + max(d_prod, d_sin)) + 2
+    checked = [0, 0, 0]
     for e in range(-1, last + 1):
         if e >= 0:
             if e in ph_out:
                 i = ph_out[e]
                 got = fqtb.uval(dut.ph_o)
+                checked[0] += 1
                 if got != ph_exp[i]:
                     bad.append(f"j={js[i]}: ph_o={got}, model {ph_exp[i]}")
             nv, v = fqtb.uval(dut.nth_valid_o), fqtb.uval(dut.valid_o)
@@ -96,6 +135,7 @@ async def lut_all(dut):
             if e in p_out:
                 i = p_out[e]
                 got = fqtb.uval(dut.prod_o)
+                checked[1] += 1
                 if got != nth_exp[i][0]:
                     bad.append(f"(phase,n)={nth[i]}: prod_o={got}, model {nth_exp[i][0]}")
             if e in s_out:
@@ -103,13 +143,15 @@ async def lut_all(dut):
                 got = (fqtb.uval(dut.pn_o), fqtb.uval(dut.cos_mag_o),
                        fqtb.uval(dut.cos_neg_o), fqtb.uval(dut.sin_mag_o),
                        fqtb.uval(dut.sin_neg_o))
-                c = -got[1] if got[2] else got[1]
-                s = -got[3] if got[4] else got[3]
-                x = nth_exp[i]
-                want = (x[1], x[2], int(((x[1] + 2048) & 8191) >= 4096), x[4], x[5])
-                if got != want or (c, s) != (x[6], x[7]):
+                checked[2] += 1
+                _, q, c, s = nth_exp[i]
+                # magnitudes and values from the model; the sign bits from the quadrant
+                # (a zero magnitude, SIN_W = 8, still carries its quadrant's sign)
+                want = (q, abs(c), int(((q + 2048) & 8191) >= 4096), abs(s), int(q >= 4096))
+                val = (-got[1] if got[2] else got[1], -got[3] if got[4] else got[3])
+                if got != want or val != (c, s):
                     bad.append(f"(phase,n)={nth[i]}: (pn,|cos|,cneg,|sin|,sneg)={got}, "
-                               f"model {want} (cos, sin = {x[6]}, {x[7]})")
+                               f"model {want} (cos, sin = {c}, {s})")
         nxt = e + 1
         dut.j_i.value = js[j_at[nxt]] if nxt in j_at else rng.randint(0, 2047)
         if nxt in n_at:
@@ -124,5 +166,6 @@ async def lut_all(dut):
         if len(bad) > 50:
             break
     assert not bad, f"{len(bad)} mismatches:\n" + "\n".join(bad[:20])
+    assert checked == [len(js), len(nth), len(nth)]
     dut._log.info("lut TABLE_EXACT=%d SIN_W=%d: %d phase-table reads, %d n-th order "
                   "samples equal", exact, sin_w, len(js), len(nth))

@@ -1,16 +1,36 @@
-"""octant (Table 2) against sim.model.fastpath.octant, both table kinds, bit for bit.
+"""octant (Table 2 and the harmonic bin) against sim.model.fastpath.octant and Lut.phase,
+both table kinds, bit for bit: every output of every sample, and valid_o on every edge.
 
-Timing (rtl/octant.v; sim.model.core CORR_AT, OCT_AT, ADDR_AT): the magnitudes and signs
-presented for edge E (= t + CORR_AT + 1 in the core) give valid_o, oct2_o and neg_o after
-edge E + (OCT_AT - CORR_AT - 1), and j_o and bin_o (combinational, read by the block RAMs
-on edge t + ADDR_AT) after edge E + (ADDR_AT - CORR_AT - 2). oct2_o is the model's base
-phase / 2048, neg_o its neg, j_o its j (exact: round(2048 |small| / |large|) through the
-reciprocal table and the multiply; paper: the small magnitude), bin_o the harmonic bin
-phase >> 7 of the phase the table gives (Lut.phase). Directed: special magnitudes and
-their pairs, every normalising shift at the reciprocal table's extremes, diagonal ties,
-and for every harmonic bin threshold the ratios just below, at and above it (both signs,
-both halves of an octant); then seeded random magnitudes (any, near the unit circle, near
-the octant borders); back to back, then with idle clocks (garbage inputs)."""
+Timing (rtl/octant.v header; sim.model.core CORR_AT, OCT_AT, ADDR_AT): the magnitudes and
+signs presented for edge E (= t + CORR_AT + 1 in the core, the edge after correct
+registers them) give valid_o, oct2_o and neg_o after edge E + (OCT_AT - CORR_AT - 1), and
+j_o and bin_o (combinational, read by the block RAMs on edge t + ADDR_AT) after edge
+E + (ADDR_AT - CORR_AT - 2). Expected values: oct2_o = the model's base / 2048, neg_o its
+neg, j_o its j (exact: round(2048 |small| / |large|) through the reciprocal table and the
+multiply, clipped at 2047; paper: min(2047, (|small| + 4) >> 3)), bin_o = phase >> 7 of
+the phase the model's table gives (Lut.phase), the bin core.Core hands the harmonic block.
+
+Vectors (ax, ay, xn, yn), u15 magnitudes and signs as rtl/correct.v delivers them:
+  - directed: every pair of special signed values (zero, +-1, the paper address's rounding
+    steps (s + 4) >> 3, its clip at 2047, 16384, the saturated 32767); |large| at and
+    around every power of two (every normalising shift, both ends of the reciprocal
+    table) with small = large, large - 1, large / 2, 1, 0; diagonal ties |x| = |y| and
+    their neighbours (ties take the low octant) in all quadrants; "negative zeros" (a
+    zero magnitude with its sign bit set: correct gives |u| = 0, sign 1 for sums in
+    [-8192, -1]) with every sign combination;
+  - every harmonic bin threshold T of both sets (floor for neg = 0, ceil for neg = 1):
+    for |large| from 128 to 32767 (normalising shifts 0 to 7 at both ends of the
+    reciprocal table, the unit circle, the rail, a few random; paper: three |large|) the
+    last |small| with j < T and the first with j >= T (found with the model), each in two
+    octants with neg = 0 and two with neg = 1; the test checks that j = T - 1 and j = T
+    are both reached with both values of neg before it runs;
+  - a sweep of the bin logic's whole input scale (rtl/octant.v's t = floor(p / 2**15):
+    every t from 0 to 4095 and the clip, exact table; every j, paper table), once with
+    neg = 0 and once with neg = 1, the octant drawn at random;
+  - seeded random: any magnitudes and signs, on and around the unit circle (16384), near
+    the octant borders (near-diagonal, near an axis);
+fed back to back, then a random subset of them again with 0, 1 or 2 idle clocks between
+strobes, where the inputs hold random garbage with valid_i low."""
 import random
 
 import pytest
@@ -29,55 +49,116 @@ def test_octant(sim, exact):
 # ---- cocotb side ------------------------------------------------------------------------
 import cocotb  # noqa: E402
 
+UMAX = 32767        # u15 magnitudes (correct saturates |u| to 32767)
+N_RANDOM = 5000     # seeded random vectors
+N_GAPPED = 5000     # vectors of the second pass, with idle clocks
+
+
+def magnitudes(vec):
+    """Signed corrected values -> (ax, ay, xn, yn) as rtl/correct.v delivers them."""
+    return [(min(abs(x), UMAX), min(abs(y), UMAX), int(x < 0), int(y < 0)) for x, y in vec]
+
+
+def octants(lg, sm):
+    """(ax, ay, xn, yn) of |large| = lg, |small| = sm in all eight octants (both signs of
+    both axes, small on either axis); lg > sm puts four of them in the low octants."""
+    return [(a, b, xn, yn) for a, b in ((lg, sm), (sm, lg)) for xn in (0, 1) for yn in (0, 1)]
+
+
 def directed():
     v = []
-    # every pair of special values: zeros, signs, the j rounding steps ((s + 4) >> 3),
-    # the j clip at 2047, the saturated magnitude 32767
+    # every pair of special values: zeros, signs, the paper address's rounding steps
+    # ((s + 4) >> 3), its clip at 2047, 16384, the saturated magnitude 32767
     sp = [0, 1, 2, 3, 4, 5, 11, 12, 13, 11585, 11586, 16370, 16371, 16372, 16379, 16380,
           16383, 16384, 16385, 20000, 32766, 32767]
     vals = sorted({s for x in sp for s in (x, -x)})
-    for x in vals:
-        for y in vals:
-            v.append((x, y))
+    v += magnitudes([(x, y) for x in vals for y in vals])
     # the reciprocal table's extremes: |large| at and around powers of two (m ~ 1 and ~ 2,
     # every normalising shift), small = large, large - 1, half, tiny
-    for e in range(15):
-        for lg in {(1 << e) - 1, 1 << e, (1 << e) + 1}:
-            if 0 < lg <= 32767:
-                for sm in {lg, lg - 1, lg // 2, 1, 0}:
-                    v += [(lg, sm), (-sm, lg), (-lg, -sm), (sm, -lg)]
+    for e in range(16):
+        for lg in sorted({(1 << e) - 1, 1 << e, (1 << e) + 1}):
+            if 0 < lg <= UMAX:
+                for sm in sorted({lg, lg - 1, lg // 2, 1, 0}):
+                    v += octants(lg, sm)
     # diagonal ties |x| == |y| and their neighbours, in all four quadrants
     for a in [1, 2, 7, 100, 4096, 11585, 16383, 16384, 32767]:
         for d in (-1, 0, 1):
-            for sx in (1, -1):
-                for sy in (1, -1):
-                    b = a + d
-                    if b <= 32767:
-                        v.append((sx * a, sy * b))
-                        v.append((sx * b, sy * a))
+            b = a + d
+            if b <= UMAX:
+                v += octants(a, b) + octants(b, a)
+    # negative zeros: a zero magnitude with its sign bit set
+    for ax, ay in [(0, 0), (0, 1), (1, 0), (0, 16384), (16384, 0), (0, UMAX), (UMAX, 0)]:
+        v += [(ax, ay, xn, yn) for xn in (0, 1) for yn in (0, 1)]
     return v
 
 
-def threshold_vectors(exact):
-    """Ratios around every harmonic bin threshold T (j >= T), at several |large|."""
+def larges(rng):
+    """|large| for the threshold search: every normalising shift at both ends of the
+    reciprocal table (m ~ 1 and m ~ 2), the unit circle, the rail, a few at random."""
+    out = {16384, 11585, 12000, 23170, UMAX}
+    for e in range(7, 15):
+        out |= {1 << e, (1 << e) + 1, (2 << e) - 1}
+    out |= {rng.randint(128, UMAX) for _ in range(4)}
+    return sorted(out)
+
+
+def threshold_vectors(kind, rng):
+    """For every bin threshold T (j >= T) and every |large| of larges(): the last |small|
+    with j < T and the first with j >= T, by the model's j, each in two octants with
+    neg = 0 and two with neg = 1."""
+    import numpy as np
+    from sim.model import fastpath as fp
     from sim.model import tables
-    kind = "exact" if exact else "paper"
+
+    thr = sorted({t for s in tables.bin_thresholds(kind) for t in s if t < tables.ROWS})
+    # the paper's j does not depend on |large|: a few suffice
+    lgs = larges(rng) if kind == "exact" else [16384, 23170, UMAX]
     v = []
-    for thr in tables.bin_thresholds(kind):
+    for lg in lgs:
+        sm = np.arange(lg + 1, dtype=np.int64)
+        j, _, _ = fp.octant(np.full_like(sm, lg), sm, 0 * sm, 0 * sm, kind)
         for t in thr:
-            if t >= tables.ROWS:
-                continue
-            for lg in (16384, 12000, 23170, 32767):
-                if exact:
-                    c = t * lg / 2048
-                else:
-                    c, lg = t * 8, max(lg, t * 8 + 8)
-                for sm in {int(c) + d for d in range(-6, 7)}:
-                    if 0 <= sm <= lg <= 32767:
-                        for sx in (1, -1):
-                            for sy in (1, -1):
-                                v += [(sx * lg, sy * sm), (sx * sm, sy * lg)]
+            first = int(np.searchsorted(j, t))     # j is non-decreasing in |small|
+            if 0 < first <= lg:
+                for s in (first - 1, first):
+                    # two octants with neg = 0 and two with neg = 1, drawn at random
+                    o = octants(lg, s)
+                    negs = [int(xn ^ yn ^ (ax < ay)) for ax, ay, xn, yn in o]
+                    for nv in (0, 1):
+                        v += rng.sample([x for x, n in zip(o, negs) if n == nv], 2)
     return v
+
+
+def sweep_vectors(exact, rng):
+    """Every value of the bin logic's scale t (rtl/octant.v: exact t = floor(p / 2**15),
+    p = sn * RECIP[ln[13:5]], here with |large| = 32767: ln = 32767, sn = |small| >> 1;
+    paper t = 2 j) and the exact table's clip, each once with neg = 0 and once with
+    neg = 1 in a random octant. Returns (vectors, t of each)."""
+    from sim.model import tables
+
+    v, ts = [], []
+    if exact:
+        r = tables.recip_table()[UMAX >> 5 & 511]
+        sn = 0
+        for t in range(4096):
+            while (sn * r) >> 15 < t:
+                sn += 1
+            v.append(2 * sn)
+            ts.append(t)
+        v.append(UMAX - 1)                          # sn = 16383: p >= 2**27, clipped
+        ts.append(4096)
+    else:
+        v = [8 * j for j in range(2048)]           # j = (8 j + 4) >> 3
+        ts = [2 * j for j in range(2048)]
+    out, tout = [], []
+    for sm, t in zip(v, ts):
+        for neg in (0, 1):
+            low = rng.random() < 0.5
+            xn = rng.randint(0, 1)
+            yn = xn ^ neg if low else xn ^ neg ^ 1  # low: neg = xn ^ yn; high: !(xn ^ yn)
+            out.append((UMAX, sm, xn, yn) if low else (sm, UMAX, xn, yn))
+            tout.append(t)
+    return out, tout
 
 
 def random_vectors(rng, n):
@@ -86,23 +167,31 @@ def random_vectors(rng, n):
     for _ in range(n):
         r = rng.random()
         if r < 0.4:
-            v.append((rng.randint(-32767, 32767), rng.randint(-32767, 32767)))
+            v += magnitudes([(rng.randint(-32768, 32767), rng.randint(-32768, 32767))])
         elif r < 0.8:   # on and around the unit circle (16384), any angle
             a = rng.uniform(-math.pi, math.pi)
             rad = rng.uniform(0.5, 1.5) * 16384
-            v.append((round(rad * math.cos(a)), round(rad * math.sin(a))))
+            v += magnitudes([(round(rad * math.cos(a)), round(rad * math.sin(a)))])
         else:           # near the octant borders: near-diagonal, near an axis
-            m = rng.randint(0, 32767)
-            d = rng.randint(-3, 3)
-            o = min(32767, max(0, m + d))
-            sx, sy = rng.choice((1, -1)), rng.choice((1, -1))
-            v.append((sx * m, sy * o) if rng.random() < 0.5 else (sx * m, sy * rng.randint(0, 9)))
+            m = rng.randint(0, UMAX)
+            o = min(UMAX, max(0, m + rng.randint(-3, 3))) if rng.random() < 0.5 \
+                else rng.randint(0, 9)
+            xn, yn = rng.randint(0, 1), rng.randint(0, 1)
+            v.append((m, o, xn, yn) if rng.random() < 0.5 else (o, m, xn, yn))
     return v
 
 
-def magnitudes(vec):
-    """Signed corrected values -> (ax, ay, xn, yn) as rtl/correct.v delivers them."""
-    return [(min(abs(x), 32767), min(abs(y), 32767), int(x < 0), int(y < 0)) for x, y in vec]
+def check_threshold_coverage(kind, j, neg):
+    """Both sides of every bin threshold, with neg = 0 and with neg = 1 (else the vectors
+    do not test what they claim)."""
+    from sim.model import tables
+    miss = []
+    for t in sorted({t for s in tables.bin_thresholds(kind) for t in s if t < tables.ROWS}):
+        for nv in (0, 1):
+            got = {int(x) for x, n in zip(j, neg) if n == nv and x in (t - 1, t)}
+            if got != {t - 1, t}:
+                miss.append((t, nv, sorted(got)))
+    assert not miss, f"thresholds not straddled (T, neg, j seen): {miss}"
 
 
 @cocotb.test()
@@ -114,22 +203,29 @@ async def octant_all(dut):
     exact = fqtb.env_int("TABLE_EXACT")
     kind = "exact" if exact else "paper"
     rng = random.Random(303 + exact)
-    vec = magnitudes(directed() + threshold_vectors(exact) + random_vectors(rng, 6000))
+    sweep, sweep_t = sweep_vectors(exact, rng)
+    head = directed() + threshold_vectors(kind, rng)
+    vec = head + sweep + random_vectors(rng, N_RANDOM)
+    assert all(0 <= ax <= UMAX and 0 <= ay <= UMAX and xn in (0, 1) and yn in (0, 1)
+               for ax, ay, xn, yn in vec)
     a = np.array(vec, dtype=np.int64)
     j, base, neg = fp.octant(a[:, 0], a[:, 1], a[:, 2], a[:, 3], kind)
     phase = fp.Lut(kind).phase(j, base, neg)
     assert set((base & 2047).tolist()) == {0}
+    check_threshold_coverage(kind, j, neg)
+    # the sweep's t (worked out here from rtl/octant.v's formats) agrees with the model's
+    # j = (t + 1) >> 1 (clipped), so it does span the bin logic's whole scale
+    js = j[len(head):len(head) + len(sweep)]
+    assert js.tolist() == [min(2047, (t + 1) >> 1) if exact else t >> 1 for t in sweep_t]
+    assert len(set(sweep_t)) == (4097 if exact else 2048)
     exp1 = list(zip((base >> 11).tolist(), neg.tolist()))
     exp2 = list(zip(j.tolist(), (phase >> 7).tolist()))
     d1 = core.OCT_AT - core.CORR_AT - 1          # valid, oct2, neg: after edge E + d1
     d2 = core.ADDR_AT - core.CORR_AT - 2         # j, bin: after edge E + d2
 
-    bench = fqtb.ClockedBench(dut)
-    await bench.start()
-    bad = []
-    # back to back, then a second pass with idle clocks in between
-    gaps = [0] * len(vec) + [rng.choice((0, 1, 2)) for _ in vec]
-    order = list(range(len(vec))) * 2
+    # back to back, then a random subset with idle clocks in between
+    order = list(range(len(vec))) + rng.sample(range(len(vec)), N_GAPPED)
+    gaps = [0] * len(vec) + [rng.choice((0, 1, 1, 2)) for _ in range(N_GAPPED)]
     edges, e = [], 0
     for gp in gaps:
         e += gp
@@ -138,7 +234,11 @@ async def octant_all(dut):
     by_edge = dict(zip(edges, order))
     at1 = {e + d1: i for e, i in by_edge.items()}
     at2 = {e + d2: i for e, i in by_edge.items()}
-    for e in range(-1, edges[-1] + d2 + 2):
+
+    bench = fqtb.ClockedBench(dut)
+    await bench.start()
+    bad, checked = [], 0
+    for e in range(-1, edges[-1] + max(d1, d2) + 3):
         if e >= 0:
             valid = fqtb.uval(dut.valid_o)
             if (valid == 1) != (e in at1):
@@ -151,17 +251,21 @@ async def octant_all(dut):
             if e in at2:
                 i = at2[e]
                 got = (fqtb.uval(dut.j_o), fqtb.uval(dut.bin_o))
+                checked += 1
                 if got != exp2[i]:
                     bad.append(f"(ax,ay,xn,yn)={vec[i]}: (j,bin)={got}, model {exp2[i]}")
         if e + 1 in by_edge:
             x = vec[by_edge[e + 1]]
             dut.valid_i.value = 1
         else:
-            x = (rng.randint(0, 32767), rng.randint(0, 32767), rng.randint(0, 1),
+            x = (rng.randint(0, UMAX), rng.randint(0, UMAX), rng.randint(0, 1),
                  rng.randint(0, 1))
             dut.valid_i.value = 0
         dut.ax_i.value, dut.ay_i.value, dut.xn_i.value, dut.yn_i.value = x
         await bench.step()
+        if len(bad) > 50:
+            break
     assert not bad, f"{len(bad)} mismatches:\n" + "\n".join(bad[:20])
-    dut._log.info("octant (%s table): %d samples equal, %d distinct bins", kind, len(vec),
-                  len(set(b for _, b in exp2)))
+    assert checked == len(order)
+    dut._log.info("octant (%s table): %d samples (%d distinct) equal, %d distinct bins",
+                  kind, len(order), len(set(vec)), len(set(b for _, b in exp2)))
