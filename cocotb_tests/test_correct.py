@@ -10,9 +10,12 @@ carry garbage while valid_i is low).
 
 Directed vectors: zero and full scale at every gain (the gain's saturation both ways),
 the ADC rails (clip), saturation of d = x - m on each channel and just inside it, products
-to the rails and just inside, the |u| = 2 (32768) saturation of the magnitudes, the
-truncation of (v ^ sign) >> 13 at multiples of 2**13 +-1 for both signs; then seeded
-random bundles, realistic (a calibration's range) and arbitrary."""
+to the rails and just inside, the |u| = 2 (32768) saturation of the magnitudes, the carry
+of the low 13 bits of p12 + p2 into v2 >> 13 (exactly 2**13 and one short of it, around
+zero, both signs), the truncation of (v ^ sign) >> 13 at multiples of 2**13 +-1 for both
+signs; then seeded random bundles, realistic (a calibration's range) and arbitrary.
+Model values: fastpath.align and fastpath.correct; amax_o is max(|raw1|, |raw2|) capped at
+32767, as sim.model.core computes the estimator's peak."""
 import random
 
 import pytest
@@ -69,6 +72,16 @@ def directed(adc_w):
     for d, c in [(16384, 16384), (16384, 16383), (-16384, 16384), (-16384, 16383),
                  (32767, 8193), (-32768, 8192)]:
         v.append((code(d), code(d), 0, 0, 0, c, c, 0))
+    # the carry of the low 13 bits of p12 + p2 into v2 >> 13 (formed by carry select):
+    # d1, d2 from the offsets and c12 = c2 = 1, so v2 = d1 + d2, with the low parts summing
+    # to exactly 2**13 (a carry, from the LSB up) or 2**13 - 1 (none), around v2 = 0 and
+    # for both signs of each term
+    for hi1 in (-2, -1, 0, 1):
+        for hi2 in (-2, -1, 0, 1):
+            for lo1 in (8191, 4096, 1):
+                for lo2 in (8192 - lo1, 8191 - lo1):
+                    v.append((0, 0, 0, -((hi1 << 13) + lo1), -((hi2 << 13) + lo2),
+                              8192, 1, 1))
     # the truncation of (v ^ sign) >> 13: v = k 2**13 + e, e in -1, 0, 1 (c1 = 1: v1 = d1)
     for k in (-3, -2, -1, 0, 1, 2, 3):
         for e in (-1, 0, 1):

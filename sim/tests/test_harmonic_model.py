@@ -4,7 +4,10 @@ fine-phase streams through the block's model alone.
 
 The counter's error with the correction applied (the default) is compared with the same
 recording's counter on the uncorrected phase (apply off: the counter of the raw fine
-phase, which is what the core counts with HARM bit 0 clear).
+phase, which is what the core counts with HARM bit 0 clear): fastpath.counter in phase
+mode on the traced phase, with the product n * phase from fastpath.Lut.nth and n,
+COUNT_W of the run's Config, as core.Core counts; with nothing learned the two counts
+are equal sample for sample.
 """
 import time
 
@@ -15,14 +18,14 @@ from sim import metrics, scenarios, siggen
 from sim.model import core, fastpath as fp, harmonic as hm
 
 PITCH = scenarios.PITCH_NM
-N_INTERP = 100
+N_INTERP = core.Config().interp      # the runs below use the default n
 
 
 def _run(name):
     sc = scenarios.by_name([name])[0]
     u1, u2, a = sc.codes()
-    r = core.run(u1, u2, core.Config(ADC_W=sc.sig.adc_bits), trace=True)
-    return sc, a, r
+    cfg = core.Config(ADC_W=sc.sig.adc_bits)
+    return sc, a, core.run(u1, u2, cfg, trace=True), cfg
 
 
 def _score(sc, a, count):
@@ -30,11 +33,14 @@ def _score(sc, a, count):
                          sc.start(), a=a)[0]
 
 
-def _count_off(r):
-    """The phase-mode count of the uncorrected fine phase (rtl/counter.v with the product
-    n * phase that rtl/lut.v forms)."""
+def _count_off(r, cfg):
+    """The core's phase-mode count of the uncorrected fine phase (what m_count is with HARM
+    bit 0 clear): fastpath.counter on r["phase"] with the product n * phase as rtl/lut.v
+    forms it (fastpath.Lut.nth), n and COUNT_W of the run's Config, as core.Core counts
+    the corrected phase."""
     ph = np.asarray(r["phase"], dtype=np.int64)
-    return fp.counter(ph, ph * N_INTERP, N_INTERP)[0]
+    prod = fp.Lut(cfg.TABLE, cfg.SIN_W).nth(ph, cfg.interp)[0]
+    return fp.counter(ph, prod, cfg.interp, cfg.COUNT_W)[0]
 
 
 def phase_error(phase, a, lo, hi):
@@ -62,9 +68,9 @@ def harmonic3():
 
 
 def test_harmonic3_counter_error_falls_to_the_floor(harmonic3):
-    sc, a, r = harmonic3
+    sc, a, r, cfg = harmonic3
     on = _score(sc, a, r["count"])
-    off = _score(sc, a, _count_off(r))
+    off = _score(sc, a, _count_off(r, cfg))
     print(f"harmonic3 counter: apply on {on['rms_nm']:.2f} nm (ratio {on['ratio']:.3f}), "
           f"off {off['rms_nm']:.2f} nm (ratio {off['ratio']:.3f}), floor {on['floor_nm']:.2f}")
     assert off["ratio"] > 1.2                   # the 1 % harmonic is there
@@ -77,7 +83,7 @@ def test_harmonic3_fine_phase_periodic_error_below_1nm(harmonic3):
     """After convergence (the second move), the periodic part of the fine-phase error
     falls from the harmonic's ~4.7 nm RMS to below 1 nm; during the first move it
     converges within a few thousand samples."""
-    sc, a, r = harmonic3
+    sc, a, r, _ = harmonic3
     n = len(sc.x)
     mv = moving(sc.x)
     m1, m2 = mv[mv < n // 2], mv[mv > n // 2]
@@ -97,7 +103,7 @@ def test_harmonic3_correction_is_zero_mean(harmonic3):
     """No drift of the mean: the applied correction averages to zero over the table (to
     its rounding), and over the second move (uniform in phase) it moves the position by
     a negligible amount."""
-    sc, a, r = harmonic3
+    sc, a, r, _ = harmonic3
     h = r["harm"]
     corr = [(v - (h.R >> 6)) >> 8 for v in h.A]
     assert abs(np.mean(corr)) <= 0.5
@@ -112,9 +118,9 @@ def test_harmonic3_correction_is_zero_mean(harmonic3):
 def test_constant_no_harm():
     """A harmonic-free recording at 2 mm/s (4 units/sample, below the window): nothing is
     learned and the counter is exactly the uncorrected one."""
-    sc, a, r = _run("constant")
+    sc, a, r, cfg = _run("constant")
     assert r["harm"].learned == 0
-    assert np.array_equal(r["count"], _count_off(r))
+    assert np.array_equal(r["count"], _count_off(r, cfg))
 
 
 def test_harmonic_free_at_learning_speed_no_harm():
@@ -125,9 +131,10 @@ def test_harmonic_free_at_learning_speed_no_harm():
     x = siggen.constant_speed(n, scenarios.FS, 10 * scenarios.MM)
     sc = scenarios.Scenario("free10", "harmonic-free, 10 mm/s", x, siggen.Signal(), seed=31)
     u1, u2, a = sc.codes()
-    r = core.run(u1, u2, core.Config(), trace=True)
+    cfg = core.Config()
+    r = core.run(u1, u2, cfg, trace=True)
     on = _score(sc, a, r["count"])
-    off = _score(sc, a, _count_off(r))
+    off = _score(sc, a, _count_off(r, cfg))
     print(f"harmonic-free 10 mm/s: apply on {on['rms_nm']:.3f} nm, off {off['rms_nm']:.3f} nm,"
           f" table spread {(max(r['harm'].A) - min(r['harm'].A)) / 256:.2f} units")
     assert r["harm"].learned > 5_000
