@@ -201,6 +201,9 @@ def test_vcdref_timing_and_names(tmp_path):
     assert f"{SCOPE}.m_count" in names and f"{SCOPE}.{vcdref.HARM}.phase_o" in names
     v = VCDVCD(path)
     assert f"{SCOPE}.m_count[31:0]" in v.signals and f"{SCOPE}.m_valid" in v.signals
+    for name in ("u_lut.sin_mag_o[8:0]", "u_lut.cos_neg_o", "u_abgen.pos_o[31:0]",
+                 "u_abgen.backlog_o[15:0]", "u_abgen.ovf_sticky_o", "u_correct.clip_o"):
+        assert f"{SCOPE}.{name}" in v.signals, name
     tm = vcdref.rtl_timing()
     P, L = vcdref.PERIOD_PS, tm["LATENCY"]
     rise = [t for t, x in v[f"{SCOPE}.m_valid"].tv if x == "1"]

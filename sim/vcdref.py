@@ -18,6 +18,8 @@ rising edges.
 
     signal                              L             kind
     s_valid                             0             valid   high for one cycle from t_k
+    u_correct.valid0_o                  0             valid   the sample registered
+    u_correct.clip_o, nsat_o            0             window  = m_fault[0], [1] of the sample
     u_correct.valid_o                   CORR_AT       valid
     u_correct.ax_o, ay_o, xn_o, yn_o    CORR_AT       window  |u1c|, |u2c| (s2.14), signs
     u_octant.valid_o                    OCT_AT        valid
@@ -32,6 +34,9 @@ rising edges.
     u_lut.prod_o                        NTH_AT        window  u22 n * phase
     u_lut.valid_o                       SIN_AT        valid
     u_lut.pn_o                          SIN_AT        window  u13 n-th order phase
+    u_lut.sin_mag_o, cos_mag_o          SIN_AT        window  u(SIN_W-1) |sin|, |cos| of pn
+    u_lut.sin_neg_o, cos_neg_o          SIN_AT        window  their signs (pn, pn + 2048
+                                                              in the lower half circle)
     u_pulse.valid_o                     PULSE_AT      valid
     u_pulse.a_o, b_o                    PULSE_AT      hold    Eq. 12 pulses
     u_counter.ill_o                     EDGE_AT       pulse   illegal pulse step (x4)
@@ -40,10 +45,13 @@ rising edges.
     m_valid                             LATENCY       valid
     m_count                             LATENCY       hold
     m_fault                             LATENCY       window
-    m_a, m_b                            every edge    edges   the paced A/B pins
-                                                              (sim/model/abgen.py run
-                                                              edge by edge on m_count;
-                                                              with ab_src = 1 the pulses)
+    u_abgen.a_o, b_o                    every edge    edges   paced A/B (sim/model/abgen.py
+                                                              run edge by edge on m_count)
+    u_abgen.pos_o                       every edge    edges   s(COUNT_W) count they represent
+    u_abgen.backlog_o, ovf_o,           every edge    edges   s16 distance, overflow, sticky
+      ovf_sticky_o                                            overflow (m_fault[6])
+    m_a, m_b                            every edge    edges   the A/B pins: u_abgen.a_o, b_o,
+                                                              with ab_src = 1 the pulses
 
 kinds:
   valid   1 for the cycle after edge t_k + L, 0 otherwise (exact).
@@ -95,11 +103,27 @@ def _bit(name):
     return lambda r: (np.asarray(r["fault"]) >> core.FAULT_BITS[name]) & 1
 
 
+def _sin_neg(r):
+    return np.asarray(r["pn"]) >> 12
+
+
+def _cos_neg(r):
+    return ((np.asarray(r["pn"]) + 2048) & 8191) >> 12
+
+
+def _mag(key):
+    return lambda r: np.abs(np.asarray(r[key]))
+
+
 HARM = "g_harm.u_harmonic"
-# name (relative to SCOPE), width (int, or the Config field giving it), kind, latency (a
-# key of rtl_timing(), (key, offset), or 0), source: key of res, or a callable res -> array
+# name (relative to SCOPE), width (int, the Config field giving it, or (field, offset)),
+# kind, latency (a key of rtl_timing(), (key, offset), or 0), source: key of res, or a
+# callable res -> array ('edges' signals are computed from res["count"], _edge_values())
 SIGNALS = [
     ("s_valid", 1, "valid", 0, None),
+    ("u_correct.valid0_o", 1, "valid", 0, None),
+    ("u_correct.clip_o", 1, "window", 0, _bit("clip")),
+    ("u_correct.nsat_o", 1, "window", 0, _bit("nsat")),
     ("u_correct.valid_o", 1, "valid", "CORR_AT", None),
     ("u_correct.ax_o", 15, "window", "CORR_AT", "ax"),
     ("u_correct.ay_o", 15, "window", "CORR_AT", "ay"),
@@ -117,6 +141,10 @@ SIGNALS = [
     ("u_lut.prod_o", 22, "window", "NTH_AT", "prod"),
     ("u_lut.valid_o", 1, "valid", "SIN_AT", None),
     ("u_lut.pn_o", 13, "window", "SIN_AT", "pn"),
+    ("u_lut.sin_mag_o", ("SIN_W", -1), "window", "SIN_AT", _mag("sinn")),
+    ("u_lut.sin_neg_o", 1, "window", "SIN_AT", _sin_neg),
+    ("u_lut.cos_mag_o", ("SIN_W", -1), "window", "SIN_AT", _mag("cosn")),
+    ("u_lut.cos_neg_o", 1, "window", "SIN_AT", _cos_neg),
     ("u_pulse.valid_o", 1, "valid", "PULSE_AT", None),
     ("u_pulse.a_o", 1, "hold", "PULSE_AT", "pa"),
     ("u_pulse.b_o", 1, "hold", "PULSE_AT", "pb"),
@@ -126,26 +154,39 @@ SIGNALS = [
     ("m_valid", 1, "valid", "LATENCY", None),
     ("m_count", "COUNT_W", "hold", "LATENCY", "count"),
     ("m_fault", 7, "window", "LATENCY", "fault"),
+    ("u_abgen.a_o", 1, "edges", 0, "count"),
+    ("u_abgen.b_o", 1, "edges", 0, "count"),
+    ("u_abgen.pos_o", "COUNT_W", "edges", 0, "count"),
+    ("u_abgen.backlog_o", 16, "edges", 0, "count"),
+    ("u_abgen.ovf_o", 1, "edges", 0, "count"),
+    ("u_abgen.ovf_sticky_o", 1, "edges", 0, "count"),
     ("m_a", 1, "edges", 0, "a"),
     ("m_b", 1, "edges", 0, "b"),
 ]
 # initial (power-up) value of the 'hold' and 'edges' signals: rtl/pulse.v, rtl/abgen.v
-INIT = {"u_pulse.a_o": 1, "u_pulse.b_o": 1, "m_a": 1, "m_b": 1}
+INIT = {"u_pulse.a_o": 1, "u_pulse.b_o": 1, "m_a": 1, "m_b": 1, "u_abgen.a_o": 1,
+        "u_abgen.b_o": 1}
 
 
-def _pins(res, cfg, t, tm, end):
-    """The A/B pins after every edge 0 .. end: (edges, a, b) where they change. Paced:
-    rtl/abgen.v (sim/model/abgen.py) follows m_count, which takes sample k's count on
-    edge t_k + LATENCY (the target from the edge after). With ab_src = 1 the pins are the
-    Eq. 12 pulses (the hold of u_pulse.a_o / b_o)."""
-    if cfg.ab_src:
-        e = t + tm["PULSE_AT"]
-        return e, np.asarray(res["pa"]), np.asarray(res["pb"])
+def _abgen(res, cfg, t, tm, end):
+    """rtl/abgen.v's outputs after every edge 0 .. end (sim/model/abgen.py run edge by
+    edge): it follows m_count, which takes sample k's count on edge t_k + LATENCY (the
+    target from the edge after)."""
     count = np.asarray(res["count"], dtype=np.int64)
     idx = np.searchsorted(t + tm["LATENCY"], np.arange(end + 1) - 1, side="right") - 1
     target = np.where(idx >= 0, count[np.maximum(idx, 0)], 0)
-    r = abgen.abgen(target, cfg.ab_sep, cfg.ab_bound, cfg.COUNT_W)
-    return np.arange(end + 1), r["a"].astype(np.int64), r["b"].astype(np.int64)
+    return abgen.abgen(target, cfg.ab_sep, cfg.ab_bound, cfg.COUNT_W)
+
+
+def _edge_values(name, res, cfg, t, tm, end, ab):
+    """(edges, values) of an 'edges' signal: the A/B pins are the paced outputs, or with
+    ab_src = 1 the Eq. 12 pulses (the hold of u_pulse.a_o / b_o)."""
+    if name in ("m_a", "m_b") and cfg.ab_src:
+        return t + tm["PULSE_AT"], np.asarray(res["pa" if name == "m_a" else "pb"])
+    key = {"m_a": "a", "m_b": "b", "u_abgen.a_o": "a", "u_abgen.b_o": "b",
+           "u_abgen.pos_o": "pos", "u_abgen.backlog_o": "backlog", "u_abgen.ovf_o": "ovf",
+           "u_abgen.ovf_sticky_o": "sticky"}[name]
+    return np.arange(end + 1), np.asarray(ab[key], dtype=np.int64)
 
 
 def _source(res, src):
@@ -219,24 +260,27 @@ def write(path, res, cfg, t0=T0, period_ps=PERIOD_PS, strobes=None, signals=None
             continue
         if src is not None and not _available(res, src):
             continue
-        chosen.append((name, getattr(cfg, width) if isinstance(width, str) else width,
-                       kind, lat_of(lat), src))
+        if isinstance(width, tuple):
+            width = getattr(cfg, width[0]) + width[1]
+        elif isinstance(width, str):
+            width = getattr(cfg, width)
+        chosen.append((name, width, kind, lat_of(lat), src))
     if signals is not None:
         missing = set(signals) - {c[0] for c in chosen}
         if missing:
             raise KeyError(f"vcdref: cannot write {sorted(missing)} (unknown signal or "
                            f"res lacks its trace array: run the model with trace=True)")
 
-    pins = None
+    ab = None
     all_e, all_s, all_v = [], [], []
     for i, (name, width, kind, lat, src) in enumerate(chosen):
         if kind == "edges":
-            if pins is None:
-                pins = _pins(res, cfg, t, tm, end)
-            on, vals = pins[0], pins[1 if name == "m_a" else 2]
+            if ab is None:
+                ab = _abgen(res, cfg, t, tm, end)
+            on, vals = _edge_values(name, res, cfg, t, tm, end, ab)
             # changes against the power-up value (edge -1 stands for it, then dropped)
             e, v = _events("hold", np.concatenate([[-1], on]),
-                           np.concatenate([[INIT[name]], vals]), width)
+                           np.concatenate([[INIT.get(name, 0)], vals]), width)
             e, v = e[1:], v[1:]
         else:
             e, v = _events(kind, t + lat, _source(res, src), width)
