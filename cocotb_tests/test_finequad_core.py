@@ -2,27 +2,37 @@
 
 Each scenario is a generated encoder recording (sim/siggen.py: s-curve moves, imperfect
 signals, 0.5 % noise) driven sample by sample with the model's timing contract
-(sim/model/core.py): registers 1..7 (interp, eps, lam_k, kappa, period, settle, gate) are
-written on edges 0..6 as the C++ harness does, sample k is strobed (s_valid high for one
-clock) on edge t_k, and its result must be on m_* after edge t_k + LATENCY (the constant
-of sim/model/core.py, which rtl/finequad_core.v declares), with m_valid high after exactly those
-edges. count, a, b and fault of every sample must equal the model's.
+(sim/model/core.py): the registers are written on edges 0, 1, ... from the scenario's
+core.Config (setup_writes(): 1..7 interp, eps, lam_k, kappa, period, settle, gate, then
+CTRL 0x00 (counter mode), HARM 0x12, JUMP 0x13, ABGEN 0x15, AB_BOUND 0x16; defaults are
+written too), sample k is strobed (s_valid high for one clock) on edge t_k, and its result
+must be on m_* after edge t_k + LATENCY (the constant of sim/model/core.py, which
+rtl/finequad_core.v declares), with m_valid high after exactly those edges. count, a, b
+and the 7-bit fault word of every sample must equal the model's. During the run the
+registered read port is held on the A/B backlog (reg_re high, reg_addr 0x17 except on a
+write edge): the value read after each sample's output edge must equal the backlog of
+the model's A/B follower (backlog_at()).
 
 Scenarios (one simulator process each, from power-up):
-  uniform    strobes every 36 clocks from edge 16 (the harness timing), TABLE_EXACT=1
+  uniform    strobes every 36 clocks from edge 16 (the harness timing), TABLE_EXACT=1,
+             the other registers at their defaults (the harness's configuration)
   gaps       random idle gaps between strobes (1 .. 60 clocks, bursts back to back),
              small signals (input gain 2), rail spikes (clip, gain and correction
-             saturation), n = 256, periodic covariance resets, TABLE_EXACT=1
-  paper      TABLE_EXACT=0 (the paper's table), n = 7, strobes every 24 clocks
-  reset_req  reset requests written to register 0 (see below), TABLE_EXACT=1
+             saturation), n = 256, periodic covariance resets, TABLE_EXACT=1; A/B edges
+             at least 12 clocks apart with a backlog bound of 6 counts (backlog during
+             the bursts, overflow: fault bit 6), jump floor 60
+  paper      TABLE_EXACT=0 (the paper's table), n = 7, strobes every 24 clocks, edge
+             mode (CTRL bit 3), the Eq. 12 pulses on the A/B pins, harmonic step 2^-6
+  reset_req  reset requests written to register 0 (see below), TABLE_EXACT=1, jump
+             detector off
 
 After the last sample the bench reads the registers back through the registered read
 port (reg_re with reg_addr for one edge, reg_rdata after it): ID (0x1f), the run-time
 registers (0x01..0x07, HARM 0x12, JUMP 0x13, ABGEN 0x15, AB_BOUND 0x16), count (0x08),
-illegal count (0x09), updates (0x11), jumps (0x14), status (0x00: uncal and hold), gain
-and coefficients (0x0b..0x10) must equal the model's final state, the A/B backlog (0x17)
-0 once the pins caught up, and the sticky faults (0x0a) the OR of all fault words (7
-bits); writing ones to 0x0a clears those bits.
+illegal count (0x09), updates (0x11), jumps (0x14), status (0x00: counter mode, uncal and
+hold), gain and coefficients (0x0b..0x10), the A/B backlog (0x17) must equal the model's
+final state, and the sticky faults (0x0a) the OR of all fault words (7 bits); writing ones
+to 0x0a clears those bits (0x15, then 0, then 0x40 for the A/B overflow, then 0x7f).
 The model's final bundle is that of a phantom sample strobed (in the model only) after every
 program has ended; a reset request on that phantom keeps it from starting an update.
 
@@ -30,7 +40,8 @@ Reset requests (register 0, bit 0): the model (Config.resets) takes the index k 
 whose arrival decision (edge t_k + RESET_STAGE, sim.model.core.RESET_STAGE: the estimator
 decides on a reset on the edge after a sample's arrival) is the first to see the request.
 A write on edge w is seen by decisions on edges w + 1 and later, so it belongs to sample k
-exactly when t_(k-1) + RESET_STAGE <= w <= t_k + RESET_STAGE - 1. The test writes
+exactly when t_(k-1) + RESET_STAGE <= w <= t_k + RESET_STAGE - 1 (the write keeps CTRL's
+counter-mode bit). The test writes
 requests alternately on the latest edge of that window (t_k + RESET_STAGE - 1) and on the
 earliest (t_(k-1) + RESET_STAGE), at samples where attributing the request to the
 neighbouring sample (k + 1, resp. k - 1) would change the model's outputs, so an
@@ -49,23 +60,82 @@ CORE_SOURCES = fqtb.core_sources()
 OUT_LATENCY = core_model.LATENCY   # sim/model/core.py: the pipeline timing the RTL must have
 T_FIRST = 16                # first strobe edge (sim/harness/harness.cpp)
 REG_ORDER = ("interp", "eps", "lam_k", "kappa", "period", "settle", "gate")   # addr 1..7
+BACKLOG = 0x17              # A/B backlog register (read every sample during the run)
 
 # samples per simulator: Icarus simulates this core at some 10k clocks/s, Verilator with
-# cocotb some 20x faster
+# cocotb some 20x faster. regs: core.Config fields (the model's configuration), written to
+# the registers before the first strobe (setup_writes()); the ones left out keep their
+# defaults, which the bench writes too.
 SCENARIOS = {
     "uniform": dict(exact=1, n={"icarus": 7000, "verilator": 40000},
                     regs=dict(interp=100, eps=1638, lam_k=8, kappa=64 << 8, period=4096,
                               settle=64, gate=64)),
+    # A/B pacing slower than the count in the bursts, with a small bound: backlog and the
+    # overflow (fault bit 6) during the run; jump detector floor raised
     "gaps": dict(exact=1, n={"icarus": 8000, "verilator": 30000},
                  regs=dict(interp=256, eps=3000, lam_k=6, kappa=32 << 8, period=200,
-                           settle=16, gate=40)),
+                           settle=16, gate=40, ab_sep=12, ab_bound=6, jump_min=60)),
+    # edge mode (the count from the x4 decoder of the pulses), the pulses on the A/B pins,
+    # the slowest harmonic step
     "paper": dict(exact=0, n={"icarus": 6000, "verilator": 30000},
                   regs=dict(interp=7, eps=1638, lam_k=8, kappa=64 << 8, period=4096,
-                            settle=32, gate=64)),
+                            settle=32, gate=64, count_mode=1, ab_src=1, harm_mu=6)),
+    # jump detector off (JUMP bit 15)
     "reset_req": dict(exact=1, n={"icarus": 5000, "verilator": 20000},
                       regs=dict(interp=100, eps=1000, lam_k=9, kappa=100 << 8, period=0,
-                                settle=24, gate=48)),
+                                settle=24, gate=48, jump_on=0)),
 }
+
+
+# ---- register words from a core.Config (rtl/finequad_core.v, README's register map) ----
+def ctrl_word(cfg, reset=0):
+    """CTRL (0x00): bit 0 reset request (a pulse), bit 3 counter mode."""
+    return reset | cfg.count_mode << 3
+
+
+def harm_word(cfg):
+    """HARM (0x12): bit 0 apply, bit 1 learn, [5:4] LMS step 2^-(3 + x)."""
+    return cfg.harm_apply | cfg.harm_learn << 1 | (cfg.harm_mu - 3) << 4
+
+
+def jump_word(cfg):
+    """JUMP (0x13): bit 15 detector off, [10:0] its floor."""
+    return (0 if cfg.jump_on else 1 << 15) | cfg.jump_min
+
+
+def abgen_word(cfg):
+    """ABGEN (0x15): [7:0] minimum clocks between A/B edges, bit 8 A/B = Eq. 12 pulses."""
+    return cfg.ab_src << 8 | cfg.ab_sep
+
+
+def setup_writes(cfg):
+    """[(addr, data)] written on edges 0, 1, ... before the first strobe."""
+    return ([(a, getattr(cfg, name)) for a, name in zip(range(1, 8), REG_ORDER)] +
+            [(0x00, ctrl_word(cfg)), (0x12, harm_word(cfg)), (0x13, jump_word(cfg)),
+             (0x15, abgen_word(cfg)), (0x16, cfg.ab_bound)])
+
+
+def backlog_at(count, t, reads, cfg):
+    """The A/B backlog register (0x17, registered from rtl/abgen.v's backlog_o) as read
+    back after each edge of `reads` (increasing), from the model (sim/model/abgen.py,
+    the Follower that sim/model/core.py runs on m_count): reg_rdata after edge r holds
+    backlog_o after edge r - 1, the saturated distance of edge r - 2. m_count takes sample
+    k's count on t_k + LATENCY, the target of edges t_k + LATENCY + 1 on."""
+    from sim.model import abgen
+    from sim.model.fixed import sat
+    fol = abgen.Follower(cfg.ab_sep, cfg.ab_bound, cfg.COUNT_W)
+    # (last edge run, kind, index, edge) in edge order: set(y) runs the edges before y,
+    # sample(q) the edges up to q; on a tie (q = y - 1) either order gives the same state
+    ev = [(int(e) + OUT_LATENCY, 1, k, int(e) + OUT_LATENCY + 1) for k, e in enumerate(t)]
+    ev += [(int(r) - 2, 0, i, int(r) - 2) for i, r in enumerate(reads)]
+    out = [0] * len(reads)
+    for _, is_set, i, edge in sorted(ev):
+        if is_set:
+            fol.set(edge, int(count[i]))
+        else:
+            fol.sample(edge)
+            out[i] = sat(fol.st.d, 16) & 0xFFFFFFFF
+    return out
 
 
 @pytest.mark.parametrize("scenario", list(SCENARIOS))
@@ -222,12 +292,13 @@ async def core_run(dut):
 
     # ---- schedule: slot e = between edge e and e + 1 -------------------------------------
     strobe = {int(e): k for k, e in enumerate(t)}
-    reads = {int(e) + OUT_LATENCY: k for k, e in enumerate(t)}   # slot t_k + 13
-    reg_writes = {e: (a, regs[name]) for e, (a, name) in
-                  enumerate(zip(range(1, 8), REG_ORDER))}               # edges 0..6
+    reads = {int(e) + OUT_LATENCY: k for k, e in enumerate(t)}   # slot t_k + LATENCY
+    cfg = _config(scenario, [])
+    reg_writes = dict(enumerate(setup_writes(cfg)))             # edges 0, 1, ...
+    assert max(reg_writes) < int(t[0])
     for k, w in requests:
         assert w not in reg_writes
-        reg_writes[w] = (0, 1)
+        reg_writes[w] = (0, ctrl_word(cfg, reset=1))
     slots = set()
     for e in strobe:
         slots.add(e - 1)
@@ -239,6 +310,9 @@ async def core_run(dut):
     slots = sorted(slots)
 
     got = np.zeros((n, 5), dtype=np.int64)          # m_valid, count, a, b, fault
+    # the backlog register is read on every edge (reg_re high, reg_addr = BACKLOG) except
+    # where a write takes reg_addr; each sample's output slot records it
+    got_bl = np.zeros(n, dtype=np.int64)
     bench = fqtb.ClockedBench(dut)
     dut.rst.value = 0
     dut.s_valid.value = 0
@@ -257,6 +331,7 @@ async def core_run(dut):
         if k is not None:
             got[k] = (fqtb.uval(dut.m_valid), fqtb.sval(dut.m_count), fqtb.uval(dut.m_a),
                       fqtb.uval(dut.m_b), fqtb.uval(dut.m_fault))
+            got_bl[k] = fqtb.uval(dut.reg_rdata)
         nxt = s + 1
         k = strobe.get(nxt)
         if k is not None:
@@ -272,6 +347,10 @@ async def core_run(dut):
             dut.reg_wdata.value = d
         elif s in reg_writes:
             dut.reg_we.value = 0
+        if s + 1 == int(t[0]):
+            dut.reg_re.value = 1
+        if nxt not in reg_writes and nxt >= int(t[0]):
+            dut.reg_addr.value = BACKLOG
 
     # ---- output latency (a clear message when the pipeline depth changed) -----------------
     first_rise = next((tm for tm, v in vlog if v == 1), None)
@@ -294,8 +373,18 @@ async def core_run(dut):
                          f"{tuple(int(x) for x in exp[k])}; model trace {tr}")
         raise AssertionError(f"{scenario}: {len(diff)} of {n} samples differ, first:\n" +
                              "\n".join(lines))
+    # the backlog register after each output edge (not where a write took the address)
+    rd_edges = [int(e) + OUT_LATENCY for e in t]
+    exp_bl = np.array(backlog_at(res["count"][:n], t, rd_edges, cfg), dtype=np.int64)
+    seen = np.array([e not in reg_writes for e in rd_edges])
+    diff = np.nonzero(seen & (got_bl != exp_bl))[0]
+    if len(diff):
+        lines = [f"sample {k} (output edge {rd_edges[k]}): rtl {int(got_bl[k]):#x}, "
+                 f"model {int(exp_bl[k]):#x}" for k in diff[:12]]
+        raise AssertionError(f"{scenario}: the A/B backlog (0x17) differs at {len(diff)} of "
+                             f"{int(seen.sum())} samples, first:\n" + "\n".join(lines))
 
-    # ---- m_valid high after exactly the edges t_k + 13 -----------------------------------
+    # ---- m_valid high after exactly the edges t_k + LATENCY --------------------------------
     await bench.goto(max(bench.edge, int(t[-1]) + OUT_LATENCY + 2))
     high, rise = [], None
     for tm, v in vlog:
@@ -314,6 +403,7 @@ async def core_run(dut):
                              f"{len(high)} vs {len(want)}, first differences {extra}")
 
     # ---- registers after the run -----------------------------------------------------------
+    dut.reg_re.value = 0
     await bench.goto(t_ph + 2)
 
     async def rd(addr):
@@ -351,17 +441,17 @@ async def core_run(dut):
     check("illegal count 0x09", await rd(0x09), int(np.sum(res["ill"][:n])) & 0xFFFF)
     check("updates 0x11", await rd(0x11), u32(res["n_updates"]))
     fault_ph = int(res["fault"][ph])
-    check("status 0x00 [1:0] (uncal, hold)", (await rd(0x00)) & 3,
-          ((fault_ph >> 4) & 1) | (((fault_ph >> 5) & 1) << 1))
+    check("status 0x00 [3, 1:0] (counter mode, uncal, hold)", (await rd(0x00)) & 0xB,
+          ctrl_word(cfg) | ((fault_ph >> 4) & 1) | (((fault_ph >> 5) & 1) << 1))
     check("gain 0x0b", await rd(0x0B), int(res["g"][ph]))
-    cfg = _config(scenario, [])
-    check("HARM 0x12", await rd(0x12),
-          cfg.harm_apply | cfg.harm_learn << 1 | (cfg.harm_mu - 3) << 4)
-    check("JUMP 0x13", await rd(0x13), (0 if cfg.jump_on else 1 << 15) | cfg.jump_min)
+    check("HARM 0x12", await rd(0x12), harm_word(cfg))
+    check("JUMP 0x13", await rd(0x13), jump_word(cfg))
     check("jumps 0x14", await rd(0x14), len(res["jumps"]) & 0xFFFF)
-    check("ABGEN 0x15", await rd(0x15), cfg.ab_src << 8 | cfg.ab_sep)
+    check("ABGEN 0x15", await rd(0x15), abgen_word(cfg))
     check("AB_BOUND 0x16", await rd(0x16), cfg.ab_bound)
-    check("A/B backlog 0x17", await rd(0x17), 0)
+    bl_got = await rd(BACKLOG)
+    check(f"A/B backlog 0x17 (after edge {bench.edge})", bl_got,
+          backlog_at(res["count"][:n], t, [bench.edge], cfg)[0])
     for a, f in zip(range(0x0C, 0x11), ("m1", "m2", "c1", "c12", "c2")):
         check(f"{f} 0x{a:02x}", await rd(a), u32(res[f][ph]))
     sticky = int(np.bitwise_or.reduce(res["fault"][:n]))
@@ -373,6 +463,8 @@ async def core_run(dut):
     check("sticky after writing 0x15", await rd(0x0A), sticky & ~0x15)
     await wr(0x0A, 0x00)
     check("sticky after writing 0", await rd(0x0A), sticky & ~0x15)
+    await wr(0x0A, 0x40)
+    check("sticky after writing 0x40", await rd(0x0A), sticky & ~0x55)
     await wr(0x0A, 0x7F)
     check("sticky after writing 0x7f", await rd(0x0A), 0)
     assert not bad, f"{scenario}: register read-back differs:\n" + "\n".join(bad)
@@ -380,6 +472,8 @@ async def core_run(dut):
     f = res["fault"][:n]
     cov = {name: int(((f >> bit) & 1).sum()) for name, bit in
            core_model.FAULT_BITS.items()}
+    bl = exp_bl.astype(np.uint32).astype(np.int32)
     log.info("scenario %s: %d samples equal (fault bit counts %s), g %s, final count %d, "
-             "sticky %#x", scenario, n, cov, sorted(set(res["g"][:n].tolist())),
-             int(res["count"][n - 1]), sticky)
+             "sticky %#x, %d jumps, A/B backlog nonzero at %d samples (max %d)", scenario, n,
+             cov, sorted(set(res["g"][:n].tolist())), int(res["count"][n - 1]), sticky,
+             len(res["jumps"]), int((bl != 0).sum()), int(np.abs(bl).max()))

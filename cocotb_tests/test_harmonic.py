@@ -1,66 +1,520 @@
-"""harmonic (fine-phase assembly and adaptive compensation) against sim.model.harmonic,
-bit for bit on every sample; and the block inside finequad_core against sim.model.core.
+"""harmonic (rtl/harmonic.v: fine-phase assembly and adaptive compensation) against
+sim.model.harmonic, and the block inside finequad_core against sim.model.core: bit for
+bit, every output, every sample.
 
-The block stimulus is a fine-phase stream (units of 1/8192 period) from a moving stage with
-a periodic error and noise, in segments that open and close the learning gate: speeds
-inside the window (16..512 units/sample) and outside it (standstill, creep, reversals,
-overspeed), phase jumps that break the observer's lock, an error larger than the table's
-range (updates that would leave s16 are not made), and bursts of samples on every clock
-(a candidate's update is committed on the arrival of the 7th sample after it, on the
-same edge as that sample's read). Strobes are back to back, every few clocks or with
-random gaps; apply, learn and mu change at random edges (also while samples are in
-flight) and the table is cleared at random edges, among them every edge around a
-sample's arrival and edges during a running sweep.
+Block (test_harmonic). Timing, from rtl/harmonic.v's header, with the offsets that the
+core model has taken from sim.model.core (HARM_AT, ADDR_AT, PHASE_AT): a sample arrives on
+the edge a on which valid_i is high (t + HARM_AT in the core), with oct2_i and neg_i;
+bin_i is presented for edge a + BIN_AT (ADDR_AT - HARM_AT: the tables are read) and ph_i
+for edge a + OUT_AT (PHASE_AT - HARM_AT), after which phase_o, phase_c_o and valid_o hold
+the sample. apply_i is sampled on a + APPLY_AT (1), learn_i and mu_i on a + LEARN_AT (5)
+(the header's numbers: sim.model has no names for them); a clear_i pulse on edge w
+empties the table for the samples arriving on edges >= w and blocks (no correction, no
+learning) those arriving on w .. w + SWEEP (harmonic.sweep_flags). oct2_i, neg_i, bin_i
+and ph_i carry a sample's values only on the edge they are read on and garbage on every
+other edge; apply_i, learn_i and mu_i are levels (the core's registers).
+The stimulus is a stream of angles (a moving stage with a periodic error and noise) made
+into corrected signals on a circle and put through sim.model.fastpath.octant and Lut
+(front()), so that oct2 (base / 2048), neg, ph = PH[j] and bin = phase >> 7 are what the
+core's octant and phase table give. Checked: phase_o equals the model's fine phase
+(Lut.phase) and phase_c_o the output of sim.model.harmonic.Harmonic.run, for every
+sample; valid_o is high after exactly the edges a + OUT_AT; the model learns (more than
+one update per 40 samples).
 
-Timing contract (rtl/harmonic.v): a sample arrives on the edge a where valid_i is high,
-with its octant (oct2_i, neg_i); its harmonic bin bin_i = phase >> 7 is presented for
-edge a + 1 and the phase table's value ph_i for edge a + 2 (the block assembles
-phase = (2048 oct2 +- ph) mod 8192; the test splits each stream phase into such an
-octant and ph); phase_o (uncorrected), phase_c_o (corrected) and valid_o are registered
-on edge a + 2; apply_i is sampled on edge a + 1, learn_i and mu_i on edge a + 5; a clear
-pulse sampled on edge w empties the table for the samples arriving on edges >= w, and
-those arriving on edges w .. w + 64 are passed through uncorrected
-(sim.model.harmonic.sweep_flags). valid_o must be high after exactly the edges a + 2;
-idle inputs carry garbage.
+  directed  one stream of some 29 000 samples, the same on both simulators (DIRECTED,
+            directed_stim), with the 4th-harmonic error beyond the table's range:
+            - the learning window: |V| held above it (540 units/sample: nothing is
+              learned), just inside its upper edge (511.97: every candidate lands in one
+              of 16 bins, whose entries reach the s16 limits and updates that would leave
+              them are not made), ramps through 512 and through 16 (both signs);
+            - the observer's gears: three velocity steps lose the lock (C back to 0, the
+              wide gear, the narrow one from C = 256, learning again from C = 2047; the
+              step is placed so that a candidate arrives with C = 2046);
+            - register changes on exact edges at samples chosen from the model's state
+              (Planner): apply off and on, for one edge and as a step, at a + APPLY_AT
+              of samples whose correction is not 0; learn off and on, for one edge and as
+              steps, and mu steps and one-edge pulses at a + LEARN_AT (or one edge later)
+              of learning candidates whose update is not 0 (or changes with mu); each
+              back to back, with gaps of 2 and 3 and with random gaps;
+            - clears: on a sample's arrival edge and on the edge after it (gaps of 2 and
+              3), with a learning candidate arriving on the last blocked edge w + SWEEP
+              and on the first free one, a clear during a sweep, clears on every edge
+              from 2 before a learning candidate's arrival to 1 after its commit (the
+              update in flight is dropped) back to back and with random gaps, a clear
+              inside a gap longer than the sweep; samples read the partly swept table
+              meanwhile;
+            - a spell of large noise (samples hop between bins).
+            Every event but the clears around candidates changes the model's output when
+            moved by one edge in the directions that matter for it (a step on a
+            candidate's a + LEARN_AT tells early sampling from the model, one on
+            a + LEARN_AT + 1 late sampling), so a block that samples any input one edge
+            off cannot pass.
+  gaps      seeded random stream (speed segments through and around the window,
+            standstill, reversals, jumps, overspeed, noise up to 50 units), the paper's
+            table (ph beyond 1024: phases past the octant's border), random gaps up to
+            70 clocks with bursts back to back, random register changes and clears.
+  b2b       the same with the exact table and strobes back to back (a few gaps).
+
+test_directed_sensitivity (no simulator): every placed event moved by one edge, and
+each model constant of MUTATIONS changed (window edges 16 and 512 by one unit/sample,
+the gear switch at C = 256 by one, the gears' gains, learning from C = 2047, the lock
+and lost thresholds, the sweep length, the commit delay, the candidates, the mean, the
+anchor, the entry and update limits), changes the directed stream's expected output.
+
+Core (test_core_harmonic): finequad_core (TABLE_EXACT=1) against sim.model.core.run, a
+stage at 40 units/sample with a 1 % third harmonic, strobes back to back, then random
+gaps; n = 511 (written to 0x01 before the first sample) so that the count resolves 4
+phase units. HARM (0x12) writes are placed like the block's events (Planner on the
+core's fine phase, arrivals t + HARM_AT, a write on edge w reaching the block on edge
+w + 1, the count's fine part as the observable): apply off and on (steps, one edge),
+learn off and on, mu 6 and back at learning candidates, a clear with a learning
+candidate on the last blocked edge, and the same in the gaps; on Verilator, 12 random
+writes (clears among them) after the first CORE_PLAN samples. Checked: m_count, m_a,
+m_b and m_fault of every sample after edge t + LATENCY equal the model's, m_valid is
+high after exactly those edges, and HARM read through the registered port (reg_re
+with reg_addr for edge e, reg_rdata after it) on the edge of every HARM write (the value
+before it) and on the edge after (the value written, without the clear bit). s_u1, s_u2
+and the register port carry garbage on idle edges. test_core_sensitivity (no
+simulator): every placed write moved by one edge (the directions that matter) changes
+sim.model.core's outputs.
 """
+import bisect
+import copy
+import functools
 import random
 
+import numpy as np
 import pytest
 
 import fqtb
+from sim.model import core as core_model
+from sim.model import fastpath as fp
+from sim.model import harmonic as hm
+from sim.model import tables
+
+# ---- timing, in edges after a sample's arrival a (the edge on which valid_i is high) --------
+# The core strobes sample k on edge t and the block sees its arrival on t + HARM_AT; the
+# phase table and the harmonic table are read on t + ADDR_AT, the phases registered on
+# t + PHASE_AT (sim/model/core.py).
+ARRIVE_AT = core_model.HARM_AT
+BIN_AT = core_model.ADDR_AT - ARRIVE_AT       # bin_i read
+OUT_AT = core_model.PHASE_AT - ARRIVE_AT      # ph_i used; phase_o, phase_c_o, valid_o after
+# The block's register sampling, as rtl/harmonic.v's header states it (sim/model has no
+# names for them; core.Config's harm_* text uses the same offsets).
+APPLY_AT = 1                                  # apply_i
+LEARN_AT = 5                                  # learn_i, mu_i
+
+# table kind of each block stream; samples of the random streams per simulator (the
+# directed stream is the same everywhere)
+PATTERNS = {"directed": "exact", "gaps": "paper", "b2b": "exact"}
+SAMPLES = {"icarus": {"gaps": 6000, "b2b": 10000},
+           "verilator": {"gaps": 40000, "b2b": 60000}}
 
 
-@pytest.mark.parametrize("pattern", ["directed", "gaps", "b2b"])
+@pytest.mark.parametrize("pattern", list(PATTERNS))
 @pytest.mark.parametrize("sim", fqtb.SIMULATORS)
 def test_harmonic(sim, pattern):
-    n = {"icarus": 20000 if pattern == "directed" else 12000, "verilator": 60000}[sim]
+    n = SAMPLES[sim].get(pattern, 0)
     fqtb.run_block(sim, "harmonic", fqtb.sources("harmonic"), "test_harmonic",
                    extra_env=dict(PATTERN=pattern, SAMPLES=n), testcase="harmonic_stream")
 
 
+# Model constants changed one at a time: the directed stream's expected output must change
+# with each (an RTL that had the changed constant could not pass).
+MUTATIONS = [
+    ("VMIN", 15), ("VMIN", 17), ("VMAX", 511), ("VMAX", 513),       # learning window
+    ("VMAX", 1024),
+    ("GEARS", ((255, 2, 10), (None, 7, 15))),                         # gear switch at C = 256
+    ("GEARS", ((257, 2, 10), (None, 7, 15))),
+    ("GEARS", ((256, 3, 11), (None, 7, 15))),                         # the gears' gains
+    ("GEARS", ((256, 2, 10), (None, 6, 14))),
+    ("C_MAX", 2046),                                                  # learning from C = 2047
+    ("ELOCK", 248), ("ELOCK", 264),                                   # lock gate |E| < 256
+    ("ELOST", 992), ("ELOST", 1056),                                  # lock lost |E| >= 1024
+    ("SWEEP", 63), ("SWEEP", 65),                                     # clear: blocked samples
+    ("D", 6), ("D", 8),                                               # commit on sample k + 7
+    ("SKIP_MIN", 6), ("SKIP_MIN", 8), ("LFSR_SEED", 0xE0),            # candidates
+    ("KM", 9), ("KM", 11), ("ANCHOR", 3), ("ANCHOR", 5),              # mean of E, anchor
+    ("H_W", 15), ("H_W", 17), ("D_W", 11),                            # entry and update limits
+]
+
+
+def test_directed_sensitivity(monkeypatch):
+    """The directed stream tells the exact edges and the constants apart: every placed
+    event moved by one edge (the directions that matter for it, see Planner) and every
+    entry of MUTATIONS change the model's output."""
+    st = directed_stim()
+    out = run_model(st)[0]
+    same = []
+    for name, k, items, shifts, end in st.events:
+        # (the difference is in the samples before `end`: the model runs up to there)
+        pre = Stim(st.edges[:end], {key: v[:end] for key, v in st.f.items()}, {}, [])
+        for sh in shifts:
+            ctrl, clears = moved(st.ctrl, st.clears, items, sh)
+            if np.array_equal(run_model(pre, ctrl, clears)[0], out[:end]):
+                same.append(f"{name} (sample {k}) moved by {sh:+d} edge")
+    for name, val in MUTATIONS:
+        with monkeypatch.context() as m:
+            m.setattr(hm, name, val)
+            if np.array_equal(run_model(st)[0], out):
+                same.append(f"harmonic.{name} = {val}")
+    assert not same, "the directed stream does not tell apart:\n" + "\n".join(same)
+
+
 # ---- stimulus (importable without a simulator) ----------------------------------------------
-OUT_LAT = 2          # phase_o, phase_c_o registered on edge a + 2
-BIN_AT = 1           # bin_i read on edge a + 1
-PH_AT = 2            # ph_i used on edge a + 2
-APPLY_AT = 1         # apply_i sampled on edge a + 1
-LEARN_AT = 5         # learn_i, mu_i sampled on edge a + 5
+def front(x, kind, rng, spread):
+    """What the core's octant and phase table give for a stream of angles x (float, phase
+    units): corrected signals on a circle of radius 16384 (1 +- spread) (s2.14, rounded)
+    through sim.model.fastpath.octant and Lut(kind). Returns int64 arrays oct2 (base
+    phase / 2048), neg, ph = PH[j], bin = phase >> 7 and phase (Lut.phase)."""
+    a = 2 * np.pi * np.asarray(x, dtype=float) / tables.PH_PERIOD
+    r = 16384.0 * (1.0 + spread * (2.0 * rng.random(len(a)) - 1.0))
+    u1 = np.rint(r * np.cos(a)).astype(np.int64)
+    u2 = np.rint(r * np.sin(a)).astype(np.int64)
+    j, base, neg = fp.octant(np.minimum(np.abs(u1), 32767), np.minimum(np.abs(u2), 32767),
+                             u1 < 0, u2 < 0, kind)
+    lut = fp.Lut(kind)
+    phase = lut.phase(j, base, neg)
+    return dict(oct2=base // (tables.PH_PERIOD // 4), neg=neg, ph=lut.ph[j],
+                bin=phase >> hm.BIN_SHIFT, phase=phase)
 
 
-def split(p):
-    """A fine phase as the octant and the phase table give it: (oct2, neg, ph, bin) with
-    phase = (2048 oct2 + (-ph if neg else ph)) mod 8192, 0 <= ph <= 1024."""
-    oct2 = ((p + 1024) >> 11) & 3
-    d = ((p - 2048 * oct2 + 4096) & 8191) - 4096
-    return oct2, int(d < 0), abs(d), p >> 7
+class Stim:
+    """A block stream: arrival edges, front (oct2, neg, ph, bin, phase per sample), control
+    {edge: (apply, learn, mu)} (the value from that edge on), clear edges, and the placed
+    events (name, sample, items, shifts, end) of a directed stream (Planner.place)."""
+
+    def __init__(self, edges, f, ctrl, clears, events=()):
+        self.edges = np.asarray(edges, dtype=np.int64)
+        self.f = f
+        self.ctrl = dict(ctrl)
+        self.clears = sorted(clears)
+        self.events = list(events)
+
+
+def model_inputs(edges, ctrl, clears):
+    """Per-sample apply, learn, mu, clear and blocked as the block samples them."""
+    a = np.asarray(edges, dtype=np.int64)
+    ce = np.array(sorted(ctrl), dtype=np.int64)
+    cv = np.array([ctrl[e] for e in ce], dtype=np.int64)
+
+    def at(e):
+        return cv[np.searchsorted(ce, e, side="right") - 1]
+
+    lm = at(a + LEARN_AT)
+    clear, blocked = hm.sweep_flags(a, clears)
+    return at(a + APPLY_AT)[:, 0], lm[:, 1], lm[:, 2], clear, blocked
+
+
+def run_model(st, ctrl=None, clears=None, trace=False):
+    """sim.model.harmonic on a stream: (phase_c, Harmonic) or with trace (phase_c, trace,
+    Harmonic)."""
+    apply, learn, mu, clear, blocked = model_inputs(
+        st.edges, st.ctrl if ctrl is None else ctrl, st.clears if clears is None else clears)
+    h = hm.Harmonic()
+    r = h.run(st.f["phase"], apply=apply, learn=learn, mu=mu, clear=clear, blocked=blocked,
+              trace=trace)
+    return (*r, h) if trace else (r, h)
+
+
+def moved(ctrl, clears, items, shift):
+    """Control and clears with the event `items` moved by `shift` edges."""
+    ctrl, clears = dict(ctrl), list(clears)
+    for it in items:
+        if it[0] == "ctrl":
+            del ctrl[it[1]]
+        else:
+            clears.remove(it[1])
+    for it in items:
+        if it[0] == "ctrl":
+            ctrl[it[1] + shift] = it[2]
+        else:
+            clears.append(it[1] + shift)
+    return ctrl, sorted(clears)
+
+
+class Planner:
+    """Places register changes and clears on exact edges relative to samples chosen from
+    the model's state. Events are placed in order of their samples; `place` takes the
+    first sample k in [lo, hi) that meets `pre` (on the model's trace without the event)
+    and `post` (on the trace with it) and where the event moved by each of `shifts` edges
+    changes the observable (`score` of the model's output) of the samples before k +
+    reach. Later events act only on edges after those samples' last sampling edge, so the
+    difference stays in the finished stream. The model state is kept at the last
+    sample that no event still to come can change, so a placement costs a few thousand
+    samples of the model."""
+
+    def __init__(self, edges, phase, ctrl0, score=None):
+        self.a = np.asarray(edges, dtype=np.int64)
+        self.phase = np.asarray(phase, dtype=np.int64)
+        self.n = len(self.a)
+        self.ctrl = {0: tuple(ctrl0)}
+        self.clears = []
+        self.events = []
+        self.score = score or (lambda out: out)
+        self.h = hm.Harmonic()
+        self.pos = 0             # self.h has seen samples [0, pos)
+        self.floor = 0           # the next event's edges must be >= this
+
+    def _run(self, h, hi, trace, ctrl=None, clears=None):
+        ap, le, mu, cl, bl = model_inputs(self.a, self.ctrl if ctrl is None else ctrl,
+                                          self.clears if clears is None else clears)
+        s = slice(self.pos, hi)
+        return h.run(self.phase[s], apply=ap[s], learn=le[s], mu=mu[s], clear=cl[s],
+                     blocked=bl[s], trace=trace)
+
+    def peek(self, hi, ctrl=None, clears=None, trace=True):
+        """The model on samples [pos, hi) (a copy of the state)."""
+        return self._run(copy.deepcopy(self.h), hi, trace, ctrl, clears)
+
+    def now(self, e):
+        ce = sorted(self.ctrl)
+        return self.ctrl[ce[bisect.bisect_right(ce, e) - 1]]
+
+    def place(self, name, lo, hi, make, pre=None, post=None, shifts=(-1, 1), reach=60):
+        """Returns the first sample after the event's reach (where the next may go)."""
+        hi = min(hi, self.n - reach)
+        start = bisect.bisect_left(self.a, self.floor - 200)
+        if start > self.pos:
+            self._run(self.h, start, False)
+            self.pos = start
+        _, tr = self.peek(hi)
+        for k in range(max(lo, self.pos), hi):
+            i = k - self.pos
+            if pre is not None and not pre(tr, i):
+                continue
+            items = make(k)
+            first = min(it[1] for it in items)
+            if first - 1 < self.floor or any(first - 1 <= e <= first + 8 for e in self.ctrl):
+                continue
+            ctrl, clears = dict(self.ctrl), list(self.clears)
+            for it in items:
+                if it[0] == "ctrl":
+                    ctrl[it[1]] = it[2]
+                else:
+                    clears.append(it[1])
+            clears.sort()
+            end = k + reach
+            out, tr2 = self.peek(end, ctrl, clears)
+            if post is not None and not post(tr, tr2, i):
+                continue
+            sc = self.score(out)
+            if all(not np.array_equal(self.score(self.peek(end, *moved(ctrl, clears, items, sh),
+                                                           trace=False)), sc)
+                   for sh in shifts):
+                self.ctrl, self.clears = ctrl, clears
+                self.events.append((name, k, items, tuple(shifts), end))
+                # the samples before `end` sample their inputs on edges < a[end] + LEARN_AT
+                self.floor = int(self.a[end]) + LEARN_AT + 2
+                return end
+        raise RuntimeError(f"no sample in [{lo}, {hi}) takes the event '{name}'")
+
+    # ---- events (make(k) -> items) ----------------------------------------------------------
+    def pulse(self, field, val, at):
+        """apply (field 0), learn (1) or mu (2) = val for the one edge a_k + at."""
+        def make(k):
+            e = int(self.a[k]) + at
+            new = list(self.now(e))
+            new[field] = val
+            return [("ctrl", e, tuple(new)), ("ctrl", e + 1, self.now(e + 1))]
+        return make
+
+    def setting(self, field, val, at):
+        """apply, learn or mu = val from edge a_k + at on."""
+        def make(k):
+            e = int(self.a[k]) + at
+            new = list(self.now(e))
+            new[field] = val
+            return [("ctrl", e, tuple(new))]
+        return make
+
+    def clear(self, off):
+        """A clear on edge a_k + off (off: an int, or a function of k)."""
+        def make(k):
+            return [("clear", int(self.a[k]) + (off(k) if callable(off) else off))]
+        return make
+
+
+# conditions on the model's trace (index i = sample - planner state)
+def _corr(tr, i):
+    return tr["corr"][i] != 0
+
+
+def _learns(tr, i):
+    return bool(tr["gate"][i]) and tr["d"][i] != 0
+
+
+def _learns_after(tr, tr2, i):
+    return _learns(tr2, i)
+
+
+def _update_changed(tr, tr2, i):
+    return bool(tr2["gate"][i]) and tr2["d"][i] != tr["d"][i]
+
+
+def _gaps(mode, m, rng):
+    if mode == "b2b":
+        return np.ones(m, np.int64)
+    if mode == "g23":
+        return 2 + (np.arange(m) % 2)
+    return rng.choice([1, 1, 1, 1, 2, 3, 4, 7, 13, 36, 70], size=m)   # 70: a whole sweep
+
+
+# The directed stream: (name, samples, speed at its end in units/sample, linear from the
+# previous end; strobe gaps). Lock is lost at "step" and "reverse" (velocity steps).
+DIRECTED = [
+    ("start", 1, -540.0, "b2b"),
+    # pull-in (wide gear), lock, nothing learned: |V| above the window (a window decoded
+    # from too few bits of |V| would learn here)
+    ("over", 3200, -540.0, "b2b"),
+    ("upper_step", 1, -511.97, "b2b"),    # velocity step: lock lost, the wide gear again
+    # pull-in, lock, learning: just inside the window every candidate lands in one of 16
+    # bins (8..15 samples of 512 units), whose entries reach the s16 limits
+    ("upper", 6900, -511.97, "b2b"),
+    ("up_ramp", 1200, -515.0, "b2b"),     # |V| through 512, the window's upper edge
+    ("up_back", 1200, -506.0, "b2b"),     # (+ pad samples: see _lock_pad)
+    ("step", 1, 20.0, "b2b"),             # velocity step: lock lost, the wide gear again
+    ("relock", 3000, 20.0, "b2b"),        # apply changes while the lock returns
+    ("pulses_b2b", 800, 20.0, "b2b"),     # learn and mu changes at candidates
+    ("pulses_g23", 800, 20.0, "g23"),
+    ("pulses_rand", 800, 20.0, "rand"),
+    ("low_down", 1300, 13.0, "b2b"),      # |V| through 16, the window's lower edge
+    ("low_up", 1300, 20.0, "b2b"),
+    ("reverse", 1, -20.0, "b2b"),         # reversal step: lock lost again
+    ("relock2", 2200, -20.0, "b2b"),
+    ("clear_g23", 400, -20.0, "g23"),     # a clear: the first sample that sees it
+    ("nlow_down", 1100, -13.0, "b2b"),    # the lower edge, negative speed
+    ("nlow_up", 1100, -20.0, "b2b"),
+    ("clear_g23b", 300, -20.0, "g23"),    # a clear: the first sample that sees it
+    ("clears_b2b", 1600, -20.0, "b2b"),   # clears around learning candidates
+    ("clears_rand", 1200, -20.0, "rand"),
+    ("noise", 800, -20.0, "b2b"),         # large noise: samples hop between bins
+]
+ERR_H4 = 150.0    # 4th-harmonic error, units: beyond the table's +-128 (entries hit s16)
+ERR_H1 = 12.0
+
+
+def directed_front(pad):
+    """Edges, front and first sample of each segment of the directed stream, with `pad`
+    samples at -506 units/sample before the velocity step (the samples before them do
+    not depend on pad)."""
+    rg, rn, rr = (np.random.default_rng(s) for s in (7, 8, 9))
+    v, g, first = [], [], {}
+    cur, k = DIRECTED[0][2], 0
+    segs = list(DIRECTED)
+    i = [x[0] for x in segs].index("step")
+    segs.insert(i, ("pad", pad, segs[i - 1][2], "b2b"))
+    for name, m, end, mode in segs:
+        first[name] = k
+        v.append(cur + (end - cur) * np.arange(1, m + 1) / max(m, 1))
+        g.append(_gaps(mode, m, rg))
+        cur, k = end, k + m
+    first["end"] = k
+    v, gaps = np.concatenate(v), np.concatenate(g)
+    x = 300.0 + np.cumsum(v)
+    th = 2 * np.pi * x / tables.PH_PERIOD
+    noise = rn.standard_normal(k)
+    noise[first["noise"]:] *= 40.0
+    err = ERR_H4 * np.sin(4 * th + 0.7) + ERR_H1 * np.sin(th + 2.0) + noise
+    edges = 12 + np.concatenate([[0], np.cumsum(gaps[:-1])])
+    return edges, front(x + err, "exact", rr, 0.3), first
+
+
+def _lock_pad():
+    """Samples to add before the velocity step so that once the lock has returned after
+    it, a learning candidate arrives with C one below C_MAX (learning from C = 2046
+    would change its update: MUTATIONS)."""
+    _, f, first = directed_front(0)
+    p0 = first["pad"]
+    h0 = hm.Harmonic()
+    h0.run(f["phase"][:p0], learn=1, mu=3)
+    for pad in range(200):
+        _, f, first = directed_front(pad)
+        m = first["pulses_b2b"]
+        _, tr = copy.deepcopy(h0).run(f["phase"][p0:m], learn=1, mu=3, trace=True)
+        C, V, E = tr["C"], tr["V"], tr["E"]
+        i = next(i for i in range(first["relock"] - p0, m - p0) if C[i - 1] == hm.C_MAX - 1)
+        av = V[i - 1] if V[i - 1] >= 0 else ~V[i - 1]
+        if (tr["cand"][i] and hm.VMIN << hm.VF <= av < hm.VMAX << hm.VF
+                and -(hm.ELOCK << hm.PF) <= E[i] < hm.ELOCK << hm.PF):
+            return pad
+    raise RuntimeError("no pad puts a candidate on C = C_MAX - 1")
+
+
+@functools.lru_cache(maxsize=None)
+def directed_stim():
+    """The directed stream with its events (see the module text)."""
+    edges, f, S = directed_front(_lock_pad())
+    P = Planner(edges, f["phase"], (1, 1, 3))
+    A, L, M = 0, 1, 2
+    # apply: one-edge pulses and steps at samples whose correction is not 0, while the
+    # lock returns (nothing is learned: the table is the one learned near -512)
+    k = S["relock"] + 100
+    k = P.place("apply off for one edge", k, k + 300, P.pulse(A, 0, APPLY_AT), pre=_corr)
+    k = P.place("apply off", k, k + 300, P.setting(A, 0, APPLY_AT), pre=_corr)
+    k = P.place("apply on for one edge", k, k + 300, P.pulse(A, 1, APPLY_AT), pre=_corr)
+    k = P.place("apply on", k, k + 300, P.setting(A, 1, APPLY_AT), pre=_corr)
+    # learn and mu at learning candidates whose update is not 0. A step on a + LEARN_AT
+    # of a candidate tells a block that samples one edge early, a step on a + LEARN_AT +
+    # 1 one that samples late (the samples next to a candidate do not learn).
+    for seg in ("pulses_b2b", "pulses_g23", "pulses_rand"):
+        k, hi = S[seg], S[seg] + 800
+        k = P.place(f"{seg}: apply off for one edge", k, hi, P.pulse(A, 0, APPLY_AT), pre=_corr)
+        k = P.place(f"{seg}: learn off for one edge", k, hi, P.pulse(L, 0, LEARN_AT),
+                    pre=_learns)
+        k = P.place(f"{seg}: mu 6 for one edge", k, hi, P.pulse(M, 6, LEARN_AT), pre=_learns,
+                    post=_update_changed)
+        k = P.place(f"{seg}: learn off", k, hi, P.setting(L, 0, LEARN_AT), pre=_learns,
+                    shifts=(1,))
+        k = P.place(f"{seg}: learn on for one edge", k, hi, P.pulse(L, 1, LEARN_AT),
+                    post=_learns_after)
+        k = P.place(f"{seg}: learn on", k, hi, P.setting(L, 1, LEARN_AT + 1), shifts=(-1,))
+        k = P.place(f"{seg}: mu 4", k, hi, P.setting(M, 4, LEARN_AT), pre=_learns,
+                    post=_update_changed, shifts=(1,))
+        k = P.place(f"{seg}: mu 3", k, hi, P.setting(M, 3, LEARN_AT + 1), pre=_learns,
+                    shifts=(-1,))
+    # clears: the first sample that sees the empty table (gaps of 2 and 3)
+    P.place("clear on a", S["clear_g23"] + 50, S["nlow_down"], P.clear(0), pre=_corr,
+            shifts=(1,), reach=100)
+    P.place("clear on a + 1", S["clear_g23b"], S["clears_b2b"], P.clear(1), pre=_corr,
+            shifts=(-1,), reach=100)
+    # the end of the sweep (back to back): the last sample blocked, the first that learns;
+    # a clear during a sweep restarts it
+    k = S["clears_b2b"] + 20
+    k = P.place("clear, a candidate arrives on w + SWEEP", k, k + 300,
+                P.clear(-hm.SWEEP), pre=_learns, shifts=(-1,), reach=100)
+    k = P.place("clear, a candidate arrives on w + SWEEP + 1", k, k + 300,
+                P.clear(-hm.SWEEP - 1), post=_learns_after, shifts=(1,), reach=100)
+    k = P.place("clear during a sweep", k + hm.SWEEP, k + 300,
+                lambda k: [("clear", int(P.a[k]) - hm.SWEEP - 30),
+                           ("clear", int(P.a[k]) - hm.SWEEP)],
+                pre=_learns, shifts=(-1,), reach=100)
+    # clears on every edge from 2 before a learning candidate's arrival to 1 after its
+    # commit (the arrival of sample k + D): the update in flight is dropped
+    for off in range(-2, hm.D + 2):
+        k = P.place(f"clear on a + {off} of a candidate", k, S["clears_rand"],
+                    P.clear(off), pre=_learns, shifts=(), reach=90)
+    k = S["clears_rand"]
+    hi = S["noise"]
+    k = P.place("clear inside a gap longer than the sweep", k, hi, P.clear(1),
+                pre=lambda tr, i: P.a[P.pos + i + 1] - P.a[P.pos + i] > hm.SWEEP + 1,
+                shifts=(), reach=90)
+
+    def commit(k, extra=0):
+        return int(P.a[k + hm.D] - P.a[k]) + extra
+    for name, off in (("a - 1", -1), ("a", 0), ("a + 1", 1), ("the commit",
+                      commit), ("the commit + 1", lambda k: commit(k, 1))):
+        k = P.place(f"clear on {name} of a candidate (random gaps)", k, hi, P.clear(off),
+                    pre=_learns, shifts=(), reach=90)
+    return Stim(edges, f, P.ctrl, P.clears, P.events)
 
 
 def phases(n, rng):
-    """n fine-phase samples (u13, a list of ints) of a stage that ramps between speeds
-    (also through zero and past the window), stands still, jumps (the observer loses
-    track) and overspeeds; the error is a 1st and a 4th harmonic of the phase plus noise
-    (sigma per segment; up to 50 units at low speed, so that samples hop back and forth
-    between bins)."""
-    import numpy as np
+    """n angles (float, phase units) of a stage that ramps between speeds (also through
+    zero and past the window), stands still, jumps (the observer loses track) and
+    overspeeds; the error is a 1st and a 4th harmonic of the phase plus noise (sigma per
+    segment; up to 50 units at low speed, so that samples hop back and forth between
+    bins)."""
     nrng = np.random.default_rng(rng.randrange(1 << 30))
     h1, h4 = rng.uniform(2, 8), rng.uniform(8, 20)
     p1, p4 = rng.uniform(0, 6.3), rng.uniform(0, 6.3)
@@ -105,54 +559,18 @@ def phases(n, rng):
         sigma = rng.choice([0.5, 2.0, 5.0, 8.0] + ([30.0, 50.0] if abs(v) < 60 else []))
         err = (h1 * np.sin(2 * np.pi * xs / 8192 + p1) + h4 * np.sin(8 * np.pi * xs / 8192 + p4)
                + sigma * nrng.standard_normal(len(xs)))
-        xs_all.append(np.round(xs + err).astype(np.int64) % 8192)
+        xs_all.append(xs + err)
         total += len(xs)
-    return np.concatenate(xs_all)[:n].tolist()
+    return np.concatenate(xs_all)[:n]
 
 
-def directed(n):
-    """A stage at 20 units/sample (six samples per bin) with a 4th-harmonic error of 200
-    units (more than the table holds: the entries run into the s16 limits), mu 3..6,
-    phase jumps (the observer loses track), learn and apply off spells, clear pulses on
-    every edge from 2 before to 7 after a sample's arrival and during a sweep, and a
-    spell of large noise (samples hop between bins). Strobes back to back, then every 2
-    or 3 clocks."""
-    import numpy as np
-    k = np.arange(n)
-    x = 100.0 + 20.0 * k
-    for j in (n * 3 // 10, n * 7 // 10):
-        x[j:] += 2500.0                               # jumps: the observer loses track
-    # noise of 40 units in [0.56 n, 0.68 n): samples hop back and forth between bins
-    noise = np.where((k >= n * 56 // 100) & (k < n * 68 // 100),
-                     40.0 * np.random.default_rng(5).standard_normal(n), 0.0)
-    ph = (np.round(x + 200.0 * np.sin(8 * np.pi * x / 8192) + noise) % 8192).astype(np.int64)
-    gaps = np.where(k < n // 2, 1, np.where(k % 3 == 0, 3, 2))
-    edges = (12 + np.concatenate([[0], np.cumsum(gaps[:-1])])).tolist()
-    ctrl = {0: (1, 1, 3)}
-
-    def at(frac, val, off=0):
-        ctrl[edges[int(n * frac)] + off] = val
-
-    at(0.40, (1, 1, 5), 3)        # mid-flight changes of mu
-    at(0.45, (1, 0, 5), 1)        # learn off
-    at(0.50, (0, 1, 4), 2)        # apply off, learning goes on
-    at(0.55, (1, 1, 6), 4)
-    at(0.85, (1, 1, 3), 5)
-    at(0.90, (1, 1, 4))
-    clears = []
-    for i, off in enumerate(range(-2, 8)):
-        kk = int(n * (0.32 + 0.025 * i))
-        clears.append(edges[kk] + off)
-    clears.append(clears[-1] + 30)                    # during the sweep
-    return edges, ph.tolist(), ctrl, sorted(set(clears))
-
-
-def schedule(pattern, n, seed):
-    """(arrival edges, phases, control changes {edge: (apply, learn, mu)}, clear edges)."""
-    if pattern == "directed":
-        return directed(n)
+def random_stim(pattern, n, seed):
+    """A seeded random stream: strobes back to back with a few gaps (b2b) or random gaps
+    with bursts back to back (gaps); random control changes and clears."""
     rng = random.Random(seed)
-    ph = phases(n, rng)
+    x = phases(n, rng)
+    kind = PATTERNS[pattern]
+    f = front(x, kind, np.random.default_rng(seed), 0.3 if kind == "exact" else 0.05)
     edges = []
     e = 12
     burst = 0
@@ -160,17 +578,14 @@ def schedule(pattern, n, seed):
         edges.append(e)
         if pattern == "b2b":
             gap = 1 if rng.random() < 0.97 else rng.randint(2, 12)
+        elif burst:
+            burst -= 1
+            gap = 1
+        elif rng.random() < 0.05:
+            burst = rng.randint(2, 20)
+            gap = 1
         else:
-            if burst:
-                burst -= 1
-                gap = 1
-            else:
-                r = rng.random()
-                if r < 0.05:
-                    burst = rng.randint(2, 20)
-                    gap = 1
-                else:
-                    gap = rng.choice([2, 3, 4, 5, 7, 8, 9, 13, 20, 36, 60])
+            gap = rng.choice([2, 3, 4, 5, 7, 8, 9, 13, 20, 36, 60, 70])
         e += gap
     last = edges[-1]
     # control changes: mostly apply = learn = 1, mu 3..6
@@ -183,33 +598,13 @@ def schedule(pattern, n, seed):
     for _ in range(max(4, n // 2000)):
         k = rng.randrange(8, n)
         clears.add(edges[k] + rng.choice([-2, -1, 0, 0, 1, 1, 2, 3, 4, 5, 6, 7]))
-    return edges, ph, ctrl, sorted(clears)
+    return Stim(edges, f, ctrl, clears)
 
 
-def model_inputs(edges, ctrl, clears):
-    """Per-sample apply, learn, mu, clear and blocked flags as the RTL samples them."""
-    import bisect
-    import numpy as np
-    from sim.model import harmonic as hm
-    ce = sorted(ctrl)
-
-    def at(e):
-        return ctrl[ce[bisect.bisect_right(ce, e) - 1]]
-
-    apply = np.array([at(a + APPLY_AT)[0] for a in edges], dtype=np.int64)
-    learn = np.array([at(a + LEARN_AT)[1] for a in edges], dtype=np.int64)
-    mu = np.array([at(a + LEARN_AT)[2] for a in edges], dtype=np.int64)
-    clear, blocked = hm.sweep_flags(edges, clears)
-    return apply, learn, mu, clear, blocked
-
-
-def expected(pattern, n, seed):
-    from sim.model import harmonic as hm
-    edges, ph, ctrl, clears = schedule(pattern, n, seed)
-    apply, learn, mu, clear, blocked = model_inputs(edges, ctrl, clears)
-    h = hm.Harmonic()
-    out = h.run(ph, apply=apply, learn=learn, mu=mu, clear=clear, blocked=blocked)
-    return edges, ph, ctrl, clears, out, h
+def stimulus(pattern, n):
+    if pattern == "directed":
+        return directed_stim()
+    return random_stim(pattern, n, {"gaps": 11, "b2b": 12}[pattern])
 
 
 # ---- cocotb side -----------------------------------------------------------------------------
@@ -224,220 +619,325 @@ async def _watch(sig, log):
         log.append((get_sim_time(unit="ps"), fqtb.uval(sig)))
 
 
-@cocotb.test()
-async def harmonic_stream(dut):
-    pattern = fqtb.env_str("PATTERN")
-    n = fqtb.env_int("SAMPLES")
-    seed = {"directed": 0, "gaps": 11, "b2b": 12}[pattern]
-    edges, ph, ctrl, clears, exp, h = expected(pattern, n, seed)
-    log = dut._log
-    log.info("%s: %d samples over %d edges, %d clears, model updates %d, table %s..%s",
-             pattern, n, edges[-1], len(clears), h.learned, min(h.A), max(h.A))
+class _Pins:
+    """Writes DUT inputs, skipping writes of the value a pin already has."""
 
-    strobe = {e: k for k, e in enumerate(edges)}
-    reads = {e + OUT_LAT: k for k, e in enumerate(edges)}
-    clear_set = set(clears)
-    slots = set()
-    for e in list(strobe) + list(ctrl) + clears:
-        slots.add(e - 1)
-        slots.add(e)
-    slots.update(reads)
+    def __init__(self, dut, **init):
+        self.dut, self.last = dut, {}
+        for name, v in init.items():
+            self[name] = v
 
-    bench = fqtb.ClockedBench(dut)
-    a0, l0, m0 = ctrl[0]
-    dut.valid_i.value = 0
-    dut.oct2_i.value = 0
-    dut.neg_i.value = 0
-    dut.bin_i.value = 0
-    dut.ph_i.value = 0
-    dut.apply_i.value = a0
-    dut.learn_i.value = l0
-    dut.mu_i.value = m0 - 3
-    dut.clear_i.value = 0
-    parts = [split(p) for p in ph]
-    bins = {e + BIN_AT: k for k, e in enumerate(edges)}
-    phs = {e + PH_AT: k for k, e in enumerate(edges)}
-    slots.update(e - 1 for e in list(bins) + list(phs))
-    slots = sorted(s for s in slots if s >= 0)
-    await bench.start()
-    vlog = []
-    cocotb.start_soon(_watch(dut.valid_o, vlog))
-    got = [None] * n
-    junk = random.Random(seed + 1)
-    for s in slots:
-        await bench.goto(s)
-        k = reads.get(s)
-        if k is not None:
-            got[k] = (fqtb.uval(dut.phase_o), fqtb.uval(dut.phase_c_o))
-        nxt = s + 1
-        k = strobe.get(nxt)
-        if k is not None:
-            dut.valid_i.value = 1
-            dut.oct2_i.value, dut.neg_i.value = parts[k][0], parts[k][1]
-        else:                                          # idle clocks carry garbage
-            dut.valid_i.value = 0
-            dut.oct2_i.value, dut.neg_i.value = junk.randrange(4), junk.randrange(2)
-        k = bins.get(nxt)
-        dut.bin_i.value = parts[k][3] if k is not None else junk.randrange(64)
-        k = phs.get(nxt)
-        dut.ph_i.value = parts[k][2] if k is not None else junk.randrange(4096)
-        if nxt in ctrl:
-            a, lr, m = ctrl[nxt]
-            dut.apply_i.value = a
-            dut.learn_i.value = lr
-            dut.mu_i.value = m - 3
-        dut.clear_i.value = int(nxt in clear_set)
-    await bench.goto(bench.edge + 4)
+    def __setitem__(self, name, v):
+        if self.last.get(name) != v:
+            getattr(self.dut, name).value = v
+            self.last[name] = v
 
-    bad = [k for k in range(n) if got[k] != (ph[k], int(exp[k]))]
-    if bad:
-        lines = [f"sample {k} (arrival edge {edges[k]}, phase {ph[k]}): rtl (phase, "
-                 f"corrected) {got[k]}, model {(ph[k], int(exp[k]))}" for k in bad[:12]]
-        raise AssertionError(f"{len(bad)} of {n} samples differ, first:\n" + "\n".join(lines))
-    assert h.learned > n // 40, f"only {h.learned} updates: the stimulus hardly learns"
 
-    # valid_o high after exactly the edges a + 2
-    high = set()
-    rise = None
+def _high_edges(vlog, t0):
+    """The edges after which a watched 1-bit signal was high."""
+    high, rise = set(), None
     for tm, v in vlog:
-        e, r = divmod(int(tm - bench.t0), fqtb.PERIOD_PS)
-        assert r == 0, f"valid_o changed between clock edges (t={tm} ps)"
+        e, r = divmod(int(tm - t0), fqtb.PERIOD_PS)
+        assert r == 0, f"a valid output changed between clock edges (t={tm} ps)"
         if v == 1 and rise is None:
             rise = e
         elif v == 0 and rise is not None:
             high.update(range(rise, e))
             rise = None
-    assert rise is None
-    want = {e + OUT_LAT for e in edges}
-    assert high == want, f"valid_o edges differ: {sorted(high ^ want)[:8]}"
-    nc = sum(1 for k in range(n) if int(exp[k]) != ph[k])
+    assert rise is None, "a valid output is still high at the end"
+    return high
+
+
+@cocotb.test()
+async def harmonic_stream(dut):
+    pattern = fqtb.env_str("PATTERN")
+    st = stimulus(pattern, fqtb.env_int("SAMPLES"))
+    exp, h = run_model(st)
+    n = len(st.edges)
+    edges = st.edges.tolist()
+    f = {key: v.tolist() for key, v in st.f.items()}
+    log = dut._log
+    log.info("%s: %d samples over %d edges, %d control changes, %d clears, %d placed "
+             "events, model updates %d, table %s..%s", pattern, n, edges[-1], len(st.ctrl),
+             len(st.clears), len(st.events), h.learned, min(h.A), max(h.A))
+
+    strobe = {e: k for k, e in enumerate(edges)}
+    bins = {e + BIN_AT: k for k, e in enumerate(edges)}
+    phs = {e + OUT_AT: k for k, e in enumerate(edges)}
+    reads = phs
+    clear_set = set(st.clears)
+    slots = set(reads)
+    for e in list(strobe) + list(bins) + list(phs) + list(st.ctrl) + st.clears:
+        slots.update((e - 1, e))            # set before the edge, garbage after it
+    slots = sorted(s for s in slots if s >= 0)
+
+    bench = fqtb.ClockedBench(dut)
+    a0, l0, m0 = st.ctrl[0]
+    pin = _Pins(dut, valid_i=0, oct2_i=0, neg_i=0, bin_i=0, ph_i=0, apply_i=a0, learn_i=l0,
+                mu_i=m0 - hm.MU_MIN, clear_i=0)
+    await bench.start()
+    vlog = []
+    cocotb.start_soon(_watch(dut.valid_o, vlog))
+    got = [None] * n
+    junk = random.Random(len(edges))
+    for s in slots:
+        await bench.goto(s)
+        k = reads.get(s)
+        if k is not None:
+            got[k] = (fqtb.uval(dut.phase_o), fqtb.uval(dut.phase_c_o))
+        # inputs for edge s + 1: a sample's values on its edges, garbage on the others
+        nxt = s + 1
+        k = strobe.get(nxt)
+        pin["valid_i"] = int(k is not None)
+        pin["oct2_i"] = f["oct2"][k] if k is not None else junk.randrange(4)
+        pin["neg_i"] = f["neg"][k] if k is not None else junk.randrange(2)
+        k = bins.get(nxt)
+        pin["bin_i"] = f["bin"][k] if k is not None else junk.randrange(64)
+        k = phs.get(nxt)
+        pin["ph_i"] = f["ph"][k] if k is not None else junk.randrange(4096)
+        if nxt in st.ctrl:
+            a, lr, m = st.ctrl[nxt]
+            pin["apply_i"], pin["learn_i"], pin["mu_i"] = a, lr, m - hm.MU_MIN
+        pin["clear_i"] = int(nxt in clear_set)
+    await bench.goto(bench.edge + 4)
+
+    want = list(zip(f["phase"], exp.tolist()))
+    bad = [k for k in range(n) if got[k] != want[k]]
+    if bad:
+        lines = [f"sample {k} (arrival edge {edges[k]}, oct2 {f['oct2'][k]}, neg "
+                 f"{f['neg'][k]}, ph {f['ph'][k]}, bin {f['bin'][k]}): rtl (phase, corrected)"
+                 f" {got[k]}, model {want[k]}" for k in bad[:12]]
+        raise AssertionError(f"{len(bad)} of {n} samples differ, first:\n" + "\n".join(lines))
+    assert h.learned > n // 40, f"only {h.learned} updates: the stimulus hardly learns"
+    high = _high_edges(vlog, bench.t0)
+    want_v = {e + OUT_AT for e in edges}
+    assert high == want_v, f"valid_o high after other edges: {sorted(high ^ want_v)[:8]}"
+    nc = int(np.sum(exp != st.f["phase"]))
     log.info("%s: %d samples equal (%d corrected), %d updates", pattern, n, nc, h.learned)
 
 
-# ==== the block in the core: finequad_core against sim.model.core.run ==========================
-# A stage at 40 units/sample with a 1 % third harmonic; strobes back to back, then with
-# random gaps. HARM (0x12) is written during the run: mu = 3, a clear, apply off, learn
-# off, apply on again with mu = 5; the count of every sample and the HARM read-back must
-# equal the model's. (The estimator calibrates meanwhile; the block sees whatever phase
-# comes.)
+# ==== the block in the core: finequad_core against sim.model.core.run ========================
 CORE_SOURCES = fqtb.core_sources()
+INTERP_ADDR = 0x01
 HARM_ADDR = 0x12
+HARM_READ = 0x33           # the bits HARM reads back: [5:4] mu - 3, 1 learn, 0 apply
+CORE_INTERP = 511          # n: the count resolves 8192 / (4 n) = 4 phase units
+CORE_SAMPLES = {"icarus": 7000, "verilator": 40000}
+CORE_PLAN = 7000           # the placed writes lie in the first CORE_PLAN samples
+CORE_B2B = 4500            # strobes back to back before this sample, random gaps after
 
 
 @pytest.mark.parametrize("sim", fqtb.SIMULATORS)
 def test_core_harmonic(sim):
-    n = {"icarus": 7000, "verilator": 40000}[sim]
     fqtb.run_block(sim, "finequad_core", CORE_SOURCES, "test_harmonic",
                    parameters=dict(TABLE_DIR=fqtb.qstr(fqtb.TABLE_DIR), TABLE_EXACT=1),
-                   extra_env=dict(SAMPLES=n), testcase="core_harmonic")
+                   extra_env=dict(SAMPLES=CORE_SAMPLES[sim]), testcase="core_harmonic")
 
 
-def harm_value(apply, learn, mu, clear=0):
+def test_core_sensitivity():
+    """Every placed HARM write moved by one edge (the directions that matter for it)
+    changes sim.model.core's outputs (count, A/B, faults) of the first CORE_PLAN samples."""
+    n = CORE_PLAN
+    u1, u2, t, writes, events = core_plan(n)
+    ref = core_outputs(u1, u2, t, writes)
+    same = []
+    for name, k, ws, shifts in events:
+        for sh in shifts:
+            mv = sorted((w + sh, a, d) if (w, a, d) in ws else (w, a, d) for w, a, d in writes)
+            if np.array_equal(core_outputs(u1, u2, t, mv), ref):
+                same.append(f"{name} (sample {k}) moved by {sh:+d} edge")
+    assert not same, "the core stimulus does not tell apart:\n" + "\n".join(same)
+
+
+def harm_word(apply, learn, mu, clear=0):
     """HARM register word."""
-    return apply | learn << 1 | (mu - 3) << 4 | clear << 8
+    return apply | learn << 1 | (mu - hm.MU_MIN) << 4 | clear << 8
 
 
 def core_stimulus(n):
-    """(u1, u2, strobe edges, HARM writes [(edge, value)])."""
-    import numpy as np
+    """(u1, u2, strobe edges): a stage at 40 units/sample with a 1 % third harmonic."""
     from sim import siggen
     rng = np.random.default_rng(21)
     x = siggen.constant_speed(n, 1e6, 40 / 8192 * 4000 * 1e6, x0=123.0)    # 40 units/sample
     sig = siggen.Signal(A1=0.5, A2=0.47, h3=0.01, noise=0.004)
     u1, u2, _ = siggen.encode(x, 4000.0, sig, seed=22)
-    gaps = np.where(np.arange(n) < n // 3, 1,
+    gaps = np.where(np.arange(n) < CORE_B2B, 1,
                     rng.choice([1, 1, 1, 2, 3, 5, 8, 13, 21, 36], size=n))
     t = 16 + np.concatenate([[0], np.cumsum(gaps[:-1])])
-    writes = [(int(t[int(n * 0.45)]) - 3, harm_value(1, 1, 3)),
-              (int(t[int(n * 0.55)]) + 7, harm_value(1, 1, 3, clear=1)),
-              (int(t[int(n * 0.70)]) + 11, harm_value(0, 1, 4)),
-              (int(t[int(n * 0.80)]) + 15, harm_value(1, 0, 4)),
-              (int(t[int(n * 0.90)]) + 12, harm_value(1, 1, 5))]
-    return u1.astype(np.int64), u2.astype(np.int64), t.astype(np.int64), writes
+    return u1.astype(np.int64), u2.astype(np.int64), t.astype(np.int64)
 
 
 def core_config(t, writes):
-    """Config with the per-sample HARM fields the RTL samples (sim/model/core.py)."""
-    import numpy as np
-    from sim.model import core
+    """core.Config with the per-sample HARM fields the core samples: a write on edge w
+    reaches the block on w + 1 (apply sampled on a + APPLY_AT, learn and mu on a +
+    LEARN_AT, a = t + HARM_AT; a clear is high on w + 1)."""
     n = len(t)
-    apply = np.ones(n, np.int64)
-    learn = np.ones(n, np.int64)
-    mu = np.full(n, 4, np.int64)
+    d = core_model.Config()                    # the values after reset
+    apply = np.full(n, d.harm_apply, np.int64)
+    learn = np.full(n, d.harm_learn, np.int64)
+    mu = np.full(n, d.harm_mu, np.int64)
     clears = []
-    for w, v in writes:
-        # a write on edge w is seen on the edges after it: apply is sampled on edge
-        # t + HARM_AT + APPLY_AT, learn and mu on t + HARM_AT + LEARN_AT
-        a_new = t + core.HARM_AT + APPLY_AT > w
-        l_new = t + core.HARM_AT + LEARN_AT > w
+    for w, addr, v in writes:
+        if addr != HARM_ADDR:
+            continue
+        a_new = t + ARRIVE_AT + APPLY_AT > w
+        l_new = t + ARRIVE_AT + LEARN_AT > w
         apply[a_new] = v & 1
         learn[l_new] = (v >> 1) & 1
-        mu[l_new] = ((v >> 4) & 3) + 3
+        mu[l_new] = ((v >> 4) & 3) + hm.MU_MIN
         if v >> 8 & 1:
             clears.append(w)
-    return core.Config(harm_apply=apply, harm_learn=learn, harm_mu=mu, harm_clears=clears)
+    return core_model.Config(interp=CORE_INTERP, harm_apply=apply, harm_learn=learn,
+                             harm_mu=mu, harm_clears=clears)
+
+
+def core_outputs(u1, u2, t, writes, trace=False):
+    res = core_model.run(u1, u2, core_config(t, writes), strobes=t, trace=trace)
+    out = np.stack([res["count"], res["a"], res["b"], res["fault"]], axis=1)
+    return (out, res) if trace else out
+
+
+@functools.lru_cache(maxsize=None)
+def core_plan(n):
+    """(u1, u2, t, writes [(edge, addr, data)], events): n and the edge of every setting
+    written, 0x12 HARM writes placed at samples chosen from the model's state (Planner on
+    the core's fine phase, arrivals t + HARM_AT, observable: the count's fine part
+    n * phase_c >> 11), then, past CORE_PLAN, a few seeded random ones."""
+    u1, u2, t = core_stimulus(n)
+    m = min(n, CORE_PLAN)
+    # the fine phase does not depend on HARM (the estimator sees the uncorrected phase)
+    ph = core_model.run(u1[:m], u2[:m], core_model.Config(harm_learn=0), strobes=t[:m],
+                        trace=True)["phase"]
+    P = Planner(t[:m] + ARRIVE_AT, ph, (1, 1, 3), score=lambda out: (CORE_INTERP * out) >> 11)
+    A, L, M = 0, 1, 2
+    spots = []
+    k = 2600                                # learning from about sample 2300 on
+    for name, make, pre, post, shifts in (
+            ("apply off", P.setting(A, 0, APPLY_AT), _corr, None, (-1, 1)),
+            ("apply on", P.setting(A, 1, APPLY_AT), _corr, None, (-1, 1)),
+            ("apply off for one edge", P.pulse(A, 0, APPLY_AT), _corr, None, (-1, 1)),
+            ("learn off", P.setting(L, 0, LEARN_AT), _learns, None, (1,)),
+            ("learn on", P.setting(L, 1, LEARN_AT + 1), None, None, (-1,)),
+            ("mu 6", P.setting(M, 6, LEARN_AT), _learns, _update_changed, (1,)),
+            ("mu 3", P.setting(M, 3, LEARN_AT + 1), _learns, None, (-1,)),
+            ("clear, a candidate arrives on w + SWEEP", P.clear(-hm.SWEEP), _learns, None,
+             (-1,)),
+            ("gaps: apply off", P.setting(A, 0, APPLY_AT), _corr, None, (1,)),
+            ("gaps: apply on", P.setting(A, 1, APPLY_AT), _corr, None, (1,)),
+            ("gaps: learn off", P.setting(L, 0, LEARN_AT), _learns, None, (1,)),
+            ("gaps: learn on", P.setting(L, 1, LEARN_AT + 1), None, None, (-1,)),
+            ("gaps: clear on a", P.clear(0), _corr, None, (1,))):
+        if name.startswith("gaps") and k < CORE_B2B:
+            k = CORE_B2B
+        k0 = len(P.events)
+        k = P.place(name, k, m, make, pre=pre, post=post, shifts=shifts, reach=150)
+        spots.append(P.events[k0])
+    # block edges -> register writes (a write on edge w reaches the block on w + 1)
+    writes = [(1, INTERP_ADDR, CORE_INTERP), (2, HARM_ADDR, harm_word(1, 1, 3))]
+    events = []
+    for name, k, items, shifts, _ in spots:
+        ws = []
+        for it in items:
+            if it[0] == "ctrl":
+                ws.append((it[1] - 1, HARM_ADDR, harm_word(*it[2])))
+            else:
+                ws.append((it[1] - 1, HARM_ADDR, harm_word(*P.now(it[1] - 1), clear=1)))
+        writes += ws
+        events.append((name, k, ws, shifts))
+    if n > m:
+        rng = random.Random(5)
+        for e in sorted(rng.sample(range(int(t[m]), int(t[-1])), 12)):
+            writes.append((e, HARM_ADDR, harm_word(int(rng.random() < 0.8), int(
+                rng.random() < 0.8), rng.choice([3, 4, 5, 6]), int(rng.random() < 0.3))))
+    return u1, u2, t, sorted(writes), events
+
+
+# HARM after reset (the model's Config defaults)
+HARM_RESET = harm_word(core_model.Config().harm_apply, core_model.Config().harm_learn,
+                       core_model.Config().harm_mu)
+
+
+def harm_reads(writes):
+    """{edge: value}: HARM read on every edge of a HARM write (the value before it) and
+    on the edge after (the value it wrote): a registered read on edge e returns the
+    registers as they were before e."""
+    hw = [(w, v) for w, a, v in writes if a == HARM_ADDR]
+    other = {w for w, a, v in writes if a != HARM_ADDR}
+    out = {}
+    for w, _ in hw:
+        for e in (w, w + 1):
+            if e not in other:
+                prev = [v for x, v in hw if x < e]
+                out[e] = (prev[-1] if prev else HARM_RESET) & HARM_READ
+    return out
 
 
 @cocotb.test()
 async def core_harmonic(dut):
-    import numpy as np
-    from sim.model import core
     n = fqtb.env_int("SAMPLES")
-    u1, u2, t, writes = core_stimulus(n)
-    res = core.run(u1, u2, core_config(t, writes), strobes=t, trace=True)
+    u1, u2, t, writes, events = core_plan(n)
+    exp, res = core_outputs(u1, u2, t, writes, trace=True)
     h = res["harm"]
     log = dut._log
-    log.info("core: %d samples, %d table updates, %d samples corrected", n, h.learned,
+    log.info("core: %d samples, %d register writes (%d placed events), %d table updates, "
+             "%d samples corrected", n, len(writes), len(events), h.learned,
              int(np.sum(res["phase_c"] != res["phase"])))
-    assert h.learned > n // 40
-    lat = core.LATENCY
+    assert h.learned > n // 40, f"only {h.learned} updates: the stimulus hardly learns"
+    lat = core_model.LATENCY
     strobe = {int(e): k for k, e in enumerate(t)}
-    reads = {int(e) + lat: k for k, e in enumerate(t)}
-    wr = dict(writes)
-    slots = set(reads)
-    for e in list(strobe) + list(wr):
+    outs = {int(e) + lat: k for k, e in enumerate(t)}
+    wr = {w: (a, d) for w, a, d in writes}
+    assert len(wr) == len(writes), "two writes on one edge"
+    rd = harm_reads(writes)
+    slots = set(outs)
+    for e in list(strobe) + list(wr) + list(rd):
         slots.update((e - 1, e))
     bench = fqtb.ClockedBench(dut)
-    dut.rst.value = 0
-    dut.s_valid.value = 0
-    dut.s_u1.value = 0
-    dut.s_u2.value = 0
-    dut.reg_we.value = 0
-    dut.reg_re.value = 0
-    dut.reg_addr.value = 0
-    dut.reg_wdata.value = 0
+    pin = _Pins(dut, rst=0, s_valid=0, s_u1=0, s_u2=0, reg_we=0, reg_re=0, reg_addr=0,
+                reg_wdata=0)
     await bench.start()
-    got = np.zeros(n, dtype=np.int64)
-    for s in sorted(slots):
+    vlog = []
+    cocotb.start_soon(_watch(dut.m_valid, vlog))
+    got = np.zeros((n, 4), dtype=np.int64)
+    got_rd = {}
+    junk = random.Random(n)
+    amax = 1 << (len(dut.s_u1) - 1)
+    for s in sorted(x for x in slots if x >= 0):
         await bench.goto(s)
-        k = reads.get(s)
+        k = outs.get(s)
         if k is not None:
-            assert fqtb.uval(dut.m_valid) == 1, f"m_valid low for sample {k}"
-            got[k] = fqtb.sval(dut.m_count)
-        k = strobe.get(s + 1)
-        dut.s_valid.value = int(k is not None)
+            got[k] = (fqtb.sval(dut.m_count), fqtb.uval(dut.m_a), fqtb.uval(dut.m_b),
+                      fqtb.uval(dut.m_fault))
+        if s in rd:
+            got_rd[s] = fqtb.uval(dut.reg_rdata)
+        # inputs for edge s + 1; garbage on the data inputs after a strobe or an access
+        nxt = s + 1
+        k = strobe.get(nxt)
+        pin["s_valid"] = int(k is not None)
         if k is not None:
-            dut.s_u1.value = int(u1[k])
-            dut.s_u2.value = int(u2[k])
-        if s + 1 in wr:
-            dut.reg_we.value = 1
-            dut.reg_addr.value = HARM_ADDR
-            dut.reg_wdata.value = wr[s + 1]
-        else:
-            dut.reg_we.value = 0
-    bad = np.nonzero(got != res["count"])[0]
+            pin["s_u1"], pin["s_u2"] = int(u1[k]), int(u2[k])
+        elif s in strobe:
+            pin["s_u1"], pin["s_u2"] = junk.randrange(-amax, amax), junk.randrange(-amax, amax)
+        pin["reg_we"] = int(nxt in wr)
+        pin["reg_re"] = int(nxt in rd)
+        if nxt in wr:
+            pin["reg_addr"], pin["reg_wdata"] = wr[nxt]
+        elif nxt in rd:
+            pin["reg_addr"] = HARM_ADDR
+        elif s in wr or s in rd:
+            pin["reg_addr"], pin["reg_wdata"] = junk.randrange(64), junk.randrange(1 << 32)
+    await bench.goto(bench.edge + 4)
+
+    bad = np.nonzero((got != exp).any(axis=1))[0]
     if len(bad):
-        k = int(bad[0])
-        raise AssertionError(f"{len(bad)} of {n} counts differ, first sample {k} (strobe "
-                             f"edge {int(t[k])}): rtl {int(got[k])}, model "
-                             f"{int(res['count'][k])}, phase {int(res['phase'][k])}, "
-                             f"phase_c {int(res['phase_c'][k])}")
-    await bench.goto(bench.edge + 30)
-    dut.reg_addr.value = HARM_ADDR                 # a registered read: reg_re for one edge
-    dut.reg_re.value = 1
-    await bench.step()
-    dut.reg_re.value = 0
-    rd = fqtb.uval(dut.reg_rdata)
-    exp = writes[-1][1] & 0x33
-    assert rd == exp, f"HARM read-back {rd:#x}, expected {exp:#x}"
-    log.info("core: %d counts equal, HARM %#x", n, rd)
+        lines = [f"sample {k} (strobe edge {int(t[k])}): rtl (count, a, b, fault) "
+                 f"{tuple(int(x) for x in got[k])}, model {tuple(int(x) for x in exp[k])}; "
+                 f"phase {int(res['phase'][k])}, phase_c {int(res['phase_c'][k])}"
+                 for k in bad[:12]]
+        raise AssertionError(f"{len(bad)} of {n} samples differ, first:\n" + "\n".join(lines))
+    high = _high_edges(vlog, bench.t0)
+    want = {int(e) + lat for e in t}
+    assert high == want, f"m_valid high after other edges: {sorted(high ^ want)[:8]}"
+    bad_rd = {e: (got_rd[e], v) for e, v in rd.items() if got_rd[e] != v}
+    assert not bad_rd, f"HARM reads (edge: (rtl, expected)) differ: {bad_rd}"
+    log.info("core: %d samples equal, %d HARM reads equal", n, len(rd))
