@@ -25,6 +25,15 @@ Scenarios (one simulator process each, from power-up):
              mode (CTRL bit 3), the Eq. 12 pulses on the A/B pins, harmonic step 2^-6
   reset_req  reset requests written to register 0 (see below), TABLE_EXACT=1, jump
              detector off
+  highspeed  calibration at 0.02 fs, the signal frequency ramped to 0.4 fs, held, ramped
+             to standstill, a dwell (HIGHSPEED); n = 10, A/B edges 3 clocks apart
+             (backlog, overflow, catch-up); overspeed flags (3/4 pi per sample) at the top
+
+Beyond RTL == model, independent checks: every change of m_a / m_b (paced outputs:
+scenarios other than paper) is on a clock edge, never both pins on one edge, at least
+ab_sep clocks after the previous one, and an x4 decoder of the pins in the test ends on
+the final count once the backlog is paid (check_ab_pins); in highspeed the count stays
+within pitch / 8 of the true position (no slips) from calibration on (check_truth).
 
 After the last sample the bench reads the registers back through the registered read
 port (reg_re with reg_addr for one edge, reg_rdata after it): ID (0x1f), the run-time
@@ -84,7 +93,19 @@ SCENARIOS = {
     "reset_req": dict(exact=1, n={"icarus": 5000, "verilator": 20000},
                       regs=dict(interp=100, eps=1000, lam_k=9, kappa=100 << 8, period=0,
                                 settle=24, gate=48, jump_on=0)),
+    # the signal frequency ramps up to 0.4 fs and back (HIGHSPEED): the phase-mode counter
+    # against the truth; n = 10 and A/B edges 3 clocks apart (12 counts per sample at 36
+    # clocks per sample) fall behind the count (16 counts per sample at 0.4 fs): backlog,
+    # overflow (bound 1024), and the catch-up in the final dwell
+    "highspeed": dict(exact=1, n={"icarus": 4000, "verilator": 24000},
+                      regs=dict(interp=10, ab_sep=3, ab_bound=1024)),
 }
+
+# highspeed: (start, end) of each phase as fractions of the recording, and the signal
+# frequency (f / fs) there: calibration at 0.02 fs, linear ramps, 0.4 fs, stop, dwell
+HIGHSPEED = ((0.0, 0.25, 0.02, 0.02), (0.25, 0.4, 0.02, 0.4), (0.4, 0.55, 0.4, 0.4),
+             (0.55, 0.7, 0.4, 0.0), (0.7, 1.0, 0.0, 0.0))
+SLIP = 1 / 8                # a slip: the counter off the truth by more than pitch / 8
 
 
 # ---- register words from a core.Config (rtl/finequad_core.v, README's register map) ----
@@ -150,15 +171,31 @@ def test_core(sim, scenario):
 
 
 # ---- stimulus (used by the cocotb test; importable without a simulator) ---------------
+PITCH = 20.0                # position units per signal period in these recordings
+
+
+def highspeed_motion(n):
+    """Position (PITCH units) of the highspeed scenario: the signal frequency f / fs of
+    HIGHSPEED, piecewise linear, integrated sample by sample."""
+    import numpy as np
+    k = np.arange(n)
+    f = np.zeros(n)
+    for a, b, f0, f1 in HIGHSPEED:
+        i = (k >= a * n) & (k < b * n)
+        f[i] = f0 + (f1 - f0) * (k[i] - a * n) / ((b - a) * n)
+    return PITCH * np.concatenate([[0.0], np.cumsum(f[:-1])])
+
+
 def recording(scenario, n):
     """(u1, u2, strobe edges, reset request list [(sample index, write edge)])."""
     import numpy as np
     from sim import siggen
 
-    fs, pitch = 1e6, 20.0
+    fs, pitch = 1e6, PITCH
     T = n / fs
     sc = n / 20000          # distances scale with the length: the same speeds for any n
-    seed = {"uniform": 1, "gaps": 2, "paper": 3, "reset_req": 4}[scenario]
+    seed = {"uniform": 1, "gaps": 2, "paper": 3, "reset_req": 4, "highspeed": 5}[scenario]
+    moves = []
     if scenario == "uniform":
         moves = [(160, 0.5, 0.05), (-120, 0.25, 0.6)]       # (um, duration, start) / T
         sig = siggen.Signal()
@@ -168,10 +205,12 @@ def recording(scenario, n):
     elif scenario == "paper":
         moves = [(300, 0.6, 0.05)]
         sig = siggen.Signal(A1=0.45, A2=0.5, m1=-0.02, m2=0.025, phi=0.1)
-    else:
+    elif scenario == "reset_req":
         moves = [(140, 0.4, 0.05), (160, 0.3, 0.6)]
         sig = siggen.Signal(A1=0.5, A2=0.55)
-    x = np.zeros(n)
+    else:
+        sig = siggen.Signal()
+    x = highspeed_motion(n) if scenario == "highspeed" else np.zeros(n)
     for dist, t_move, t_start in moves:
         x = x + siggen.s_curve(n, fs, dist * sc, t_move * T, t_start * T)
     u1, u2, _ = siggen.encode(x, pitch, sig, seed=seed)
@@ -277,6 +316,66 @@ def _intervals(edges):
     return [tuple(x) for x in out]
 
 
+# x4 quadrature decoder, independent of rtl/abgen.v and sim/model/abgen.py: the Gray
+# sequence (A, B) = (1,1) -> (0,1) -> (0,0) -> (1,0) -> (1,1) counts up (README, A/B)
+GRAY_UP = {(1, 1): 0, (0, 1): 1, (0, 0): 2, (1, 0): 3}
+
+
+def check_ab_pins(ab_log, ab_init, bench, cfg, final_count, scenario):
+    """Every change of m_a / m_b since power-up: on a clock edge, never both on one edge,
+    at least ab_sep clocks (0 as 1) between two edges, and an x4 decoder counting them
+    from (1, 1) = 0 ends on the final count (mod 2^COUNT_W)."""
+    assert ab_init == (1, 1), f"A/B after power-up {ab_init}, expected (1, 1)"
+    ev = {}
+    for ch, log in ab_log.items():
+        for tm, v in log:
+            e, r = divmod(tm - bench.t0, fqtb.PERIOD_PS)
+            assert r == 0, f"m_{ch} changed between clock edges (t={tm} ps)"
+            assert e not in ev, f"{scenario}: A and B both changed after edge {e}"
+            ev[e] = (ch, v)
+    sep = max(cfg.ab_sep, 1)
+    state, pos, last, bad = ab_init, 0, None, []
+    for e in sorted(ev):
+        ch, v = ev[e]
+        nxt = (v, state[1]) if ch == "a" else (state[0], v)
+        assert nxt != state, f"{scenario}: m_{ch} 'changed' to its own value after edge {e}"
+        if last is not None and e - last < sep:
+            bad.append(f"edges {last} and {e}: {e - last} clocks apart (minimum {sep})")
+        step = (GRAY_UP[nxt] - GRAY_UP[state]) % 4
+        pos += 1 if step == 1 else -1           # step 2 would need both pins: excluded
+        state, last = nxt, e
+    assert not bad, f"{scenario}: {len(bad)} A/B edges too close, first: {bad[:5]}"
+    w = 1 << cfg.COUNT_W
+    dec = (pos + w // 2) % w - w // 2
+    assert dec == final_count, (f"{scenario}: an x4 decoder of the A/B pins reads {dec} "
+                                f"after {len(ev)} edges, the counter ended on {final_count}")
+
+
+def check_truth(res, n, log):
+    """highspeed: from the first calibrated sample on, the phase-mode count minus 4 n x /
+    pitch (the truth in counts) stays within pitch / 8 of its median (no slips), while
+    the signal frequency reaches 0.4 fs; the A/B backlog overflowed and overspeed (>= 3/4
+    pi per sample) was flagged, so the run covers both."""
+    import numpy as np
+    cfg = _config("highspeed", [])
+    x = highspeed_motion(n)
+    f = np.asarray(res["fault"][:n])
+    cal = np.nonzero(((f >> core_model.FAULT_BITS["uncal"]) & 1) == 0)[0]
+    assert len(cal), "highspeed: never calibrated"
+    per_period = 4 * cfg.interp                  # counts per signal period
+    err = np.asarray(res["count"][:n]) - per_period * x / PITCH
+    e = err[cal[0]:] - np.median(err[cal[0]:])
+    worst = float(np.abs(e).max())
+    fmax = float(np.diff(x).max() / PITCH)
+    assert fmax > 0.399, f"highspeed: the motion peaks at {fmax:.3f} fs, not 0.4 fs"
+    assert worst < SLIP * per_period, (f"highspeed: the counter is {worst:.2f} counts off "
+                                       f"the truth (a slip is > {SLIP * per_period:g})")
+    for bit in ("abovf", "ovs"):
+        assert ((f >> core_model.FAULT_BITS[bit]) & 1).any(), f"highspeed: no {bit} flag"
+    log.info("highspeed: peak %.3f fs, counter within %.2f counts (pitch/%d) of the truth "
+             "from sample %d", fmax, worst, per_period, int(cal[0]))
+
+
 @cocotb.test()
 async def core_run(dut):
     import numpy as np
@@ -285,7 +384,6 @@ async def core_run(dut):
     n = fqtb.env_int("SAMPLES")
     sc = SCENARIOS[scenario]
     u1, u2, t, requests, t_ph, res = model_run(scenario, n)
-    regs = sc["regs"]
     log = dut._log
     log.info("scenario %s: %d samples, last strobe on edge %d, %d model updates",
              scenario, n, int(t[-1]), res["n_updates"])
@@ -323,8 +421,11 @@ async def core_run(dut):
     dut.reg_addr.value = 0
     dut.reg_wdata.value = 0
     await bench.start()
-    vlog = []
+    vlog, ab_log = [], {"a": [], "b": []}
+    ab_init = (fqtb.uval(dut.m_a), fqtb.uval(dut.m_b))
     cocotb.start_soon(_watch(dut.m_valid, vlog))
+    cocotb.start_soon(_watch(dut.m_a, ab_log["a"]))
+    cocotb.start_soon(_watch(dut.m_b, ab_log["b"]))
     for s in slots:
         await bench.goto(s)
         k = reads.get(s)
@@ -436,7 +537,7 @@ async def core_run(dut):
     masks = dict(interp=0x1FF, eps=0xFFFF, lam_k=0x1F, kappa=0xFFFF, period=0xFFFF,
                  settle=0x3FF, gate=0x1FFF)
     for a, name in zip(range(1, 8), REG_ORDER):
-        check(f"{name} 0x{a:02x}", await rd(a), regs[name] & masks[name])
+        check(f"{name} 0x{a:02x}", await rd(a), getattr(cfg, name) & masks[name])
     check("count 0x08", await rd(0x08), u32(res["count"][n - 1]))
     check("illegal count 0x09", await rd(0x09), int(np.sum(res["ill"][:n])) & 0xFFFF)
     check("updates 0x11", await rd(0x11), u32(res["n_updates"]))
@@ -468,6 +569,17 @@ async def core_run(dut):
     await wr(0x0A, 0x7F)
     check("sticky after writing 0x7f", await rd(0x0A), 0)
     assert not bad, f"{scenario}: register read-back differs:\n" + "\n".join(bad)
+
+    # ---- the A/B pins, edge by edge (paced outputs only) ------------------------------------
+    if not cfg.ab_src:
+        # let the pins pay any backlog left (one count per ab_sep clocks), then decode
+        left = abs(backlog_at(res["count"][:n], t, [bench.edge], cfg)[0])
+        await bench.goto(bench.edge + left * max(cfg.ab_sep, 1) + 4)
+        check_ab_pins(ab_log, ab_init, bench, cfg, int(res["count"][n - 1]), scenario)
+
+    # ---- the counter against the truth ------------------------------------------------------
+    if scenario == "highspeed":
+        check_truth(res, n, log)
 
     f = res["fault"][:n]
     cov = {name: int(((f >> bit) & 1).sum()) for name, bit in
