@@ -1,0 +1,60 @@
+`timescale 1ns / 1ps
+`default_nettype none
+// tb_axil_core: test bench top of cocotb_tests/test_axil_regs.py (axil_core): axil_regs
+// (ADDR_TOP 0x1f, as in rtl/finequad_system.v) in front of finequad_core, no samples.
+module tb_axil_core #(
+    // folder of the core's $readmemh tables
+    parameter TABLE_DIR = "rtl/tables/"
+) (
+    input  wire        clk,
+    input  wire        rst,
+    input  wire [15:0] s_axil_awaddr,
+    input  wire [2:0]  s_axil_awprot,
+    input  wire        s_axil_awvalid,
+    output wire        s_axil_awready,
+    input  wire [31:0] s_axil_wdata,
+    input  wire [3:0]  s_axil_wstrb,
+    input  wire        s_axil_wvalid,
+    output wire        s_axil_wready,
+    output wire [1:0]  s_axil_bresp,
+    output wire        s_axil_bvalid,
+    input  wire        s_axil_bready,
+    input  wire [15:0] s_axil_araddr,
+    input  wire [2:0]  s_axil_arprot,
+    input  wire        s_axil_arvalid,
+    output wire        s_axil_arready,
+    output wire [31:0] s_axil_rdata,
+    output wire [1:0]  s_axil_rresp,
+    output wire        s_axil_rvalid,
+    input  wire        s_axil_rready
+);
+    wire        reg_we, reg_re;
+    wire [5:0]  reg_addr;
+    wire [31:0] reg_wdata, reg_rdata;
+    axil_regs #(.ADDR_W(16), .ADDR_TOP(6'h1f)) u_regs (
+        .clk(clk), .rst(rst),
+        .s_axil_awaddr(s_axil_awaddr), .s_axil_awprot(s_axil_awprot),
+        .s_axil_awvalid(s_axil_awvalid), .s_axil_awready(s_axil_awready),
+        .s_axil_wdata(s_axil_wdata), .s_axil_wstrb(s_axil_wstrb),
+        .s_axil_wvalid(s_axil_wvalid), .s_axil_wready(s_axil_wready),
+        .s_axil_bresp(s_axil_bresp), .s_axil_bvalid(s_axil_bvalid),
+        .s_axil_bready(s_axil_bready),
+        .s_axil_araddr(s_axil_araddr), .s_axil_arprot(s_axil_arprot),
+        .s_axil_arvalid(s_axil_arvalid), .s_axil_arready(s_axil_arready),
+        .s_axil_rdata(s_axil_rdata), .s_axil_rresp(s_axil_rresp),
+        .s_axil_rvalid(s_axil_rvalid), .s_axil_rready(s_axil_rready),
+        .reg_we(reg_we), .reg_re(reg_re), .reg_addr(reg_addr), .reg_wdata(reg_wdata),
+        .reg_rdata(reg_rdata)
+    );
+    wire        m_valid, m_a, m_b;
+    wire [31:0] m_count;
+    wire [6:0]  m_fault;
+    finequad_core #(.TABLE_DIR(TABLE_DIR), .ADC_W(12)) u_core (
+        .clk(clk), .rst(rst), .s_valid(1'b0), .s_u1(12'd0), .s_u2(12'd0),
+        .reg_we(reg_we), .reg_re(reg_re), .reg_addr(reg_addr), .reg_wdata(reg_wdata),
+        .reg_rdata(reg_rdata),
+        .m_valid(m_valid), .m_count(m_count), .m_fault(m_fault), .m_a(m_a), .m_b(m_b)
+    );
+    wire unused = &{1'b0, m_valid, m_count, m_fault, m_a, m_b, 1'b0};
+endmodule
+`resetall
