@@ -1,0 +1,54 @@
+`timescale 1ns / 1ps
+`default_nettype none
+// tb_uart_axil: test bench top of cocotb_tests/test_uart_axil.py: the UART bridge
+// (uart_axil) driving axil_regs (ADDR_TOP 0x2f); the register port is served by the
+// test's register-file model (cocotb_tests/axil_check.py RegPortModel).
+module tb_uart_axil #(
+    // clocks per UART bit
+    parameter DIV = 16,
+    // clocks between two bytes of a frame before it is abandoned
+    parameter [19:0] TIMEOUT = 20'd2000
+) (
+    input  wire        clk,
+    input  wire        rst,
+    input  wire        rxd_i,
+    output wire        txd_o,
+    output wire        frame_err_o,
+    output wire        drop_o,
+    output wire        reg_we,
+    output wire        reg_re,
+    output wire [5:0]  reg_addr,
+    output wire [31:0] reg_wdata,
+    input  wire [31:0] reg_rdata
+);
+    wire [15:0] awaddr, araddr;
+    wire [2:0]  awprot, arprot;
+    wire        awvalid, awready, wvalid, wready, bvalid, bready;
+    wire        arvalid, arready, rvalid, rready;
+    wire [31:0] wdata, rdata;
+    wire [3:0]  wstrb;
+    wire [1:0]  bresp, rresp;
+    uart_axil #(.DIV(DIV), .TIMEOUT(TIMEOUT)) u_bridge (
+        .clk(clk), .rst(rst), .rxd_i(rxd_i), .txd_o(txd_o),
+        .m_axil_awaddr(awaddr), .m_axil_awprot(awprot), .m_axil_awvalid(awvalid),
+        .m_axil_awready(awready), .m_axil_wdata(wdata), .m_axil_wstrb(wstrb),
+        .m_axil_wvalid(wvalid), .m_axil_wready(wready), .m_axil_bresp(bresp),
+        .m_axil_bvalid(bvalid), .m_axil_bready(bready), .m_axil_araddr(araddr),
+        .m_axil_arprot(arprot), .m_axil_arvalid(arvalid), .m_axil_arready(arready),
+        .m_axil_rdata(rdata), .m_axil_rresp(rresp), .m_axil_rvalid(rvalid),
+        .m_axil_rready(rready), .frame_err_o(frame_err_o), .drop_o(drop_o)
+    );
+    axil_regs #(.ADDR_W(16), .ADDR_TOP(6'h2f)) u_regs (
+        .clk(clk), .rst(rst),
+        .s_axil_awaddr(awaddr), .s_axil_awprot(awprot), .s_axil_awvalid(awvalid),
+        .s_axil_awready(awready), .s_axil_wdata(wdata), .s_axil_wstrb(wstrb),
+        .s_axil_wvalid(wvalid), .s_axil_wready(wready), .s_axil_bresp(bresp),
+        .s_axil_bvalid(bvalid), .s_axil_bready(bready), .s_axil_araddr(araddr),
+        .s_axil_arprot(arprot), .s_axil_arvalid(arvalid), .s_axil_arready(arready),
+        .s_axil_rdata(rdata), .s_axil_rresp(rresp), .s_axil_rvalid(rvalid),
+        .s_axil_rready(rready),
+        .reg_we(reg_we), .reg_re(reg_re), .reg_addr(reg_addr), .reg_wdata(reg_wdata),
+        .reg_rdata(reg_rdata)
+    );
+endmodule
+`resetall
