@@ -41,6 +41,10 @@ positioning bandwidth for such a slider at a 10 kHz loop):
 
     Kp = 3 m w^2,   Ki = m w^3,   Kd = 3 m w - b
 
+Experiment (`Experiment`): 20 ms at rest, the 7 um S-curve (sinusoidal acceleration,
+siggen.s_curve's profile: peak speed 70 um/s, peak acceleration 1.1 mm/s^2) in 0.2 s,
+0.1 s at rest; 3200 control ticks. The RMS tracking error is taken over all of it.
+
 The same gains serve "without interpolation" (the x4 count of the encoder's own signal,
 n = 1: pitch / 4 = 1 um) and "with interpolation" (n = 100: 10 nm), as in the paper.
 
@@ -192,9 +196,9 @@ class Experiment:
     bandwidth_hz: float = 50.0
     d_cutoff_hz: float = 1000.0
     stroke_nm: float = 7000.0          # the S-curve (siggen.s_curve)
-    t_before: float = 0.05             # dwell before the move
+    t_before: float = 0.02             # dwell before the move
     t_move: float = 0.2
-    t_after: float = 0.15              # dwell after it
+    t_after: float = 0.1               # dwell after it
     home_nm: float = 40000.0           # homing move before the loop starts (calibration)
     home_speed_nm_s: float = 2e6
     start_nm: float = 1e6              # where the homing move starts (scale frame)
