@@ -23,7 +23,7 @@ HDIR    := $(BUILD)/rtlsim_$(TABLE)_adc$(ADC_W)
 HARNESS := $(HDIR)/Vfinequad_core
 
 .PHONY: help deps demo rtlsim model test lint tables bitstream vcdcompare clean harnesses \
-        bench-accuracy limits formal
+        bench-accuracy limits formal reproduce
 
 help:            ## this list
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed 's/:.*## /\t/'
@@ -100,6 +100,9 @@ vcdcompare: deps ## RTL VCD vs the model's reference VCD: IN=in.csv INTERP=n [TA
 
 bench-accuracy: deps ## accuracy suite: RTL (make rtlsim) and baselines vs the floor -> build/bench/accuracy.{json,md}
 	$(PY) scripts/bench_accuracy.py --build $(BUILD)/bench --interp $(INTERP)
+
+reproduce: deps ## the paper's experiments in simulation (Figs. 2-12, validation, closed-loop tracking, limits) -> build/reproduce/
+	$(PY) scripts/reproduce.py --build $(BUILD)/reproduce
 
 EDGE_SEP ?= 4
 FCLK     ?= 36e6
