@@ -1,0 +1,310 @@
+// Measurement harness of finequad_core for `make report` (scripts/report.py): the
+// latency, the fast path's rate and the estimator's update rate, measured on the RTL
+// (Verilator). No Python runs per clock.
+//
+//   probe stream  --in in.csv --out out.csv --trace trace.csv [--div D] [--interp N]
+//   probe latency --trials K [--interp N] [--ab-src 0|1] [--ab-sep S] [--seed X]
+//
+// stream: the timing of sim/harness/harness.cpp (registers written on edges 0..10 with
+// the harness' defaults, sample k strobed on edge T0 + k * div, T0 = 16), so out.csv
+// (count,a,b,fault) equals `make model` with the same DIV. After the register writes the
+// read port reads UPDATES (0x11) on every edge; trace.csv has one row per sample:
+// its strobe edge, the edge its result appeared on (m_valid), and UPDATES after that
+// edge (with PROBE_INTERNALS also, cumulative, the programs started -- RESET, UPDATE,
+// EXTRACT --, the clocks the engine was busy with each, and the candidates the phase
+// gate turned away). A summary line (JSON) goes
+// to stdout: edges with m_valid, the first and last of
+// them, the longest gap, JUMPS (0x14) read at the end.
+//
+// latency: per trial the core sits idle (no strobe) for a settling time with a constant
+// sample at angle a0 given before, then one sample at a1 = a0 + d (|d| < 3/8 period, so
+// no overspeed) is strobed on edge t. Reported per trial: the first edge after t with
+// m_valid, with m_count changed, and with (m_a, m_b) changed, as edge - t. The samples
+// are a centred circle of radius 0.49 of full scale, which the power-up coefficients
+// (radius 0.5 after the gain) take as calibrated enough for the phase.
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "Vfinequad_core.h"
+#include "verilated.h"
+#ifdef PROBE_INTERNALS
+// built with --public-flat-rw: the estimator's program starts and the engine's busy
+// clocks, per program, go into the trace (the breakdown of the clocks per update)
+#include "Vfinequad_core___024root.h"
+#define EST(sig) (c.top->rootp->finequad_core__DOT__u_est__DOT__##sig)
+#endif
+
+static const long T0 = 16;
+
+static void die(const std::string &msg) {
+    std::cerr << "probe: error: " << msg << std::endl;
+    std::exit(2);
+}
+
+static long parse_long(const std::string &s, const std::string &what) {
+    errno = 0;
+    char *end = nullptr;
+    long v = std::strtol(s.c_str(), &end, 10);
+    if (errno || end == s.c_str() || *end != '\0')
+        die(what + ": not a decimal integer: '" + s + "'");
+    return v;
+}
+
+static std::string trim(std::string s) {
+    while (!s.empty() && (s.back() == '\r' || s.back() == ' ' || s.back() == '\n')) s.pop_back();
+    size_t i = 0;
+    while (i < s.size() && s[i] == ' ') i++;
+    return s.substr(i);
+}
+
+static void read_csv(const std::string &path, std::vector<int> &u1, std::vector<int> &u2) {
+    std::ifstream f(path);
+    if (!f) die("cannot open input '" + path + "'");
+    std::string line;
+    if (!std::getline(f, line) || trim(line) != "u1,u2")
+        die(path + ":1: expected the header 'u1,u2'");
+    const long lo = -(1L << (ADC_W - 1)), hi = (1L << (ADC_W - 1)) - 1;
+    long ln = 1;
+    while (std::getline(f, line)) {
+        ln++;
+        line = trim(line);
+        if (line.empty()) continue;
+        size_t c = line.find(',');
+        std::string where = path + ":" + std::to_string(ln);
+        if (c == std::string::npos || line.find(',', c + 1) != std::string::npos)
+            die(where + ": expected two values 'u1,u2', got '" + line + "'");
+        long a = parse_long(trim(line.substr(0, c)), where + ": u1");
+        long b = parse_long(trim(line.substr(c + 1)), where + ": u2");
+        if (a < lo || a > hi || b < lo || b > hi)
+            die(where + ": code out of the signed " + std::to_string(ADC_W) + "-bit range");
+        u1.push_back((int)a);
+        u2.push_back((int)b);
+    }
+    if (u1.empty()) die(path + ": no samples after the header");
+}
+
+struct Core {
+    std::unique_ptr<VerilatedContext> ctx;
+    std::unique_ptr<Vfinequad_core> top;
+    long edge = -1;  // the last edge applied
+    Core(int argc, char **argv) : ctx(new VerilatedContext) {
+        ctx->commandArgs(argc, argv);
+        top.reset(new Vfinequad_core(ctx.get()));
+        top->clk = 0;
+        top->rst = 0;
+        top->s_valid = 0;
+        top->reg_we = 0;
+        top->reg_re = 0;
+        top->eval();
+    }
+    // one rising edge with the inputs as set, then the falling edge
+    void step() {
+        top->clk = 1;
+        top->eval();
+        edge++;
+    }
+    void fall() {
+        top->clk = 0;
+        top->eval();
+    }
+    ~Core() { top->final(); }
+};
+
+static int stream(int argc, char **argv, const std::string &in, const std::string &out,
+                  const std::string &trace, long div, long interp) {
+    std::vector<int> u1, u2;
+    read_csv(in, u1, u2);
+    FILE *fo = std::fopen(out.c_str(), "w");
+    FILE *ft = std::fopen(trace.c_str(), "w");
+    if (!fo || !ft) die("cannot write '" + out + "' or '" + trace + "'");
+    std::fprintf(fo, "count,a,b,fault\n");
+#ifdef PROBE_INTERNALS
+    std::fprintf(ft, "strobe_edge,out_edge,updates,starts_reset,starts_update,starts_extract,"
+                     "busy_reset,busy_update,busy_extract,gate_blocks\n");
+    long starts[3] = {0, 0, 0}, busy[3] = {0, 0, 0}, gate_blocks = 0;
+    int prog = 0;
+#else
+    std::fprintf(ft, "strobe_edge,out_edge,updates\n");
+#endif
+    Core c(argc, argv);
+    // the harness' registers (sim/harness/harness.cpp defaults), CTRL last
+    const long regs[][2] = {{1, interp}, {2, 1638}, {3, 8}, {4, 0x4000}, {5, 0}, {6, 32},
+                            {7, 64}, {0x13, 41}, {0x15, 4}, {0x16, 1024}, {0, 0}};
+    const long n_regs = (long)(sizeof regs / sizeof regs[0]);
+    const long n = (long)u1.size();
+    const long last_edge = T0 + (n - 1) * div + 12;
+    long next = 0, done = 0, valid_edges = 0, first_valid = -1, last_valid = -1,
+         max_gap = 0;
+    std::vector<long> strobe_at;
+    strobe_at.reserve(n);
+    for (long e = 0; e <= last_edge; e++) {
+        c.top->reg_we = (e < n_regs);
+        c.top->reg_re = (e >= n_regs);
+        if (e < n_regs) {
+            c.top->reg_addr = regs[e][0];
+            c.top->reg_wdata = (uint32_t)regs[e][1];
+        } else {
+            c.top->reg_addr = 0x11;  // UPDATES
+        }
+        bool strobe = next < n && e == T0 + next * div;
+        c.top->s_valid = strobe;
+        c.top->s_u1 = strobe ? u1[next] : 0;
+        c.top->s_u2 = strobe ? u2[next] : 0;
+        if (strobe) {
+            strobe_at.push_back(e);
+            next++;
+        }
+        c.step();
+#ifdef PROBE_INTERNALS
+        if (EST(eng_busy)) busy[prog]++;
+        if (EST(start_q)) {  // the engine starts on the next edge
+            const int ent = EST(entry_q);
+            prog = ent == ENTRY_RESET ? 0 : ent == ENTRY_UPDATE ? 1 : 2;
+            starts[prog]++;
+        }
+        // a candidate the gate turns away: its decision inputs are valid, no saturation,
+        // no dither hold-off, but its phase is within `gate` of the last update's
+        if (EST(pre_valid) && !EST(pre_xsat) && EST(skip) == 0 && !EST(pre_gate)) gate_blocks++;
+#endif
+        if (c.top->m_valid) {
+            if (done >= n) die("more results than samples");
+            std::fprintf(fo, "%d,%d,%d,%d\n", (int)(int32_t)c.top->m_count, c.top->m_a,
+                         c.top->m_b, c.top->m_fault);
+#ifdef PROBE_INTERNALS
+            std::fprintf(ft, "%ld,%ld,%u,%ld,%ld,%ld,%ld,%ld,%ld,%ld\n", strobe_at[done], e,
+                         (unsigned)c.top->reg_rdata, starts[0], starts[1], starts[2], busy[0],
+                         busy[1], busy[2], gate_blocks);
+#else
+            std::fprintf(ft, "%ld,%ld,%u\n", strobe_at[done], e, (unsigned)c.top->reg_rdata);
+#endif
+            if (last_valid >= 0 && e - last_valid - 1 > max_gap) max_gap = e - last_valid - 1;
+            if (first_valid < 0) first_valid = e;
+            last_valid = e;
+            valid_edges++;
+            done++;
+        }
+        c.fall();
+    }
+    // JUMPS (0x14): the jump detector's resets during the run
+    c.top->s_valid = 0;
+    c.top->reg_we = 0;
+    c.top->reg_re = 1;
+    c.top->reg_addr = 0x14;
+    c.step();
+    unsigned jumps = c.top->reg_rdata;
+    c.fall();
+    std::fclose(fo);
+    std::fclose(ft);
+    if (done != n) die("got " + std::to_string(done) + " results for " + std::to_string(n) + " samples");
+    std::printf("{\"samples\": %ld, \"div\": %ld, \"first_strobe_edge\": %ld, "
+                "\"last_strobe_edge\": %ld, \"valid_edges\": %ld, \"first_valid_edge\": %ld, "
+                "\"last_valid_edge\": %ld, \"max_gap\": %ld, \"jumps\": %u}\n",
+                n, div, strobe_at.front(), strobe_at.back(), valid_edges, first_valid,
+                last_valid, max_gap, jumps);
+    return 0;
+}
+
+static int latency(int argc, char **argv, long trials, long interp, long ab_src, long ab_sep,
+                   unsigned seed) {
+    Core c(argc, argv);
+    const long regs[][2] = {{1, interp}, {0x15, ab_sep | (ab_src << 8)}, {0x16, 1024}};
+    for (auto &r : regs) {
+        c.top->reg_we = 1;
+        c.top->reg_addr = r[0];
+        c.top->reg_wdata = (uint32_t)r[1];
+        c.step();
+        c.fall();
+    }
+    c.top->reg_we = 0;
+    const double rad = 0.49 * (1 << (ADC_W - 1));
+    auto put = [&](double a, bool strobe) {
+        c.top->s_valid = strobe;
+        c.top->s_u1 = (int)std::lround(rad * std::cos(a));
+        c.top->s_u2 = (int)std::lround(rad * std::sin(a));
+    };
+    srand(seed);
+    const double two_pi = 6.283185307179586;
+    double a = 0.0;
+    // settle: a few samples at a0, then idle long enough for the paced A/B to catch up
+    // (a step of d <= 3/8 period is at most 4 n 3/8 = 1.5 n counts at ab_sep clocks each)
+    const long settle = 64 + (long)(1.5 * interp + 2) * (ab_sep < 1 ? 1 : ab_sep);
+    std::printf("{\"trials\": [");
+    for (long k = 0; k < trials; k++) {
+        for (int i = 0; i < 4; i++) {
+            put(a, true);
+            c.step();
+            c.fall();
+        }
+        put(a, false);
+        for (long i = 0; i < settle; i++) {
+            c.step();
+            c.fall();
+        }
+        // d in +-[1/64, 3/8] of a period
+        double frac = 1.0 / 64 + (3.0 / 8 - 1.0 / 64) * (rand() / (double)RAND_MAX);
+        double d = (rand() & 1 ? 1 : -1) * frac * two_pi;
+        a = std::fmod(a + d + two_pi, two_pi);
+        int count0 = (int)c.top->m_count, a0 = c.top->m_a, b0 = c.top->m_b;
+        put(a, true);
+        c.step();  // the strobe edge t
+        const long t = c.edge;
+        c.fall();
+        put(a, false);
+        long lv = -1, lc = -1, lab = -1;
+        for (long i = 1; i <= 64; i++) {
+            c.step();
+            if (lv < 0 && c.top->m_valid) lv = c.edge - t;
+            if (lc < 0 && (int)c.top->m_count != count0) lc = c.edge - t;
+            if (lab < 0 && (c.top->m_a != a0 || c.top->m_b != b0)) lab = c.edge - t;
+            c.fall();
+        }
+        std::printf("%s{\"d\": %.6f, \"valid\": %ld, \"count\": %ld, \"ab\": %ld}",
+                    k ? ", " : "", d / two_pi, lv, lc, lab);
+    }
+    std::printf("], \"interp\": %ld, \"ab_src\": %ld, \"ab_sep\": %ld}\n", interp, ab_src, ab_sep);
+    return 0;
+}
+
+int main(int argc, char **argv) {
+    if (argc < 2) die("usage: probe stream|latency [options] (see sim/harness/probe.cpp)");
+    std::string mode = argv[1], in, out, trace;
+    long div = 1, interp = 100, trials = 50, ab_src = 0, ab_sep = 4, seed = 1;
+    for (int i = 2; i < argc; i++) {
+        std::string a = argv[i];
+        auto val = [&](const char *name) -> std::string {
+            if (i + 1 >= argc) die(std::string("missing value after ") + name);
+            return argv[++i];
+        };
+        if (a == "--in") in = val("--in");
+        else if (a == "--out") out = val("--out");
+        else if (a == "--trace") trace = val("--trace");
+        else if (a == "--div") div = parse_long(val("--div"), "--div");
+        else if (a == "--interp") interp = parse_long(val("--interp"), "--interp");
+        else if (a == "--trials") trials = parse_long(val("--trials"), "--trials");
+        else if (a == "--ab-src") ab_src = parse_long(val("--ab-src"), "--ab-src");
+        else if (a == "--ab-sep") ab_sep = parse_long(val("--ab-sep"), "--ab-sep");
+        else if (a == "--seed") seed = parse_long(val("--seed"), "--seed");
+        else if (a.rfind("+verilator", 0) == 0) continue;
+        else die("unknown argument '" + a + "'");
+    }
+    if (div < 1) die("--div must be >= 1");
+    if (interp < 1 || interp > 511) die("--interp must be 1..511");
+    if (ab_src < 0 || ab_src > 1) die("--ab-src must be 0 or 1");
+    if (ab_sep < 0 || ab_sep > 255) die("--ab-sep must be 0..255");
+    if (trials < 1) die("--trials must be >= 1");
+    if (mode == "stream") {
+        if (in.empty() || out.empty() || trace.empty())
+            die("stream needs --in, --out and --trace");
+        return stream(argc, argv, in, out, trace, div, interp);
+    }
+    if (mode == "latency") return latency(argc, argv, trials, interp, ab_src, ab_sep, (unsigned)seed);
+    die("unknown mode '" + mode + "' (stream or latency)");
+}
