@@ -23,7 +23,7 @@ HDIR    := $(BUILD)/rtlsim_$(TABLE)_adc$(ADC_W)
 HARNESS := $(HDIR)/Vfinequad_core
 
 .PHONY: help deps demo rtlsim model test lint tables bitstream vcdcompare clean harnesses \
-        bench-accuracy limits formal reproduce
+        bench-accuracy limits formal reproduce report
 
 help:            ## this list
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed 's/:.*## /\t/'
@@ -76,6 +76,9 @@ demo: deps harnesses ## main job: paper-like recording -> RTL == model, error vs
 
 bitstream:       ## Yosys + nextpnr-ice40 + icepack for the iCEBreaker; prints resources and Fmax
 	scripts/bitstream.sh $(BUILD)/bitstream
+
+report: deps     ## performance (iCE40 UP5K, ECP5 25F): Fmax over nextpnr seeds, rates, latency, area, sim speed -> build/report/report.{json,md} [SEEDS=1,2,3,4,5]
+	$(PY) scripts/report.py --build $(BUILD)/report --make-build $(BUILD) $(if $(SEEDS),--seeds $(SEEDS))
 
 test: deps lint harnesses ## all tests: lint, table check, formal proofs, model tests, cocotb (Icarus + Verilator)
 	$(PY) scripts/gen_tables.py --check
