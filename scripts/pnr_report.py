@@ -8,7 +8,10 @@ import json
 import sys
 
 CELLS = {"LUTs": "ICESTORM_LC", "DSPs": "ICESTORM_DSP", "BRAMs": "ICESTORM_RAM",
-         "PLLs": "ICESTORM_PLL", "IOs": "SB_IO"}
+         "PLLs": "ICESTORM_PLL", "IOs": "SB_IO",
+         # ECP5 (nextpnr-ecp5): LUT4s, flip-flops, 18x18 multipliers, 18 kbit RAMs
+         "LUT4s": "TRELLIS_COMB", "FFs": "TRELLIS_FF", "MULT18X18D": "MULT18X18D",
+         "DP16KD": "DP16KD", "EHXPLLL": "EHXPLLL", "ECP5 IOs": "TRELLIS_IO"}
 
 
 def parse(report_path):

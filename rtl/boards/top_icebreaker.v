@@ -1,14 +1,24 @@
 `timescale 1ns / 1ps
 `default_nettype none
-// top_icebreaker: board shell for the iCEBreaker (iCE40 UP5K). 12 MHz -> 33 MHz PLL,
-// reset synchroniser, a Digilent Pmod AD1 on PMOD1A (two AD7476A, 12 bit, 1 MS/s),
-// A/B outputs on PMOD1B, LEDs: green = calibrated, red = a fault was seen.
-// The core (finequad_core) is what the simulations and proofs cover; this shell only
-// adds clocks and pins. The ADC reader here is a bring-up version (conversion every
-// 34 clocks = 0.97 MS/s, SCLK = 16.5 MHz, CS high for 60 ns); the verified front end and
-// the host link to the register bus come with the integration work. 33 MHz rather than
-// 36: the core meets 33 MHz on every nextpnr seed tried, 36 MHz on some only.
-module top_icebreaker (
+// top_icebreaker: board shell for the iCEBreaker (iCE40 UP5K-SG48): 12 MHz -> 33 MHz PLL,
+// reset synchroniser, pins; everything else is rtl/finequad_system.v.
+//   PMOD1A: Digilent Pmod AD1 (pin 1 CS_N, 2 D0 = u1, 3 D1 = u2, 4 SCLK); 33 MHz,
+//           SCLK 16.5 MHz, a conversion every 34 clocks (0.971 MS/s)
+//   PMOD1B: pin 1 A, pin 2 B (paced quadrature, 3.3 V)
+//   FTDI channel B UART (RX pin 6 into the FPGA, TX pin 9 out): idle (see below)
+//   LEDs: green = calibrated, red = a fault (clip, saturation, overspeed) seen
+//   BTN_N (user button): reset while pressed
+// The UP5K does not hold the core with a live register port: with the host link
+// (OPT_HOSTLINK = 1) the design needs 7131 of 5280 logic cells (nextpnr-ice40, this
+// core), and even without it, with the harmonic compensation, 5318. So this board runs
+// the core standalone: no host link (the registers at their reset values, which synthesis
+// folds into the logic), OPT_HARMONIC = 0 (rtl/phase.v); the ULX3S build
+// (rtl/boards/top_ulx3s.v) has everything. 33 MHz rather than 36 (README, Synthesis);
+// scripts/bitstream.sh fails when a build misses it.
+module top_icebreaker #(
+    // folder of the core's $readmemh tables
+    parameter TABLE_DIR = "rtl/tables/"
+) (
     input  wire CLK,         // 12 MHz
     input  wire BTN_N,       // user button: reset
     output wire LEDR_N,
@@ -20,7 +30,10 @@ module top_icebreaker (
     output wire P1A4,        // SCLK
     // A/B outputs on PMOD1B
     output wire P1B1,        // A
-    output wire P1B2         // B
+    output wire P1B2,        // B
+    // FTDI UART (idle: no host link on this board, see above)
+    input  wire RX,          // from the host
+    output wire TX           // to the host (held high)
 );
     wire clk, locked;
     SB_PLL40_PAD #(
@@ -38,50 +51,17 @@ module top_icebreaker (
         rst_sync <= {rst_sync[2:0], !locked || !BTN_N};
     wire rst = rst_sync[3];
 
-    // Pmod AD1 reader: 16 SCLK cycles per conversion (4 zeros + 12 data bits, MSB first)
-    reg [5:0]  phase = 0;
-    reg [15:0] sh1 = 0, sh2 = 0;
-    reg        s_valid = 1'b0;
-    reg signed [11:0] s_u1 = 0, s_u2 = 0;
-    always @(posedge clk) begin
-        s_valid <= 1'b0;
-        phase <= (phase == 6'd33) ? 6'd0 : phase + 1'b1;
-        if (phase < 6'd32 && phase[0]) begin      // rising SCLK: sample the data lines
-            sh1 <= {sh1[14:0], P1A2};
-            sh2 <= {sh2[14:0], P1A3};
-        end
-        if (phase == 6'd33) begin                // straight binary -> two's complement
-            s_u1 <= {~sh1[11], sh1[10:0]};
-            s_u2 <= {~sh2[11], sh2[10:0]};
-            s_valid <= 1'b1;
-        end
-        if (rst)
-            phase <= 0;
-    end
-    assign P1A1 = (phase >= 6'd32);               // CS_N high between conversions
-    assign P1A4 = (phase < 6'd32) ? phase[0] : 1'b1;
-
-    wire        m_valid, m_a, m_b;
-    wire [31:0] m_count;
-    wire [6:0]  m_fault;
-    wire [31:0] reg_rdata;
-    // the UP5K's 8 DSP blocks are taken (correction 3, estimator 4, octant 1): the n-th
-    // order product in logic
-    finequad_core #(.ADC_W(12), .OPT_NTH_DSP(1'b0)) u_core (
+    wire [3:0] status;
+    finequad_system #(
+        .TABLE_DIR(TABLE_DIR), .OPT_NTH_DSP(1'b0), .OPT_HARMONIC(1'b0), .OPT_HOSTLINK(1'b0),
+        .ADC_SCLK_HALF(1), .ADC_CS_SETUP(1), .ADC_PERIOD(34), .BAUD_DIV(286)
+    ) u_sys (
         .clk(clk), .rst(rst),
-        .s_valid(s_valid), .s_u1(s_u1), .s_u2(s_u2),
-        .reg_we(1'b0), .reg_re(1'b1), .reg_addr(6'h00), .reg_wdata(32'd0),
-        .reg_rdata(reg_rdata),
-        .m_valid(m_valid), .m_count(m_count), .m_a(m_a), .m_b(m_b), .m_fault(m_fault)
+        .adc_cs_n_o(P1A1), .adc_sclk_o(P1A4), .adc_sdata1_i(P1A2), .adc_sdata2_i(P1A3),
+        .uart_rx_i(RX), .uart_tx_o(TX), .a_o(P1B1), .b_o(P1B2), .status_o(status)
     );
-    assign P1B1 = m_a;
-    assign P1B2 = m_b;
-    reg seen_fault = 1'b0;
-    always @(posedge clk)
-        if (m_valid && |m_fault[3:0])
-            seen_fault <= 1'b1;
-    assign LEDR_N = !seen_fault;
-    assign LEDG_N = reg_rdata[0];                 // status bit 0: not calibrated
-    wire unused = &{1'b0, m_count, reg_rdata[31:1], m_fault[6:4], 1'b0};
+    assign LEDG_N = !status[0];
+    assign LEDR_N = !status[1];
+    wire unused = &{1'b0, status[3:2], 1'b0};
 endmodule
 `resetall

@@ -1,0 +1,165 @@
+`timescale 1ns / 1ps
+`default_nettype none
+// finequad_system: the board-independent design that every board top instantiates
+// (verilog-ethernet's fpga_core.v): Pmod AD1 front end -> finequad_core, the core's
+// registers on an AXI4-Lite bus (axil_regs) mastered by the UART bridge (uart_axil), the
+// A/B outputs, status for LEDs.
+//
+//   adc pins -> adc_pmod_ad1 -> m_valid/m_u1/m_u2 -> finequad_core -> m_a/m_b -> a_o/b_o
+//   uart_rx_i -> uart_axil (AXI4-Lite master) -> axil_regs -> core register port
+//   (OPT_HOSTLINK = 0: no host link, the registers at their reset values)
+//   uart_tx_o <-'
+//
+// AXI address map (byte addresses, 32-bit words): 0x0000 + 4 k = finequad_core register k
+// for k = 0 .. ADDR_TOP (README.md "Parameters and registers"; e.g. 0x7C = ID, 0x20 =
+// COUNT); words above ADDR_TOP answer SLVERR; partial writes (WSTRB != 4'hF) SLVERR.
+// UART: 8N1 at f_clk / BAUD_DIV, protocol in rtl/uart_axil.v and scripts/fqhost.py.
+//
+// Timing: a conversion every ADC_PERIOD clocks; the core takes sample k on the edge
+// ADC_CS_SETUP + 30 ADC_SCLK_HALF + 2 clocks after its CS_N falling edge (see
+// rtl/adc_pmod_ad1.v); a_o/b_o are the core's m_a/m_b registered once more (one clock
+// later than the core's ports; pins straight from flip-flops).
+// status_o (sticky until rst, for LEDs): [0] calibrated (the last sample's fault bit 4
+// clear), [1] a fault seen (fault bits 0..3: clip, saturations, overspeed), [2] an ADC
+// frame with non-zero leading bits seen (no Pmod, wrong pins), [3] a UART frame dropped
+// (timeout, framing error or break).
+// rst: synchronous, active high, to every block.
+module finequad_system #(
+    // folder of the core's $readmemh tables
+    parameter TABLE_DIR = "rtl/tables/",
+    // the core's n * phase product: 1 DSP block, 0 logic (iCE40 UP5K: DSPs are taken)
+    parameter [0:0] OPT_NTH_DSP = 1'b0,
+    // the core's harmonic compensation (rtl/harmonic.v)
+    parameter [0:0] OPT_HARMONIC = 1'b1,
+    // ADC front end: clocks per SCLK half period, CS_N to first SCLK falling, per sample
+    parameter ADC_SCLK_HALF = 1,
+    parameter ADC_CS_SETUP = 1,
+    parameter ADC_PERIOD = 34,
+    // clocks per UART bit (f_clk / baud)
+    parameter BAUD_DIV = 286,
+    // clocks between two bytes of a UART frame before it is abandoned
+    parameter [19:0] UART_TIMEOUT = 20'd262143,
+    // highest AXI word index mapped to the core (0x1f: ID, the top of its map today)
+    parameter [5:0] ADDR_TOP = 6'h1f,
+    // 1: the UART host link and the AXI4-Lite registers; 0: none (the core's registers
+    // keep their reset values, which synthesis folds into the logic; uart_tx_o idles
+    // high): for a device the core with a live register port does not fit (the UP5K)
+    parameter [0:0] OPT_HOSTLINK = 1'b1
+) (
+    input  wire       clk,
+    input  wire       rst,
+    // Pmod AD1
+    output wire       adc_cs_n_o,
+    output wire       adc_sclk_o,
+    input  wire       adc_sdata1_i,
+    input  wire       adc_sdata2_i,
+    // host link
+    input  wire       uart_rx_i,
+    output wire       uart_tx_o,
+    // quadrature outputs
+    output reg        a_o,
+    output reg        b_o,
+    // status (see above)
+    output wire [3:0] status_o
+);
+    // ---- ADC front end ---------------------------------------------------------------------
+    wire               s_valid, adc_err;
+    wire signed [11:0] s_u1, s_u2;
+    adc_pmod_ad1 #(.SCLK_HALF(ADC_SCLK_HALF), .CS_SETUP(ADC_CS_SETUP),
+                   .PERIOD(ADC_PERIOD), .OUT_W(12)) u_adc (
+        .clk(clk), .rst(rst), .cs_n_o(adc_cs_n_o), .sclk_o(adc_sclk_o),
+        .sdata1_i(adc_sdata1_i), .sdata2_i(adc_sdata2_i),
+        .m_valid(s_valid), .m_u1(s_u1), .m_u2(s_u2), .m_err(adc_err)
+    );
+
+    // ---- host link: UART -> AXI4-Lite -> register port -------------------------------------
+    wire        reg_we, reg_re;
+    wire [5:0]  reg_addr;
+    wire [31:0] reg_wdata, reg_rdata;
+    wire        uart_drop;
+    generate
+        if (OPT_HOSTLINK) begin : g_host
+            wire [15:0] awaddr, araddr;
+            wire [2:0]  awprot, arprot;
+            wire        awvalid, awready, wvalid, wready, bvalid, bready;
+            wire        arvalid, arready, rvalid, rready;
+            wire [31:0] wdata, rdata;
+            wire [3:0]  wstrb;
+            wire [1:0]  bresp, rresp;
+            wire        uart_ferr;
+            uart_axil #(.DIV(BAUD_DIV), .TIMEOUT(UART_TIMEOUT)) u_uart (
+                .clk(clk), .rst(rst), .rxd_i(uart_rx_i), .txd_o(uart_tx_o),
+                .m_axil_awaddr(awaddr), .m_axil_awprot(awprot), .m_axil_awvalid(awvalid),
+                .m_axil_awready(awready), .m_axil_wdata(wdata), .m_axil_wstrb(wstrb),
+                .m_axil_wvalid(wvalid), .m_axil_wready(wready), .m_axil_bresp(bresp),
+                .m_axil_bvalid(bvalid), .m_axil_bready(bready), .m_axil_araddr(araddr),
+                .m_axil_arprot(arprot), .m_axil_arvalid(arvalid), .m_axil_arready(arready),
+                .m_axil_rdata(rdata), .m_axil_rresp(rresp), .m_axil_rvalid(rvalid),
+                .m_axil_rready(rready), .frame_err_o(uart_ferr), .drop_o(uart_drop)
+            );
+            axil_regs #(.ADDR_W(16), .ADDR_TOP(ADDR_TOP)) u_regs (
+                .clk(clk), .rst(rst),
+                .s_axil_awaddr(awaddr), .s_axil_awprot(awprot), .s_axil_awvalid(awvalid),
+                .s_axil_awready(awready), .s_axil_wdata(wdata), .s_axil_wstrb(wstrb),
+                .s_axil_wvalid(wvalid), .s_axil_wready(wready), .s_axil_bresp(bresp),
+                .s_axil_bvalid(bvalid), .s_axil_bready(bready), .s_axil_araddr(araddr),
+                .s_axil_arprot(arprot), .s_axil_arvalid(arvalid), .s_axil_arready(arready),
+                .s_axil_rdata(rdata), .s_axil_rresp(rresp), .s_axil_rvalid(rvalid),
+                .s_axil_rready(rready),
+                .reg_we(reg_we), .reg_re(reg_re), .reg_addr(reg_addr), .reg_wdata(reg_wdata),
+                .reg_rdata(reg_rdata)
+            );
+            wire unused_host = &{1'b0, uart_ferr, 1'b0};
+        end else begin : g_nohost
+            assign reg_we = 1'b0;
+            assign reg_re = 1'b0;
+            assign reg_addr = 6'd0;
+            assign reg_wdata = 32'd0;
+            assign uart_tx_o = 1'b1;
+            assign uart_drop = 1'b0;
+            wire unused_host = &{1'b0, uart_rx_i, reg_rdata, 1'b0};
+        end
+    endgenerate
+
+    // ---- the core ---------------------------------------------------------------------------
+    wire        m_valid, m_a, m_b;
+    wire [31:0] m_count;
+    wire [10:0] m_fault;         // finequad_core: 11 fault bits (0..3 faults, 4 uncalibrated)
+    finequad_core #(.TABLE_DIR(TABLE_DIR), .ADC_W(12), .OPT_NTH_DSP(OPT_NTH_DSP),
+                    .OPT_HARMONIC(OPT_HARMONIC)) u_core (
+        .clk(clk), .rst(rst),
+        .s_valid(s_valid), .s_u1(s_u1), .s_u2(s_u2),
+        .reg_we(reg_we), .reg_re(reg_re), .reg_addr(reg_addr), .reg_wdata(reg_wdata),
+        .reg_rdata(reg_rdata),
+        .m_valid(m_valid), .m_count(m_count), .m_fault(m_fault), .m_a(m_a), .m_b(m_b)
+    );
+
+    // ---- pins and status ----------------------------------------------------------------------
+    reg cal_q = 1'b0, fault_q = 1'b0, adc_err_q = 1'b0, uart_err_q = 1'b0;
+    initial begin
+        a_o = 1'b1;
+        b_o = 1'b1;
+    end
+    always @(posedge clk) begin
+        a_o <= m_a;
+        b_o <= m_b;
+        if (m_valid) begin
+            cal_q <= !m_fault[4];
+            if (|m_fault[3:0])
+                fault_q <= 1'b1;
+        end
+        if (s_valid && adc_err)
+            adc_err_q <= 1'b1;
+        if (uart_drop)
+            uart_err_q <= 1'b1;
+        if (rst) begin
+            cal_q <= 1'b0;
+            fault_q <= 1'b0;
+            adc_err_q <= 1'b0;
+            uart_err_q <= 1'b0;
+        end
+    end
+    assign status_o = {uart_err_q, adc_err_q, fault_q, cal_q};
+    wire unused = &{1'b0, m_count, m_fault[10:5], 1'b0};
+endmodule
+`resetall
