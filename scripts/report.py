@@ -144,6 +144,32 @@ def ice40_ffs_from_log(text, where="nextpnr log"):
     return int(both.group(1)) + int(only.group(1))
 
 
+def failing_endpoints(text):
+    """Endpoints with negative slack at the --freq target, from the last slack histogram
+    of a nextpnr log, as (least, most): a bin's '*' stands for `unit` endpoints and a '+'
+    for 1..unit-1, and the bin that holds slack 0 may hold failing ones or not. None if
+    the log has no histogram."""
+    hists = text.split("Slack histogram:")
+    if len(hists) < 2:
+        return None
+    h = hists[-1]
+    m = re.search(r"\* represents (\d+) endpoint", h)
+    if not m:
+        raise ReportError("slack histogram without its legend")
+    unit = int(m.group(1))
+    least = most = 0
+    for lo, hi, bar in re.findall(r"\[\s*(-?\d+),\s*(-?\d+)\)\s*\|([*+ ]*)", h):
+        lo, hi = int(lo), int(hi)
+        stars, plus = bar.count("*"), "+" in bar
+        if lo >= 0:
+            continue
+        n_min, n_max = stars * unit + plus, stars * unit + plus * (unit - 1)
+        if hi <= 0:
+            least += n_min
+        most += n_max
+    return least, most
+
+
 def instance_of(cell, instances=()):
     """Instance path of a flattened cell name: the longest known instance prefix, else the
     leading components named like instances in this code (u_*, g_*); '' is the top."""
@@ -299,6 +325,8 @@ def entry(dev, util, ffs, fits, fmax, sim, freq, seeds, variant=None):
         "latency_cycles": sim["latency_cycles"],
         "luts": res["luts"], "ffs": res["ffs"], "dsps": res["dsps"], "brams": res["brams"],
         "sim_samples_per_s": sim["sim_samples_per_s"],
+        "latency_ab_cycles": sim.get("latency_ab_cycles"),
+        "clocks_per_update": sim["clocks_per_update"],
         "percent": {k: round(100.0 * res[k] / avail[k], 1) for k in ("luts", "ffs", "dsps",
                                                                      "brams")},
         "available": avail,
@@ -439,9 +467,10 @@ def device_flow(dev, bdir, seeds, freq, log):
         runs = []
         for s in seeds:
             log(f"{dev}: place and route {netdir.name}, seed {s} (--freq {freq:g})")
-            u, f, crit, _, dt, err = pnr(dev, netdir / "top.json", netdir, s, freq)
+            u, f, crit, text, dt, err = pnr(dev, netdir / "top.json", netdir, s, freq)
             runs.append({"seed": s, "fmax_mhz": None if f is None else round(f, 2),
                          "seconds": round(dt, 1), "error": err,
+                         "failing_endpoints": None if err else failing_endpoints(text),
                          "critical_path": summarise_path(crit, instances) if crit else None})
             if err:
                 log(f"{dev}:   seed {s}: {err}")
@@ -665,6 +694,7 @@ def simulations(bdir, make_build, log):
     return {"latency": lat, "fast_path": fast, "updates": upd, "sim_speed": spd,
             "fast_path_samples_per_clock": round(fast["samples_per_clock"], 4),
             "latency_cycles": max(lat["valid"], lat["count"]),
+            "latency_ab_cycles": {"paced": lat["ab_paced"], "pulses": lat["ab_pulses"]},
             "clocks_per_update": worst, "sim_samples_per_s": spd["samples_per_s"],
             "seconds": round(time.perf_counter() - t0, 1), "probe_build_s": round(tb, 1)}
 
@@ -808,16 +838,18 @@ def markdown(rep):
         runs = rep["devices"][d]["runs"] if e["fits"] else e["placed_variant"]["runs"]
         label = "full core" if e["fits"] else "reduced variant"
         L.append(f"**{e['device']}** ({label}):\n")
-        L.append("| seed | Fmax MHz | path ns | logic / routing ns | LUT/carry steps | from | to | "
-                 "through (ns per instance) |")
-        L.append("|---:|---:|---:|---|---:|---|---|---|")
+        L.append("| seed | Fmax MHz | endpoints failing --freq | path ns | logic / routing ns | "
+                 "LUT/carry steps | from | to | through (ns per instance) |")
+        L.append("|---:|---:|---|---:|---|---:|---|---|---|")
         for r in runs:
             cp = r["critical_path"]
             if r["error"] or not cp:
-                L.append(f"| {r['seed']} | failed: {r['error']} | | | | | | |")
+                L.append(f"| {r['seed']} | failed: {r['error']} | | | | | | | |")
                 continue
             thr = " -> ".join(f"{i} {dl:.1f}" for i, dl in cp["through"])
-            L.append(f"| {r['seed']} | {r['fmax_mhz']} | {cp['total_ns']} | "
+            fe = r.get("failing_endpoints")
+            fe = "?" if not fe else (f"{fe[0]}" if fe[0] == fe[1] else f"{fe[0]}-{fe[1]}")
+            L.append(f"| {r['seed']} | {r['fmax_mhz']} | {fe} | {cp['total_ns']} | "
                      f"{cp['logic_ns']} / {cp['routing_ns']} | {cp['logic_levels']} | "
                      f"`{cp['from']}` | `{cp['to']}` | {thr} |")
         L.append("")

@@ -243,3 +243,24 @@ def test_summarise_path_names_cells_the_placer_inserted():
     s = report.summarise_path(path)
     assert s["through"] == [["u_core.u_est", 1.0], ["(nextpnr cell)", 1.3]]
     assert s["steps"][1] == ["routing", 0.5, "$nextpnr_ICESTORM_LC_0"]
+
+
+HIST = """Info: Slack histogram:
+Info:  legend: * represents 20 endpoint(s)
+Info:          + represents [1,20) endpoint(s)
+Info: [ -5522,  -4006) |+
+Info: [ -4006,  -2490) |*+
+Info: [ -2490,   -974) |**
+Info: [  -974,    542) |***+
+Info: [   542,   2058) |***+
+"""
+
+
+def test_failing_endpoints_from_the_last_slack_histogram():
+    # fully negative bins: 1..19, 21..39, 40; the bin holding 0 adds 0..79 at most
+    assert report.failing_endpoints("Info: placed\n" + HIST) == (62, 98 + 79)
+    older = HIST.replace("|**\n", "|*****\n")
+    assert report.failing_endpoints(older + "Info: routed\n" + HIST) == (62, 177)
+    assert report.failing_endpoints("Info: no timing here\n") is None
+    with pytest.raises(report.ReportError, match="legend"):
+        report.failing_endpoints("Slack histogram:\nInfo: [ -1, 2) |*\n")
