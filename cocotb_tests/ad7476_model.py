@@ -175,3 +175,52 @@ class PmodAD1Model:
             if c != last_cs and c:
                 self._cs_rise(now)
             last_cs, last_sclk = c, s
+
+
+class PmodAD1Fast:
+    """The same two converters without the timing checks, for long system simulations:
+    one wake-up per SCLK falling edge (17 per conversion instead of about 67). On each
+    falling edge the next bit is driven at once, after the front end has sampled the
+    previous one on that clock edge; after the 16th the lines carry random bits. The serial
+    timing of the front end with the same parameters is checked by PmodAD1Model in
+    cocotb_tests/test_adc_pmod_ad1.py. After the recording, the last entry is served
+    again (hold_last) so that the converters keep running while a test reads registers;
+    ``served`` counts the conversions, ``cs_fall_ps`` their CS_N falling edges."""
+
+    def __init__(self, cs_n, sclk, sdata1, sdata2, codes1, codes2, seed=1):
+        from cocotb.triggers import FallingEdge
+        self._fe = FallingEdge
+        self.cs_n, self.sclk = cs_n, sclk
+        self.lines = (sdata1, sdata2)
+        self.codes = (list(codes1), list(codes2))
+        self.rng = random.Random(seed)
+        self.cs_fall_ps = []
+        self.errors = []
+        self.task = cocotb.start_soon(self._run())
+
+    @property
+    def served(self):
+        return len(self.cs_fall_ps)
+
+    async def _run(self):
+        l1, l2 = self.lines
+        c1, c2 = self.codes
+        last = len(c1) - 1
+        while True:
+            await self._fe(self.cs_n)
+            n = min(self.served, last)
+            self.cs_fall_ps.append(get_sim_time(unit="ps"))
+            w1, w2 = c1[n], c2[n]
+            l1.value = 0
+            l2.value = 0
+            for k in range(1, 17):
+                await self._fe(self.sclk)
+                if str(self.cs_n.value) != "0":
+                    self.errors.append(f"conversion {n}: CS_N rose after {k - 1} edges")
+                    break
+                if k < 16:
+                    l1.value = (w1 >> (15 - k)) & 1
+                    l2.value = (w2 >> (15 - k)) & 1
+                else:
+                    l1.value = self.rng.getrandbits(1)
+                    l2.value = self.rng.getrandbits(1)

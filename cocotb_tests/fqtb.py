@@ -156,9 +156,10 @@ def _stamp(sim, toplevel, srcs, parameters, build_args) -> str:
 
 
 def run_block(sim, toplevel, srcs, test_module, parameters=None, extra_env=None,
-              tag=None, testcase=None, seed=12345):
+              tag=None, testcase=None, seed=12345, extra_build_args=()):
     """Build `toplevel` for `sim` (unless an identical build is there) and run the cocotb
-    tests of `test_module` on it (all of them, or `testcase`)."""
+    tests of `test_module` on it (all of them, or `testcase`). `extra_build_args` go to
+    the simulator's compiler after the defaults."""
     from cocotb_tools.runner import get_runner
 
     setup_paths()
@@ -171,6 +172,7 @@ def run_block(sim, toplevel, srcs, test_module, parameters=None, extra_env=None,
         # lint warnings are not the subject of this regression (make lint is)
         build_args = ["-Wno-fatal", "-Wno-lint", "-Wno-style", "-CFLAGS", "-O1"]
         _patch_verilator(runner)
+    build_args += list(extra_build_args)
     stamp = _stamp(sim, toplevel, srcs, parameters, build_args)
     stamp_file = build_dir / "fq_build.stamp"
     exe = build_dir / (toplevel if sim == "verilator" else "sim.vvp")
