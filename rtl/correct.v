@@ -14,7 +14,7 @@
 //        ax = min(32767, (v1 ^ s1) >> 13), xn = s1 = v1 < 0    u15 magnitude (s2.14
 //        ay, yn likewise from v2                              units: unit circle 16384)
 // Flags (registered with the values they describe):
-//   clip_o (t)   the code sits on an ADC rail
+//   clip_o (t)   a code is at or near an ADC rail: |u_r| >= clip_i (|-32768| = 32768)
 //   nsat_o (t)   x leaves s1.15: the input gain saturates (the estimator excludes the
 //                sample and resets; the fast path still uses d)
 //   dsat_o (t)   x - m leaves s1.15 (d saturated)
@@ -27,6 +27,7 @@ module correct #(
     input  wire                    valid_i,
     input  wire signed [ADC_W-1:0] u1_i,    // ADC codes
     input  wire signed [ADC_W-1:0] u2_i,
+    input  wire [15:0]             clip_i,  // u16 clip level (s1.15 magnitude)
     input  wire [1:0]              g_i,     // input gain 2**g
     input  wire signed [15:0]      m1_i,    // s1.15 offsets (normalised units)
     input  wire signed [15:0]      m2_i,
@@ -72,8 +73,6 @@ module correct #(
     wire [15:0] ab2 = ua2[15] ? -ua2 : ua2;
     wire [14:0] am1 = ab1[15] ? 15'h7fff : ab1[14:0];
     wire [14:0] am2 = ab2[15] ? 15'h7fff : ab2[14:0];
-    wire signed [ADC_W-1:0] rail_hi = {1'b0, {(ADC_W-1){1'b1}}};
-    wire signed [ADC_W-1:0] rail_lo = {1'b1, {(ADC_W-1){1'b0}}};
     (* keep *) reg signed [15:0] d1 = 0, d2 = 0;
     reg signed [15:0] c1q = 0, c12q = 0, c2q = 0;
     always @(posedge clk) begin
@@ -83,7 +82,7 @@ module correct #(
         raw1_o <= ua1;
         raw2_o <= ua2;
         amax_o <= (am1 > am2) ? am1 : am2;
-        clip_o <= (u1_i == rail_hi) || (u1_i == rail_lo) || (u2_i == rail_hi) || (u2_i == rail_lo);
+        clip_o <= (ab1 >= clip_i) || (ab2 >= clip_i);
         nsat_o <= !(xf1 && xf2);
         dsat_o <= !(ef1 && ef2);
         valid0_o <= valid_i;

@@ -17,6 +17,11 @@
 // on both stages: change it at standstill (B keeps the factor it was built with).
 // Overspeed (ovs_o): |dph| >= 3072 (3/4 pi or more per sample; near pi the direction of
 // the step, hence the position, becomes ambiguous); never on the first sample after rst.
+// Hold (hold_i with valid_i, rtl/monitor.v: signal loss, a stuck channel or a glitch; the
+// phase is not trusted): the sample changes nothing, its count is the one before (B,
+// f_prev and count_o stay; no overspeed), so the next trusted sample steps from the last
+// trusted phase: after an outage the count is right if the stage moved less than half
+// a period meanwhile. The edge mode ignores hold_i.
 //
 // Edge mode (mode_i = 1, the paper's counter, Sec. 2.3, for comparison): an x4
 // quadrature decoder of the Eq. 12 pulses A/B (rtl/pulse.v): +1 / -1 per single-channel
@@ -39,6 +44,7 @@ module counter #(
     input  wire                      clk,
     input  wire                      rst,
     input  wire                      valid_i,
+    input  wire                      hold_i,     // with valid_i: do not count this sample
     input  wire [12:0]               phase_i,    // u13 fine phase (registered, edge e)
     input  wire [21:0]               prod_i,     // u22 n * phase_i, registered on e + 1
     input  wire [8:0]                n_i,        // u9 n, 1..511
@@ -62,11 +68,12 @@ module counter #(
     wire [12:0] dph = raw[12:0];                 // wrap13, as u13
     wire        ovs = (dph >= 13'd3072) && (dph <= 13'd5120);   // |wrap13| >= 3072
     wire signed [COUNT_W-1:0] n4 = {{(COUNT_W-11){1'b0}}, n_i, 2'b00};
-    reg         v1 = 1'b0, ovs1 = 1'b0;
+    reg         v1 = 1'b0, ovs1 = 1'b0, hold1 = 1'b0;
     always @(posedge clk) begin
         v1 <= valid_i;
-        ovs1 <= primed && ovs;
-        if (valid_i) begin
+        ovs1 <= primed && ovs && !hold_i;
+        hold1 <= hold_i;
+        if (valid_i && !hold_i) begin
             ph_prev <= phase_i;
             primed <= 1'b1;
             if (back)
@@ -117,7 +124,7 @@ module counter #(
     always @(posedge clk) begin
         valid_o <= v1;
         ovs_o <= v1 && ovs1;
-        if (v1)
+        if (v1 && (mode_i || !hold1))
             count_o <= mode_i ? e_acc : b_acc + q;
         if (rst) begin
             valid_o <= 1'b0;

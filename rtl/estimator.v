@@ -7,9 +7,13 @@
 // On the edge where a sample is presented (smp_valid_i) and the engine is idle:
 //   reset pending        -> RESET program: P = kappa I; gain g chosen from the peak |u|
 //                           since the last reset (theta rescaled to it); peak cleared
-//   u << g saturates     -> reset pending (clipped sample excluded from estimation)
+//   otherwise the sample is the candidate, decided when its fine phase is known:
+//   not trusted (excl_i: rtl/monitor.v; clipped samples too) -> skip (no reset either)
+//   u << g saturates     -> reset pending
 //   dither hold-off      -> skip (0..15 samples after each update, from an LFSR)
-//   |phase - phase at the last update| < gate -> skip (no new information)
+//   |travel - travel at the last update| < gate -> skip (no new information: the
+//                           monitor's smoothed travel does not move at standstill, also
+//                           with noise, so the estimator does not wind up)
 //   otherwise            -> UPDATE program (Eqs. 5-8) on this sample
 // After WARMUP updates from power-up the gain is checked (a reset only if it changes);
 // then a reset every period_i updates (0: never) or when the jump detector fires.
@@ -18,6 +22,10 @@
 // since the last reset, and the updates since the last commit and the last reset covered
 // all eight octants,
 // the bundle {g, m1, m2, c1, c12, c2} is committed atomically.
+// load_i (a LOAD written through the registers on the edge before) replaces the bundle
+// with the staged one (ld_*) on this edge, unless a hand-over happens on the same edge
+// (the hand-over wins); uncal_o stays as it is (the ellipse is still not identified by
+// the estimator), loaded_o is set until the next hand-over.
 module estimator #(
     parameter TABLE_DIR = "rtl/tables/",
     // input gain after power-up, 0..3
@@ -37,6 +45,16 @@ module estimator #(
     // the fine phase of the sample that arrived PH_DELAY edges earlier
     input  wire               ph_valid_i,
     input  wire [12:0]        phase_i,     // u13 fine phase (uncorrected)
+    input  wire               excl_i,      // with ph_valid_i: the monitor excludes it
+    input  wire [19:0]        travel_i,    // u20 smoothed travel after the sample before
+    // a LOAD: the staged bundle replaces the one in use (see above)
+    input  wire               load_i,
+    input  wire [1:0]         ld_g_i,
+    input  wire signed [15:0] ld_m1_i,
+    input  wire signed [15:0] ld_m2_i,
+    input  wire signed [15:0] ld_c1_i,
+    input  wire signed [15:0] ld_c12_i,
+    input  wire signed [15:0] ld_c2_i,
     input  wire               req_reset_i, // reset P before the next update
     input  wire [4:0]         lam_k_i,     // lambda = 1/(1 + 2**-k)
     input  wire [15:0]        kappa_i,     // u8.8 (0 is taken as 1/256)
@@ -54,6 +72,8 @@ module estimator #(
     output reg  signed [15:0] c2_o,
     output reg                uncal_o,     // no estimate committed yet
     output reg                hold_o,      // the last estimate was invalid (held)
+    output reg                loaded_o,    // the bundle was loaded (until a hand-over)
+    output wire               ref_o,       // the bundle is a calibration (not default)
     output reg  [31:0]        updates_o,   // updates run (wraps)
     output reg  [15:0]        jumps_o,     // jumps detected (wraps)
     output wire               sat_o        // engine saturated a register (sticky)
@@ -65,7 +85,7 @@ module estimator #(
     reg        first = 1'b1;
     reg [15:0] upd = 0;
     reg [9:0]  settle = 0;
-    reg [12:0] ph_last = 0;
+    reg [19:0] s_last = 0;                 // travel at the last update
     reg        running_update = 1'b0;
     reg        running_extract = 1'b0;
     reg        freeze = 1'b0;              // the trace of P is at its bound: no forgetting
@@ -104,16 +124,19 @@ module estimator #(
             default: ovf = !(&top || !(|top));
         endcase
     endfunction
-    wire [12:0] dph = phase_i - ph_last;
-    reg        pre_valid = 1'b0, pre_xsat = 1'b0, pre_gate = 1'b0;
-    reg [12:0] pre_phase = 0;
+    wire [19:0] dtr = travel_i - s_last;      // s20 travel since the last update
+    reg        pre_valid = 1'b0, pre_xsat = 1'b0, pre_gate = 1'b0, pre_bad = 1'b0;
+    reg [2:0]  pre_oct = 0;                // the candidate's octant (coverage)
+    reg [19:0] pre_s = 0;
     always @(posedge clk) begin
         pre_valid <= ph_cand;
-        pre_phase <= phase_i;
+        pre_oct   <= phase_i[12:10];
+        pre_s     <= travel_i;
+        pre_bad   <= excl_i;
         pre_xsat  <= ovf(cu1[15:12], g_eng) || ovf(cu2[15:12], g_eng);
-        // |wrap13(dph)| >= gate  <=>  dph >= gate or dph <= -gate (two compares side by side)
-        pre_gate  <= ($signed({dph[12], dph}) >= $signed({1'b0, gate_i})) ||
-                     ($signed({dph[12], dph}) <= -$signed({1'b0, gate_i}));
+        // |dtr| >= gate  <=>  dtr >= gate or dtr <= -gate (two compares side by side)
+        pre_gate  <= ($signed(dtr) >= $signed({7'd0, gate_i})) ||
+                     ($signed(dtr) <= -$signed({7'd0, gate_i}));
         if (rst)
             pre_valid <= 1'b0;
     end
@@ -144,8 +167,9 @@ module estimator #(
     reg [15:0] lfsr = 16'hACE1;           // Galois, x^16 + x^14 + x^13 + x^11 + 1
     reg [3:0]  skip = 4'd0;
     reg [7:0]  oct_seen = 8'd0;              // octants of the updates since the last commit
-    wire do_skip = pre_valid && !pre_xsat && skip != 4'd0;
-    wire do_update = pre_valid && !pre_xsat && skip == 4'd0 && pre_gate;
+    wire pre_ok = pre_valid && !pre_bad;
+    wire do_skip = pre_ok && !pre_xsat && skip != 4'd0;
+    wire do_update = pre_ok && !pre_xsat && skip == 4'd0 && pre_gate;
     wire [4:0] lam_k = (lam_k_i == 0) ? 5'd1 : (lam_k_i > 5'd23) ? 5'd23 : lam_k_i;
     // an EXTRACT program follows an UPDATE that ends valid when a hand-over is due: at
     // least settle_i updates since the last reset, all octants covered since the last
@@ -218,7 +242,7 @@ module estimator #(
         jthr    <= {jl, 2'b00} + {6'd0, jump_min_i, 5'd0};
         trig_q  <= armed && jump_on_i && ({2'b00, jf_next} > jthr);
     end
-    wire        unused_j = &{1'b0, df[1:0], dl[5:0], 1'b0};
+    wire        unused_j = &{1'b0, df[1:0], dl[5:0], phase_i[9:0], 1'b0};
 
     always @(posedge clk) begin
         // sample bookkeeping
@@ -234,14 +258,14 @@ module estimator #(
             oct_seen <= 8'd0;     // a hand-over needs all octants since the reset, too
             running_update <= 1'b0;
         end
-        if (pre_valid && pre_xsat) begin
+        if (pre_ok && pre_xsat) begin
             reset_pend <= 1'b1;
         end else if (do_skip) begin
             skip <= skip - 1'b1;
         end else if (do_update) begin
-            ph_last <= pre_phase;
+            s_last <= pre_s;
             skip <= lfsr[3:0];
-            oct_seen <= oct_seen | (8'd1 << pre_phase[12:10]);
+            oct_seen <= oct_seen | (8'd1 << pre_oct);
             lfsr <= {1'b0, lfsr[15:1]} ^ (lfsr[0] ? 16'hB400 : 16'h0000);
             upd <= upd + 1'b1;
             updates_o <= updates_o + 1'b1;
@@ -281,12 +305,19 @@ module estimator #(
             running_extract <= do_extract;
             settle <= (settle == 10'h3ff) ? settle : settle + 1'b1;
         end
+        // a LOAD from the registers (a hand-over on the same edge overrides it, below)
+        if (load_i) begin
+            {c2_o, c12_o, c1_o, m2_o, m1_o} <= {ld_c2_i, ld_c12_i, ld_c1_i, ld_m2_i, ld_m1_i};
+            g_o <= ld_g_i;
+            loaded_o <= 1'b1;
+        end
         // the end of an extraction: the hand-over if theta was an ellipse
         if (done && running_extract) begin
             if (valid) begin
                 {c2_o, c12_o, c1_o, m2_o, m1_o} <= outs[79:0];
                 g_o <= g_eng;
                 uncal_o <= 1'b0;
+                loaded_o <= 1'b0;
                 oct_seen <= 8'd0;
                 armed <= 1'b1;
             end
@@ -302,7 +333,7 @@ module estimator #(
             first <= 1'b1;
             upd <= 0;
             settle <= 0;
-            ph_last <= 0;
+            s_last <= 0;
             skip <= 4'd0;
             lfsr <= 16'hACE1;
             oct_seen <= 8'd0;
@@ -314,12 +345,14 @@ module estimator #(
             m1_o <= 0; m2_o <= 0; c1_o <= 16'sd8192; c12_o <= 0; c2_o <= 16'sd8192;
             uncal_o <= 1'b1;
             hold_o <= 1'b0;
+            loaded_o <= 1'b0;
             updates_o <= 0;
         end
     end
+    assign ref_o = !uncal_o || loaded_o;
     initial begin
         g_o = G_INIT; m1_o = 0; m2_o = 0; c1_o = 16'sd8192; c12_o = 0; c2_o = 16'sd8192;
-        uncal_o = 1'b1; hold_o = 1'b0; updates_o = 0; jumps_o = 0;
+        uncal_o = 1'b1; hold_o = 1'b0; loaded_o = 1'b0; updates_o = 0; jumps_o = 0;
     end
 endmodule
 `resetall

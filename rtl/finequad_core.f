@@ -11,4 +11,5 @@ rtl/estimator.v
 rtl/rls_engine.v
 rtl/harmonic.v
 rtl/phase.v
+rtl/monitor.v
 rtl/abgen.v

@@ -18,9 +18,12 @@
 // reciprocal, t+4 ratio, t+5 address and bin (block RAM reads), t+6 fine phase, t+7
 // n * phase and the period count, t+8 count; Eq. 12 sines t+8, pulses t+9, edge-mode
 // count t+10.
-// Fault bits (m_fault): 0 clip, 1 gain saturation, 2 correction saturation,
-// 3 overspeed (|phase step| >= 3/4 pi per sample), 4 not calibrated, 5 estimate held
-// (last theta invalid), 6 A/B backlog over its bound.
+// Fault bits (m_fault): 0 clip (at or near a rail), 1 gain saturation, 2 correction
+// saturation, 3 overspeed (|phase step| >= 3/4 pi per sample), 4 not calibrated,
+// 5 estimate held (last theta invalid), 6 A/B backlog over its bound, 7 signal loss,
+// 8 over-range, 9 stuck channel, 10 glitch (rtl/monitor.v). Bits 0, 7, 9 and 10 hold
+// the counter (the sample's phase is not trusted); they and bit 8 keep the sample from
+// the estimator.
 // Register port: reg_we writes reg_wdata to reg_addr on the edge; reg_re reads reg_addr,
 // reg_rdata holds the value after that edge (registered; rtl/axil_regs.v puts an AXI4-Lite
 // slave in front). The register map is in README.md.
@@ -57,7 +60,7 @@ module finequad_core #(
     // per-sample results
     output wire                      m_valid,
     output wire signed [COUNT_W-1:0] m_count,
-    output wire [6:0]                m_fault,
+    output wire [10:0]               m_fault,
     // A/B outputs (paced quadrature following m_count, or the Eq. 12 pulses)
     output wire                      m_a,
     output wire                      m_b
@@ -67,7 +70,7 @@ module finequad_core #(
     localparam PHASE_AT = 6;      // fine phase registered on edge t + PHASE_AT
 
     // ---- registers ------------------------------------------------------------------------
-    localparam [31:0] ID = 32'h46510002;        // "FQ", version 0.2
+    localparam [31:0] ID = 32'h46510003;        // "FQ", version 0.3
     reg [8:0]  r_interp = 9'd100;               // n
     reg [15:0] r_eps = 16'd1638;                // u0.15 (0.05)
     reg [4:0]  r_lam_k = 5'd8;                  // lambda = 1/(1 + 2**-k)
@@ -77,7 +80,7 @@ module finequad_core #(
     reg [12:0] r_gate = 13'd64;                 // u13 phase progress between updates
     reg        r_jump_off = 1'b0;               // JUMP bit 15: jump detector disabled
     reg [10:0] r_jump_min = 11'd41;             // JUMP [10:0]: its floor, s3.13 |e| units
-    reg [6:0]  r_sticky = 7'd0;                 // sticky fault bits, write 1 to clear
+    reg [10:0] r_sticky = 11'd0;                // sticky fault bits, write 1 to clear
     reg        r_cmode = 1'b0;                  // CTRL bit 3: counter mode, 0 phase, 1 edge
     reg        r_happly = 1'b1;                 // HARM bit 0: apply the harmonic correction
     reg        r_hlearn = 1'b1;                 // HARM bit 1: learn the harmonic table
@@ -86,14 +89,28 @@ module finequad_core #(
     reg [7:0]  r_absep = 8'd4;                  // ABGEN [7:0]: min clocks between A/B edges
     reg        r_absrc = 1'b0;                  // ABGEN bit 8: A/B = Eq. 12 pulses
     reg [15:0] r_abbound = 16'd1024;            // AB_BOUND: backlog bound (counts)
+    reg [15:0] r_clip = 16'd32512;              // CLIP: u16 |u| at or above: clipped
+    reg [15:0] r_loss = 16'd3277;               // RADIUS [15:0]: u16 radius, loss (0.2)
+    reg [15:0] r_over = 16'd22118;              // RADIUS [31:16]: over-range (1.35)
+    reg [12:0] r_glitch = 13'd1024;             // MONITOR [12:0]: max |phase accel.|
+    reg [7:0]  r_stuckn = 8'd8;                 // MONITOR [23:16]: stuck after n samples
+    // staged bundle (writes to 0x0b..0x10), handed to the fast path by a LOAD (CTRL 1)
+    reg [1:0]  st_g = G_INIT;
+    reg signed [15:0] st_m1 = 0, st_m2 = 0, st_c1 = 16'sd8192, st_c12 = 0, st_c2 = 16'sd8192;
     reg        req_reset = 1'b0;
+    reg        req_load = 1'b0;                 // CTRL bit 1: LOAD (a pulse)
+    reg        req_cap = 1'b0;                  // CTRL bit 2: capture the count (a pulse)
     always @(posedge clk) begin
         req_reset <= 1'b0;
+        req_load <= 1'b0;
+        req_cap <= 1'b0;
         r_hclear <= 1'b0;
         if (reg_we) begin
             case (reg_addr)
                 6'h00: begin
                     req_reset <= reg_wdata[0];
+                    req_load <= reg_wdata[1];
+                    req_cap <= reg_wdata[2];
                     r_cmode <= reg_wdata[3];
                 end
                 6'h01: r_interp <= reg_wdata[8:0];
@@ -103,6 +120,12 @@ module finequad_core #(
                 6'h05: r_period <= reg_wdata[15:0];
                 6'h06: r_settle <= reg_wdata[9:0];
                 6'h07: r_gate <= reg_wdata[12:0];
+                6'h0b: st_g <= reg_wdata[1:0];
+                6'h0c: st_m1 <= reg_wdata[15:0];
+                6'h0d: st_m2 <= reg_wdata[15:0];
+                6'h0e: st_c1 <= reg_wdata[15:0];
+                6'h0f: st_c12 <= reg_wdata[15:0];
+                6'h10: st_c2 <= reg_wdata[15:0];
                 6'h12: begin
                     r_happly <= reg_wdata[0];
                     r_hlearn <= reg_wdata[1];
@@ -118,17 +141,31 @@ module finequad_core #(
                     r_absrc <= reg_wdata[8];
                 end
                 6'h16: r_abbound <= reg_wdata[15:0];
+                6'h18: r_clip <= reg_wdata[15:0];
+                6'h19: begin
+                    r_loss <= reg_wdata[15:0];
+                    r_over <= reg_wdata[31:16];
+                end
+                6'h1a: begin
+                    r_glitch <= reg_wdata[12:0];
+                    r_stuckn <= reg_wdata[23:16];
+                end
                 default: ;
             endcase
         end
         // write 1 to clear; a fault arriving on the same edge stays set
-        r_sticky <= (r_sticky & ~((reg_we && reg_addr == 6'h0a) ? reg_wdata[6:0] : 7'd0))
-                    | (m_valid ? m_fault : 7'd0);
+        r_sticky <= (r_sticky & ~((reg_we && reg_addr == 6'h0a) ? reg_wdata[10:0] : 11'd0))
+                    | (m_valid ? m_fault : 11'd0);
         if (rst) begin
             r_interp <= 9'd100; r_eps <= 16'd1638; r_lam_k <= 5'd8; r_kappa <= 16'h4000;
             r_period <= 16'd0; r_settle <= 10'd32; r_gate <= 13'd64;
             r_jump_off <= 1'b0; r_jump_min <= 11'd41;
-            r_sticky <= 7'd0; req_reset <= 1'b0; r_cmode <= 1'b0;
+            r_sticky <= 11'd0; req_reset <= 1'b0; req_load <= 1'b0; req_cap <= 1'b0;
+            r_cmode <= 1'b0;
+            r_clip <= 16'd32512; r_loss <= 16'd3277; r_over <= 16'd22118;
+            r_glitch <= 13'd1024; r_stuckn <= 8'd8;
+            st_g <= G_INIT; st_m1 <= 0; st_m2 <= 0; st_c1 <= 16'sd8192; st_c12 <= 0;
+            st_c2 <= 16'sd8192;
             r_happly <= 1'b1; r_hlearn <= 1'b1; r_hmu <= 2'd1; r_hclear <= 1'b0;
             r_absep <= 8'd4; r_absrc <= 1'b0; r_abbound <= 16'd1024;
         end
@@ -137,7 +174,7 @@ module finequad_core #(
     // ---- estimator and its bundle -------------------------------------------------------------
     wire [1:0] b_g;
     wire signed [15:0] b_m1, b_m2, b_c1, b_c12, b_c2;
-    wire b_uncal, b_hold, e_sat;
+    wire b_uncal, b_hold, b_loaded, b_ref, e_sat;
     wire [31:0] e_updates;
     wire [15:0] e_jumps;
 
@@ -146,7 +183,7 @@ module finequad_core #(
     wire signed [15:0] c_raw1, c_raw2;
     wire [14:0] c_amax, c_ax, c_ay;
     correct #(.ADC_W(ADC_W)) u_correct (
-        .clk(clk), .valid_i(s_valid && !rst), .u1_i(s_u1), .u2_i(s_u2),
+        .clk(clk), .valid_i(s_valid && !rst), .u1_i(s_u1), .u2_i(s_u2), .clip_i(r_clip),
         .g_i(b_g), .m1_i(b_m1), .m2_i(b_m2), .c1_i(b_c1), .c12_i(b_c12), .c2_i(b_c2),
         .valid0_o(c_v0), .raw1_o(c_raw1), .raw2_o(c_raw2), .amax_o(c_amax),
         .clip_o(c_clip), .nsat_o(c_nsat), .dsat_o(c_dsat),
@@ -183,6 +220,17 @@ module finequad_core #(
             wire unused_h = &{1'b0, o_bin, r_happly, r_hlearn, r_hmu, r_hclear, 1'b0};
         end
     endgenerate
+    // ---- signal monitor: faults, the counter's hold (stage t+6 .. t+7), the travel ------------
+    wire mon_hold, mon_excl, mon_loss, mon_over, mon_stuck, mon_glitch;
+    wire [19:0] mon_travel;
+    monitor u_monitor (
+        .clk(clk), .rst(rst), .valid0_i(c_v0), .raw1_i(c_raw1), .raw2_i(c_raw2),
+        .clip_i(c_clip), .ref_i(b_ref), .ax_i(c_ax), .ay_i(c_ay), .xn_i(c_xn), .yn_i(c_yn), .pvalid_i(h_valid), .phase_i(h_phase),
+        .loss_th_i(r_loss), .over_th_i(r_over), .glitch_th_i(r_glitch),
+        .stuck_n_i(r_stuckn), .hold_o(mon_hold), .excl_o(mon_excl), .loss_o(mon_loss),
+        .over_o(mon_over), .stuck_o(mon_stuck), .glitch_o(mon_glitch),
+        .travel_o(mon_travel)
+    );
     // ---- t+7 .. t+8: n-th order phase and sines -------------------------------------------------
     wire n_valid, l_valid, l_cneg, l_sneg;
     wire [21:0] n_prod;
@@ -207,7 +255,8 @@ module finequad_core #(
     wire k_ovs, k_ill;
     wire [15:0] k_ill_count;
     counter #(.COUNT_W(COUNT_W)) u_counter (
-        .clk(clk), .rst(rst), .valid_i(h_valid), .phase_i(h_phase_c), .prod_i(n_prod),
+        .clk(clk), .rst(rst), .valid_i(h_valid), .hold_i(mon_hold), .phase_i(h_phase_c),
+        .prod_i(n_prod),
         .n_i(r_interp), .mode_i(r_cmode), .pv_i(p_valid), .a_i(p_a), .b_i(p_b),
         .valid_o(m_valid), .count_o(m_count), .ovs_o(k_ovs), .ill_o(k_ill),
         .ill_count_o(k_ill_count)
@@ -228,12 +277,16 @@ module finequad_core #(
     estimator #(.TABLE_DIR(TABLE_DIR), .G_INIT(G_INIT), .PH_DELAY(PHASE_AT)) u_est (
         .clk(clk), .rst(rst),
         .smp_valid_i(c_v0), .u1_i(c_raw1), .u2_i(c_raw2), .amax_i(c_amax),
-        .ph_valid_i(h_valid), .phase_i(h_phase),
+        .ph_valid_i(h_valid), .phase_i(h_phase), .excl_i(mon_excl),
+        .travel_i(mon_travel),
+        .load_i(req_load), .ld_g_i(st_g), .ld_m1_i(st_m1), .ld_m2_i(st_m2), .ld_c1_i(st_c1),
+        .ld_c12_i(st_c12), .ld_c2_i(st_c2),
         .req_reset_i(req_reset), .lam_k_i(r_lam_k), .kappa_i(r_kappa),
         .period_i(r_period), .settle_i(r_settle), .gate_i(r_gate),
         .jump_on_i(!r_jump_off), .jump_min_i(r_jump_min), .jumps_o(e_jumps),
         .g_o(b_g), .m1_o(b_m1), .m2_o(b_m2), .c1_o(b_c1), .c12_o(b_c12), .c2_o(b_c2),
-        .uncal_o(b_uncal), .hold_o(b_hold), .updates_o(e_updates), .sat_o(e_sat)
+        .uncal_o(b_uncal), .hold_o(b_hold), .loaded_o(b_loaded), .ref_o(b_ref),
+        .updates_o(e_updates), .sat_o(e_sat)
     );
 
     // ---- fault bits, carried with the sample -------------------------------------------------
@@ -254,7 +307,11 @@ module finequad_core #(
         hold_d  <= {hold_d[LATENCY-2:0], hold0};
         rsat_d  <= {rsat_d[LATENCY-CORR_AT-2:0], c_rsat};
     end
-    assign m_fault = {g_sticky, hold_d[LATENCY-1], uncal_d[LATENCY-1], k_ovs,
+    // the monitor's flags are registered on t + 7, one edge before the output
+    reg [3:0] mon_q = 4'd0;                      // {glitch, stuck, over, loss}
+    always @(posedge clk)
+        mon_q <= {mon_glitch, mon_stuck, mon_over, mon_loss};
+    assign m_fault = {mon_q, g_sticky, hold_d[LATENCY-1], uncal_d[LATENCY-1], k_ovs,
                       dsat_d[LATENCY-1] | rsat_d[LATENCY-CORR_AT-1], nsat_d[LATENCY-1],
                       clip_d[LATENCY-1]};
 
@@ -262,7 +319,7 @@ module finequad_core #(
     always @(posedge clk) begin
         if (reg_re) begin
             case (reg_addr)
-                6'h00: reg_rdata <= {28'd0, r_cmode, e_sat, b_hold, b_uncal};
+                6'h00: reg_rdata <= {27'd0, b_loaded, r_cmode, e_sat, b_hold, b_uncal};
                 6'h01: reg_rdata <= {23'd0, r_interp};
                 6'h02: reg_rdata <= {16'd0, r_eps};
                 6'h03: reg_rdata <= {27'd0, r_lam_k};
@@ -272,7 +329,7 @@ module finequad_core #(
                 6'h07: reg_rdata <= {19'd0, r_gate};
                 6'h08: reg_rdata <= {{(32-COUNT_W+1){m_count[COUNT_W-1]}}, m_count[COUNT_W-2:0]};
                 6'h09: reg_rdata <= {16'd0, k_ill_count};
-                6'h0a: reg_rdata <= {25'd0, r_sticky};
+                6'h0a: reg_rdata <= {21'd0, r_sticky};
                 6'h0b: reg_rdata <= {30'd0, b_g};
                 6'h0c: reg_rdata <= {{16{b_m1[15]}}, b_m1};
                 6'h0d: reg_rdata <= {{16{b_m2[15]}}, b_m2};
@@ -286,12 +343,25 @@ module finequad_core #(
                 6'h15: reg_rdata <= {23'd0, r_absrc, r_absep};
                 6'h16: reg_rdata <= {16'd0, r_abbound};
                 6'h17: reg_rdata <= {{16{g_backlog[15]}}, g_backlog};
+                6'h18: reg_rdata <= {16'd0, r_clip};
+                6'h19: reg_rdata <= {r_over, r_loss};
+                6'h1a: reg_rdata <= {8'd0, r_stuckn, 3'd0, r_glitch};
+                6'h1b: reg_rdata <= {{(32-COUNT_W+1){r_cap[COUNT_W-1]}}, r_cap[COUNT_W-2:0]};
+                6'h1c: reg_rdata <= {12'd0, mon_travel};
                 6'h1f: reg_rdata <= ID;
                 default: reg_rdata <= 32'd0;
             endcase
         end
     end
     initial reg_rdata = 32'd0;
+    // CTRL bit 2: the count captured (a coherent copy for a narrow or slow host link)
+    reg signed [COUNT_W-1:0] r_cap = 0;
+    always @(posedge clk) begin
+        if (req_cap)
+            r_cap <= m_count;
+        if (rst)
+            r_cap <= 0;
+    end
     wire unused = &{1'b0, reg_wdata[31:16], l_pn, n_valid, k_ill, g_pos, g_ovf, 1'b0};
 endmodule
 `resetall

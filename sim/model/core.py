@@ -15,12 +15,17 @@ Clock-edge timing (the RTL implements exactly this; edges are numbered from 0):
     - otherwise      -> the sample becomes the candidate. Its fine phase arrives on
                         t_k + PHASE_AT and the decision is made on s = t_k + PHASE_STAGE:
         - x = u << g saturates -> no update; a reset becomes pending
+        - the monitor does not trust the sample (sim/model/monitor.py: signal loss,
+                        over-range, a stuck channel, a glitch, a clipped code) -> no
+                        update (checked first: such a sample forces no reset either)
         - within the dither hold-off -> no update (after each update the estimator lets
                         0..15 candidates pass, from an LFSR, so that at speeds where the
                         signal frequency is a simple fraction of the update rate the
                         updates still spread over the whole circle)
-        - fine phase within `gate` of the phase at the last update -> no update (no new
-                        information: standstill and creep do not wind the estimator up)
+        - the travel S (the monitor's smoothed unwrapped phase, as of the sample before
+                        the candidate) within `gate` of S at the last update -> no update
+                        (no new information: standstill, with noise, and creep do not
+                        wind the estimator up)
         - otherwise      -> UPDATE program on the candidate (Eqs. 5-8). After WARMUP
                         updates from power-up the input gain is checked (from the peak
                         before the candidate) and a reset becomes pending only if it
@@ -61,6 +66,7 @@ from . import abgen
 from . import fastpath as fp
 from . import harmonic
 from .estimator import CYCLES, Estimator
+from .monitor import Monitor, MonitorRegs
 
 # Pipeline timing of rtl/finequad_core.v: edges from a sample's strobe edge t to the edge
 # that registers each result. The RTL declares the same numbers (localparams of
@@ -82,16 +88,22 @@ START_DELAY = 1      # the engine starts on the edge after the decision (registe
 LFSR_SEED = 0xACE1   # dither of the estimator's sample choice (see below)
 WARMUP = 64          # updates before the first automatic reset (picks the input gain)
 G_MAX = 3            # input gain 2**g, g in 0..3 (amplitudes down to ~6 % of full scale)
-ID = 0x46510002      # register 0x1f: "FQ" and the version (0.2), rtl/finequad_core.v
+ID = 0x46510003      # register 0x1f: "FQ" and the version (0.3), rtl/finequad_core.v
 FAULT_BITS = {
-    "clip": 0,       # an input code sits on an ADC rail
+    "clip": 0,       # an input code at or near an ADC rail (|u| >= CLIP): held
     "nsat": 1,       # u << g leaves s1.15 in the fast path
     "csat": 2,       # offset removal or correction saturated
     "ovs": 3,        # overspeed: |phase step| >= 3/4 pi per sample
-    "uncal": 4,      # no estimate committed yet: default coefficients in use
+    "uncal": 4,      # no estimate handed over yet: default or loaded coefficients in use
     "hold": 5,       # the last estimate was invalid: last valid coefficients held
     "abovf": 6,      # the A/B backlog exceeded its bound (sticky until rst)
+    "loss": 7,       # Lissajous radius below LOSS: counter held, not estimated
+    "over": 8,       # radius above OVER: not estimated (while it is short), still counted
+    "stuck": 9,      # a channel's code stopped changing while the stage moved: held
+    "glitch": 10,    # the phase jumped off its straight-line prediction: held
 }
+FAULT_W = len(FAULT_BITS)
+BUNDLE_AT = 1        # a LOAD (CTRL bit 1) written on edge w replaces the bundle on w + 1
 
 
 @dataclass
@@ -131,6 +143,18 @@ class Config:
     ab_sep: int = 4          # ABGEN [7:0]: minimum clocks between A/B edges (0 as 1)
     ab_src: int = 0          # ABGEN bit 8: the A/B pins show the Eq. 12 pulses
     ab_bound: int = 1024     # AB_BOUND: backlog (counts) above which the overflow flags
+    clip: int = fp.CLIP_LEVEL   # CLIP: |u| (s1.15 aligned) at or above it is clipped
+    loss: int = 3277         # RADIUS [15:0]: radius (s2.14) below it: signal lost (0.2)
+    over: int = 22118        # RADIUS [31:16]: radius above it: over-range (1.35)
+    glitch: int = 1024       # MONITOR [12:0]: max |phase acceleration| (0: off)
+    stuck_n: int = 8         # MONITOR [23:16]: unchanged codes before stuck (0: off)
+    loads: list = field(default_factory=list)   # [(w, (g, m1, m2, c1, c12, c2))]: a
+                             # LOAD (CTRL bit 1) written on edge w with that bundle staged
+                             # in 0x0b..0x10; samples strobed on edges >= w + 2 use it
+
+    def monitor_regs(self):
+        return MonitorRegs(loss=self.loss, over=self.over, glitch=self.glitch,
+                           stuck_n=self.stuck_n)
 
 
 # Default bundle: centred circle of radius 0.5 (normalised): c1 = c2 = 2.0 in s4.12.
@@ -193,15 +217,21 @@ class Core:
         self.upd = 0
         self.settle = 0
         self.free_at = -1             # the estimator takes samples strobed on edges >= this
-        self.ph_last = 0
         self.skip = 0                 # candidates the estimator still lets pass (dither)
         self.cover = 0                # octants of the updates since the last commit
         self.lfsr = LFSR_SEED
         self.requests = set(cfg.resets)
-        self.ev_edge = [-1]           # edges on which the bundle registers change
-        self.ev_bundle = [BUNDLE0]
-        self.ev_flags = [(1, 0)]      # (uncal, hold)
+        # bundle events: the edges on which the bundle registers change (sorted), what
+        # each does (('init', b), ('commit', b), ('invalid',) an extraction that failed,
+        # ('load', b) from the registers) and the state after it (bundle, uncal, hold,
+        # loaded); a sample strobed on edge t uses the state of the last event before t
+        self.ev_edge, self.ev_delta, self.ev_state = [-1], [("init", BUNDLE0)], \
+            [(BUNDLE0, 1, 0, 0)]
+        for w, b in sorted(cfg.loads, key=lambda x: x[0]):
+            self._event(w + BUNDLE_AT, ("load", tuple(int(v) for v in b)))
         self.uncal = 1
+        self.mon = Monitor()
+        self.s_last = 0               # the travel at the last update (estimator's gate)
         self.n_updates = 0
         self.sched = []               # the estimator's programs, for the float reference
         self.jf = self.jl = 0         # jump detector: fast and slow mean |e|, u15.5
@@ -217,6 +247,29 @@ class Core:
         self.e_base = 0               # E before the samples in e_tail
         self.ill_count = 0            # illegal A/B steps
         self.ab = abgen.Follower(cfg.ab_sep, cfg.ab_bound, cfg.COUNT_W)
+
+    @staticmethod
+    def _apply(state, delta):
+        bundle, uncal, hold, loaded = state
+        kind = delta[0]
+        if kind == "commit":
+            return delta[1], 0, 0, 0
+        if kind == "invalid":
+            return bundle, uncal, 1, loaded
+        if kind == "load":
+            return delta[1], uncal, hold, 1
+        return delta[1], 1, 0, 0                     # init
+
+    def _event(self, edge, delta):
+        """Insert a bundle event (after the ones on the same edge: a hand-over on the edge
+        of a LOAD wins) and resolve the states from it on; returns its index."""
+        i = bisect.bisect_right(self.ev_edge, edge)
+        self.ev_edge.insert(i, edge)
+        self.ev_delta.insert(i, delta)
+        self.ev_state.insert(i, None)
+        for j in range(i, len(self.ev_edge)):
+            self.ev_state[j] = self._apply(self.ev_state[j - 1], self.ev_delta[j])
+        return i
 
     def _strobes(self, n, strobes):
         cfg = self.cfg
@@ -246,15 +299,17 @@ class Core:
         u2_code = np.asarray(u2_code, dtype=np.int64)
         n = len(u1_code)
         t = self._strobes(n, strobes)
-        u1r, clip1 = fp.align(u1_code, cfg.ADC_W)
-        u2r, clip2 = fp.align(u2_code, cfg.ADC_W)
-        self._schedule(u1r, u2r, t)
+        u1r, clip1 = fp.align(u1_code, cfg.ADC_W, cfg.clip)
+        u2r, clip2 = fp.align(u2_code, cfg.ADC_W, cfg.clip)
+        clip = clip1 | clip2
+        mon = self._schedule(u1r, u2r, t, clip)
 
         # ---- fast path, vectorised over samples ---------------------------------------
         # the bundle committed on edges < t (correct.v registers the sample on t)
         idx = np.searchsorted(np.asarray(self.ev_edge), t, side="left") - 1
-        bund = np.asarray(self.ev_bundle, dtype=np.int64)[idx]
-        flags = np.asarray(self.ev_flags, dtype=np.int64)[idx]
+        bund = np.asarray([self.ev_state[i][0] for i in idx], dtype=np.int64).reshape(-1, 6)
+        flags = np.asarray([self.ev_state[i][1:4] for i in idx],
+                           dtype=np.int64).reshape(-1, 3)    # uncal, hold, loaded
         fr = _front(u1r, u2r, bund.T, self.lut)
         phase = fr["phase"]
         # harmonic compensation between the fine phase and the counter (rtl/harmonic.v)
@@ -274,7 +329,7 @@ class Core:
         prod, pn, cosn, sinn = self.lut.nth(phase_c, cfg.interp)
         pa, pb = fp.pulse(cosn, sinn, cfg.eps, cfg.SIN_W, *self.pulse_ab)
         count_ph, ovs, self.cnt_state = fp.counter(phase_c, prod, cfg.interp, cfg.COUNT_W,
-                                                   state=self.cnt_state)
+                                                   state=self.cnt_state, hold=mon["hold"])
         # the x4 decoder of the pulses: E after each sample's pulses (edge t + EDGE_AT)
         steps, ill, self.edge_state = fp.edge_steps(pa, pb, self.edge_state)
         self.ill_count += int(ill.sum())
@@ -309,13 +364,15 @@ class Core:
             b_pin = np.concatenate([[prev_pulse[1]], pb[:-1]]) if n else b_pin
         if n:
             self.pulse_ab = (int(pa[-1]), int(pb[-1]))
-        fault = ((clip1 | clip2).astype(np.int64) << FAULT_BITS["clip"]
+        fault = (clip.astype(np.int64) << FAULT_BITS["clip"]
                  | fr["nsat"].astype(np.int64) << FAULT_BITS["nsat"]
                  | fr["csat"].astype(np.int64) << FAULT_BITS["csat"]
                  | ovs.astype(np.int64) << FAULT_BITS["ovs"]
                  | flags[:, 0] << FAULT_BITS["uncal"]
                  | flags[:, 1] << FAULT_BITS["hold"]
                  | ab_ovf << FAULT_BITS["abovf"])
+        for name in ("loss", "over", "stuck", "glitch"):
+            fault |= mon[name].astype(np.int64) << FAULT_BITS[name]
         self.k0 += n
         if n:
             self.t_last = int(t[-1])
@@ -324,7 +381,7 @@ class Core:
             # for the next sample stays), so pieces stay cheap however long the run
             keep = bisect.bisect_right(self.ev_edge, self.t_last) - 1
             if keep > 0:
-                del self.ev_edge[:keep], self.ev_bundle[:keep], self.ev_flags[:keep]
+                del self.ev_edge[:keep], self.ev_delta[:keep], self.ev_state[:keep]
         res = dict(jumps=list(self.jumps), count=count, a=a_pin, b=b_pin, fault=fault,
                    n_updates=self.n_updates, illegal_count=self.ill_count)
         if trace:
@@ -333,7 +390,9 @@ class Core:
                                            "j", "base", "neg", "bin")})
             res.update(prod=prod, pn=pn, cosn=cosn, sinn=sinn, pa=pa, pb=pb, g=g, m1=m1,
                        m2=m2, c1=c1, c12=c12, c2=c2, phase_c=phase_c, harm=self.harm,
-                       count_phase=count_ph, ill=ill, t=t)
+                       count_phase=count_ph, ill=ill, t=t, travel=mon["travel"],
+                       mon_hold=mon["hold"], excl=mon["excl"], ref=mon["ref"],
+                       loaded=flags[:, 2])
         return res
 
     def schedule_samples(self):
@@ -344,15 +403,19 @@ class Core:
         return [(kind, k, g, None if e is None else int(np.searchsorted(t, e, side="right")))
                 for kind, k, g, e in self.sched]
 
-    def _schedule(self, u1r, u2r, t):
-        """The estimator's decisions, one per sample, in order (see the module text)."""
+    def _schedule(self, u1r, u2r, t, clip):
+        """The monitor on every sample and the estimator's decisions, in sample order (see
+        the module text and sim/model/monitor.py). Returns the monitor's per-sample flags
+        (loss, over, stuck, glitch, hold, excl; ref: the radius checks are armed;
+        travel: S after the sample)."""
         cfg = self.cfg
-        est, lut = self.est, self.lut
+        est, lut, mon = self.est, self.lut, self.mon
+        mregs = cfg.monitor_regs()
         g_eng, peak, reset_pend, first = self.g_eng, self.peak, self.reset_pend, self.first
-        upd, settle, free_at, ph_last = self.upd, self.settle, self.free_at, self.ph_last
+        upd, settle, free_at, s_last = self.upd, self.settle, self.free_at, self.s_last
         skip, cover, lfsr, uncal = self.skip, self.cover, self.lfsr, self.uncal
         jf, jl, armed, freeze = self.jf, self.jl, self.armed, self.freeze
-        ev_edge, ev_bundle, ev_flags = self.ev_edge, self.ev_bundle, self.ev_flags
+        ev_edge, ev_state = self.ev_edge, self.ev_state
         sched, jumps, requests = self.sched, self.jumps, self.requests
         n_updates = self.n_updates
         lam_k = min(max(cfg.lam_k, 1), 23)
@@ -361,13 +424,39 @@ class Core:
         n = len(u1r)
         k0 = self.k0
         amax = np.minimum(np.maximum(np.abs(u1r), np.abs(u2r)), 32767).tolist()
+        r1l, r2l, clipl = u1r.tolist(), u2r.tolist(), clip.tolist()
         tl = t.tolist()
-        blk_lo = blk_hi = 0           # fine phase of samples [blk_lo, blk_hi) under one bundle
-        blk_phase = None
+        out = {f: np.zeros(n, dtype=bool) for f in ("loss", "over", "stuck", "glitch",
+                                                     "hold", "excl", "ref")}
+        travel = np.zeros(n, dtype=np.int64)
+        blk_lo = blk_hi = 0           # the fast path of samples [blk_lo, blk_hi) under one
+        blk = None                    # bundle event (computed a block at a time)
         for k in range(n):
+            tk = tl[k]
+            if k >= blk_hi:
+                # the state in force for t_k, up to the first sample that sees the next event
+                i = bisect.bisect_left(ev_edge, tk)
+                bundle, b_uncal, _, b_loaded = ev_state[i - 1]
+                blk_lo, blk_hi = k, min(n, k + 256)
+                if i < len(ev_edge):
+                    blk_hi = min(blk_hi, int(np.searchsorted(t, ev_edge[i], side="right")))
+                fr = _front(u1r[k:blk_hi], u2r[k:blk_hi], bundle, lut)
+                blk = (fr["ax"].tolist(), fr["ay"].tolist(), fr["phase"].tolist(),
+                       (not b_uncal) or b_loaded, fr["xn"].tolist(), fr["yn"].tolist())
+            j = k - blk_lo
+            ph = blk[2][j]
+            # ---- the monitor (every sample) ----
+            s_prev = mon.travel()      # S after the previous sample (the gate's input)
+            loss, over, stuck, glitch, hold, excl = mon.step(
+                r1l[k], r2l[k], blk[0][j], blk[1][j], blk[4][j], blk[5][j], ph, blk[3],
+                clipl[k], mregs)
+            out["loss"][k], out["over"][k], out["stuck"][k] = loss, over, stuck
+            out["glitch"][k], out["hold"][k], out["excl"][k] = glitch, hold, excl
+            out["ref"][k] = blk[3]
+            travel[k] = mon.travel()
+            # ---- the estimator ----
             if k0 + k in requests:
                 reset_pend = True
-            tk = tl[k]
             if tk < free_at:
                 peak = max(peak, amax[k])
                 continue
@@ -385,33 +474,26 @@ class Core:
                 cover = 0             # a hand-over needs all octants since the reset, too
                 free_at = tk + RESET_STAGE + START_DELAY + CYCLES["reset"]
                 continue
-            # the candidate: decided on s when its fine phase is known
+            # the candidate: decided on s when its fine phase and the monitor's verdict
+            # are known
             peak_before = peak        # the warm-up's gain check sees the samples before it
             peak = max(peak, amax[k])
             s = tk + PHASE_STAGE
             free_at = s
-            x1, x2 = int(u1r[k]) << g_eng, int(u2r[k]) << g_eng
+            if excl:
+                continue              # not trusted (monitor; clipped samples too)
+            x1, x2 = r1l[k] << g_eng, r2l[k] << g_eng
             if not (-32768 <= x1 <= 32767 and -32768 <= x2 <= 32767):
                 reset_pend = True
                 continue
             if skip:
                 skip -= 1
                 continue
-            if k >= blk_hi:
-                blk_lo = k
-                blk_hi = min(n, k + 256)
-                i = bisect.bisect_left(ev_edge, tk)
-                b = ev_bundle[i - 1]
-                if i < len(ev_edge) and ev_bundle[i] != ev_bundle[i - 1]:
-                    # a program still running commits on edge ev_edge[i]: the block ends
-                    # at the first sample that sees that commit
-                    blk_hi = min(blk_hi, int(np.searchsorted(t, ev_edge[i], side="right")))
-                blk_phase = _front(u1r[k:blk_hi], u2r[k:blk_hi], b, lut)["phase"]
-            ph = int(blk_phase[k - blk_lo])
-            step = ((ph - ph_last + 4096) & 8191) - 4096
-            if abs(step) < cfg.gate:
+            # the travel since the last update (smoothed: noise at standstill does not
+            # pass), as of the sample before the candidate
+            if abs(((s_prev - s_last + (1 << 19)) & 0xFFFFF) - (1 << 19)) < cfg.gate:
                 continue
-            ph_last = ph
+            s_last = s_prev
             cover |= 1 << (ph >> 10)
             skip, lfsr = lfsr & 15, lfsr_step(lfsr)
             ok = est.run("update", x1=x1, x2=x2, lam_k=lam_k, freeze=freeze)
@@ -449,27 +531,26 @@ class Core:
                 xdone = done + START_DELAY + CYCLES["extract"]
                 free_at = xdone
                 if okx:
-                    ev_bundle.append((g_eng, *est.out[:5]))
+                    self._event(xdone, ("commit", (g_eng, *est.out[:5])))
                     sched.append(("update", k0 + k, g_eng, xdone))
                     uncal = 0
                     cover = 0
                     armed = True
                 else:
-                    ev_bundle.append(ev_bundle[-1])
+                    self._event(xdone, ("invalid",))
                     sched.append(("update", k0 + k, g_eng, None))
-                ev_flags.append((uncal, 0 if okx else 1))
-                ev_edge.append(xdone)
-                if ev_bundle[-1] != ev_bundle[-2]:
-                    # samples from the first one that sees it need their phase recomputed
-                    blk_hi = min(blk_hi, int(np.searchsorted(t, xdone, side="right")))
+                # samples from the first one that sees it need their fast path recomputed
+                blk_hi = min(blk_hi, int(np.searchsorted(t, xdone, side="right")))
             else:
                 sched.append(("update", k0 + k, g_eng, None))
             settle = min(settle + 1, 1023)
         self.g_eng, self.peak, self.reset_pend, self.first = g_eng, peak, reset_pend, first
-        self.upd, self.settle, self.free_at, self.ph_last = upd, settle, free_at, ph_last
+        self.upd, self.settle, self.free_at, self.s_last = upd, settle, free_at, s_last
         self.skip, self.cover, self.lfsr, self.uncal = skip, cover, lfsr, uncal
         self.jf, self.jl, self.armed, self.freeze = jf, jl, armed, freeze
         self.n_updates = n_updates
+        out["travel"] = travel
+        return out
 
 
 def run(u1_code, u2_code, cfg: Config = Config(), strobes=None, trace=False):

@@ -36,11 +36,15 @@ def _rnd_shr(v, s):
     return (v + (1 << (s - 1))) >> s
 
 
-def align(code, adc_w):
-    """ADC code (adc_w bits, signed) -> s1.15 MSB-aligned; clip flag at the rails."""
+CLIP_LEVEL = 32512   # CLIP register reset value: |u| >= 0.992 of full scale is clipped
+
+
+def align(code, adc_w, clip_level=CLIP_LEVEL):
+    """ADC code (adc_w bits, signed) -> s1.15 MSB-aligned, and the clip flag: the code
+    is at or near an ADC rail, |u_aligned| >= clip_level (u16; |-32768| = 32768)."""
     code = np.asarray(code, dtype=I64)
-    clip = (code >= (1 << (adc_w - 1)) - 1) | (code <= -(1 << (adc_w - 1)))
-    return code << (16 - adc_w), clip
+    u = code << (16 - adc_w)
+    return u, np.abs(u) >= clip_level
 
 
 def correct(u1r, u2r, g, m1, m2, c1, c12, c2):
@@ -163,18 +167,33 @@ def pulse(cosn, sinn, eps, sin_w, a0=1, b0=1):
 QUAD = {(1, 1): 0, (0, 1): 1, (0, 0): 2, (1, 0): 3}
 
 
-def counter(phase, prod, n, count_w=32, state=None):
+def counter(phase, prod, n, count_w=32, state=None, hold=None):
     """Phase-mode count (rtl/counter.v): count = B + (prod >> 11), B = 4 n W stepping by
     -4 n / +4 n when the phase wraps backwards / forwards (raw = phase - phase_prev >=
     4096 / < -4096; phase_prev = 0 from reset), i.e. floor(4 n Phi / 8192) of the
     unwrapped phase Phi (starting at wrap13(phase_0)). Overspeed: |wrap13(raw)| >= 3072,
     never on the first sample from reset. n: scalar or per-sample array (sampled with the
-    sample). `state` (B, phase_prev, primed) continues a run.
+    sample). hold (per sample, rtl/monitor.v): a held sample changes nothing: its count is
+    the previous sample's (0 before any), phase_prev and B stay, no overspeed; the next
+    sample steps from the last one counted. `state` (B, phase_prev, primed, count)
+    continues a run.
 
     Returns (count, overspeed, state after the last sample)."""
-    b0, ph0, primed = (0, 0, False) if state is None else state
+    b0, ph0, primed, c0 = (0, 0, False, 0) if state is None else state
     phase = np.asarray(phase, dtype=I64)
     n = np.broadcast_to(np.asarray(n, dtype=I64), phase.shape)
+    if hold is not None and np.any(hold):
+        # count the accepted samples alone; a held sample repeats the count before it
+        acc = np.nonzero(~np.asarray(hold, dtype=bool))[0]
+        c_acc, o_acc, st = counter(phase[acc], np.asarray(prod, dtype=I64)[acc], n[acc],
+                                   count_w, (b0, ph0, primed, c0))
+        last = np.full(len(phase), -1, dtype=I64)
+        last[acc] = np.arange(len(acc))
+        last = np.maximum.accumulate(last)
+        count = np.where(last >= 0, c_acc[np.maximum(last, 0)] if len(acc) else 0, c0)
+        ovs = np.zeros(len(phase), dtype=bool)
+        ovs[acc] = o_acc
+        return count.astype(I64), ovs, st
     prev = np.concatenate([[ph0], phase[:-1]]).astype(I64)
     raw = phase - prev
     step = np.where(raw >= 4096, -1, np.where(raw < -4096, 1, 0))
@@ -186,9 +205,9 @@ def counter(phase, prod, n, count_w=32, state=None):
     bacc = b0 + np.cumsum(4 * n * step)
     count = ((bacc + (np.asarray(prod, dtype=I64) >> 11) + (m >> 1)) % m) - (m >> 1)
     if len(phase):
-        state = (int(bacc[-1]), int(phase[-1]), True)
+        state = (int(bacc[-1]), int(phase[-1]), True, int(count[-1]))
     elif state is None:
-        state = (0, 0, False)
+        state = (0, 0, False, 0)
     return count.astype(I64), ovs, state
 
 

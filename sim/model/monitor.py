@@ -1,0 +1,151 @@
+"""Bit-true model of rtl/monitor.v: signal faults, the counter's hold, and the travel.
+
+Beyond the paper. The monitor watches every sample and decides whether its fine phase can
+be trusted (the counter counts it, the estimator may take it), and measures the travel
+along the scale that gates the estimator's updates.
+
+Per sample k (registers as the RTL has them; "stage H" is the clock between the edges
+t + 6 and t + 7, when the sample's fine phase is registered and the counter decides):
+
+  stuck channel  run_c(k) = how many consecutive samples up to k have channel c's code
+                 equal to the previous sample's (0 if it changed at k), saturating at 255.
+                 snap_c = the OTHER channel's corrected value (s2.14, signed) when channel
+                 c's code last changed. Channel c is stuck when run_c(k) >= STUCK_N
+                 (STUCK_N > 0) and the other channel has since moved by at least
+                 STUCK_SPAN (1/8 of the calibrated radius, 6 sigma of 2 % noise between
+                 two samples). Measured on the other channel, not on the phase: with one
+                 channel frozen the phase can stand nearly still while the stage moves.
+                 The other channel moves that far within 58 degrees of motion from any
+                 start (worst: it starts just below its peak and must pass it), typically
+                 far sooner; until then the count follows a distorted phase, and it is
+                 right again once the channel works (the distorted phase does not wind).
+                 A working channel changes its code over that motion (by >= 0.8 % of its
+                 amplitude); standstill with toggling codes is never flagged. Once
+                 detected, the channel stays stuck until its code changes (stk_c).
+  radius         r = max(|u1c|, |u2c|) + min >> 2 + min >> 3 (alpha-max-plus-beta-min,
+                 alpha = 1, beta = 3/8: within -2.8 % .. +6.8 % of the true radius; u16,
+                 s2.14 units: the calibrated circle is 16384). Only while the bundle is a
+                 calibration (`ref`: the estimator has handed over, or one was loaded
+                 through the registers); before that the nominal radius is unknown.
+                 loss = ref and r < LOSS;  over = ref and r > OVER.
+  glitch         the phase acceleration: e = wrap13(phase - pred), pred = 2 ph_a - ph_b
+                 the straight-line prediction from the last two accepted phases;
+                 glitch = GLITCH > 0, the last two samples accepted (chk >= 2) and
+                 |e| > GLITCH. A real stage cannot change its phase velocity by 1/8 of a
+                 period per sample within one sample (that is 5e5 m/s^2 at 1 MS/s on a
+                 4 um scale); noise is far below (2 % noise: sigma(e) ~ 64 units).
+  hold           loss or stuck or glitch or clip (a code at or near an ADC rail,
+                 rtl/correct.v): the sample's phase is not trusted. The counter keeps its
+                 count and its last phase (rtl/counter.v), so when the signal comes back
+                 after less than half a period of motion the count is right. Clipping of
+                 an overdriven signal touches a short arc around each peak, far less than
+                 half a period, so holding those samples loses nothing; a channel stuck
+                 on a rail (a broken line) would otherwise be counted as a phase.
+                 Over-range does not hold (a strong signal still has a good phase).
+  excl           hold, or over-range while it has lasted fewer than OVER_PERSIST
+                 samples: the estimator does not take the sample. A persistent
+                 over-range (the amplitude really grew) is let in again, so the estimator
+                 can follow it (its jump detector fires and it re-fits; the next hand-over
+                 moves the nominal radius, and the flag clears).
+  accepted       not hold: ph_b, ph_a <- ph_a, phase; chk <- min(chk + 1, 2);
+                 S += ((U << 5) - S) >>> 5 (u20.5 smoothed travel, wraps; the difference
+                 is taken as s25; U as it was before this sample: the two sums run side
+                 by side in the RTL), U += wrap13(phase - ph_a) (u20 unwrapped phase,
+                 wraps). Held: chk <- 0, nothing else moves.
+  over run       orun <- over ? min(orun + 1, OVER_PERSIST) : 0 (every sample).
+
+The estimator gates its updates by S (rtl/estimator.v): the travel smoothed over 32
+samples moves by less than 1/4 unit per sample at standstill even with 2 % noise, so
+noise alone no longer passes the gate (the raw phase did, about one sample in 12), while
+creep and motion pass it after every `gate` units of travel, at any speed.
+All widths wrap or saturate as stated: nothing overflows (sim/formal/monitor.sby).
+"""
+from dataclasses import dataclass
+
+STUCK_SPAN = 2048        # s2.14: 1/8 of the calibrated radius
+OVER_PERSIST = 4095      # samples of over-range before it is let in to the estimator
+S_FRAC = 5               # fraction bits of the smoothed travel S (time constant 32)
+U_W = 20                 # unwrapped phase width (wraps)
+S_W = U_W + S_FRAC
+
+
+def wrap13(v):
+    return ((v + 4096) & 8191) - 4096
+
+
+def radius(ax, ay):
+    """alpha-max-plus-beta-min radius estimate of rtl/monitor.v (u16)."""
+    mx, mn = (ax, ay) if ay <= ax else (ay, ax)
+    return mx + (mn >> 2) + (mn >> 3)
+
+
+@dataclass
+class MonitorRegs:
+    """Run-time settings of the monitor (registers RADIUS and MONITOR)."""
+    loss: int = 3277         # RADIUS [15:0]: u16 radius below which the signal is lost (0.2)
+    over: int = 22118        # RADIUS [31:16]: u16 radius above which it is over-range (1.35)
+    glitch: int = 1024       # GLITCH [12:0]: max |phase acceleration| (0: off)
+    stuck_n: int = 8         # GLITCH [23:16]: samples of an unchanged code (0: off)
+
+
+class Monitor:
+    """State of rtl/monitor.v from reset; step() runs one sample."""
+
+    def __init__(self):
+        self.prev = (0, 0)        # the previous sample's aligned codes
+        self.run = [0, 0]         # consecutive unchanged codes per channel
+        self.snap = [0, 0]        # s2.14: the other channel when this one last changed
+        self.stk = [False, False]  # channel detected stuck (until its code changes)
+        self.ph_a = 0             # last accepted phase
+        self.pred = 0             # u13 prediction of the next phase (2 ph_a - ph_b)
+        self.chk = 0              # accepted samples in a row, 0..2
+        self.u = 0                # u20 unwrapped phase of the accepted samples
+        self.s = 0                # u20.5 smoothed travel
+        self.orun = 0             # over-range samples in a row
+
+    def travel(self):
+        """Integer part of S (u20), what the estimator's gate compares."""
+        return self.s >> S_FRAC
+
+    def step(self, r1, r2, ax, ay, xn, yn, phase, ref, clip, regs: MonitorRegs):
+        """One sample: aligned codes r1, r2 (s1.15), magnitudes ax, ay (u15) and signs
+        xn, yn of the corrected signals, fine phase (u13, uncorrected), ref (the bundle
+        is a calibration), clip (a code at or near a rail). Returns (loss, over, stuck,
+        glitch, hold, excl)."""
+        # stuck channel (codes compared with the previous sample's)
+        other = (-ay if yn else ay, -ax if xn else ax)     # the other channel, signed
+        stuck = False
+        changed = (r1 != self.prev[0], r2 != self.prev[1])
+        for c in (0, 1):
+            self.run[c] = 0 if changed[c] else min(self.run[c] + 1, 255)
+            far = abs(other[c] - self.snap[c]) >= STUCK_SPAN
+            det = bool(regs.stuck_n) and self.run[c] >= regs.stuck_n and far
+            self.stk[c] = (self.stk[c] or det) and not changed[c]
+            stuck = stuck or self.stk[c]
+            if changed[c]:
+                self.snap[c] = other[c]
+        self.prev = (r1, r2)
+        # radius
+        r = radius(ax, ay)
+        loss = bool(ref) and r < regs.loss
+        over = bool(ref) and r > regs.over
+        # glitch: the phase against the straight-line prediction
+        e = wrap13(phase - self.pred)
+        glitch = regs.glitch != 0 and self.chk >= 2 and abs(e) > regs.glitch
+        hold = loss or stuck or glitch or bool(clip)
+        excl = hold or (over and self.orun < OVER_PERSIST)
+        # registered at t + 7
+        self.orun = min(self.orun + 1, OVER_PERSIST) if over else 0
+        if not hold:
+            d = wrap13(phase - self.ph_a)
+            self.pred = (phase + d) & 8191
+            self.ph_a = phase
+            self.chk = min(self.chk + 1, 2)
+            diff = ((self.u << S_FRAC) - self.s) & ((1 << S_W) - 1)
+            if diff >> (S_W - 1):
+                diff -= 1 << S_W
+            self.s = (self.s + (diff >> S_FRAC)) & ((1 << S_W) - 1)
+            self.u = (self.u + d) & ((1 << U_W) - 1)
+        else:
+            self.chk = 0
+        return loss, over, stuck, glitch, hold, excl
