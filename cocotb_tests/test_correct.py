@@ -9,7 +9,8 @@ Samples are streamed back to back (one per clock) and with idle gaps (the data i
 carry garbage while valid_i is low).
 
 Directed vectors: zero and full scale at every gain (the gain's saturation both ways),
-the ADC rails (clip), saturation of d = x - m on each channel and just inside it, products
+the ADC rails, the clip level (codes one below, at and one above |u| = clip_i for
+levels 0, 1, 16384, the reset value 32512, 32767, 32768 and 65535, both signs), saturation of d = x - m on each channel and just inside it, products
 to the rails and just inside, the |u| = 2 (32768) saturation of the magnitudes, the carry
 of the low 13 bits of p12 + p2 into v2 >> 13 (exactly 2**13 and one short of it, around
 zero, both signs), the truncation of (v ^ sign) >> 13 at multiples of 2**13 +-1 for both
@@ -35,6 +36,7 @@ import cocotb  # noqa: E402
 
 S16 = (-32768, 32767)
 BUNDLE0 = (0, 0, 0, 8192, 0, 8192)      # g, m1, m2, c1, c12, c2 (reset values)
+CLIP0 = 32512                           # clip_i: the CLIP register's reset value
 
 
 def directed(adc_w):
@@ -45,6 +47,20 @@ def directed(adc_w):
     def code(v16):                       # an s1.15 value as the nearest ADC code
         return max(lo, min(hi, v16 >> sh))
 
+    v = _directed_bundles(code, lo, hi, sh)
+    # the clip level: |u_r| one step (of the ADC) below, at and above it, both signs
+    for level in (0, 1, 16384, CLIP0, 32767, 32768, 65535):
+        for d in (-1, 0, 1):
+            u16 = min(32768, max(0, level + d * (1 << sh)))
+            c = u16 >> sh
+            for cu in {min(c, hi), -min(c, -lo)}:
+                v.append((cu, 0, 0, *BUNDLE0[1:], level))
+                v.append((0, cu, 0, *BUNDLE0[1:], level))
+    return v
+
+
+def _directed_bundles(code, lo, hi, sh):
+    """The corner cases of the gain, offsets and products, at the reset clip level."""
     v = []
     full = [0, 1, -1, 32767, -32768, 32766, -32767, 16383, 16384, -16384, -16385, 8191,
             8192, -8193, 4095, 4096, -4097]
@@ -91,7 +107,7 @@ def directed(adc_w):
                 v.append((p >> sh, -(p >> sh), 0, 0, 0, -1, 0, 1))
             # with an offset, every e is reachable for any ADC width
             v.append((0, 0, 0, -p, -p, 1, 0, 1))
-    return v
+    return [t + (CLIP0,) for t in v]
 
 
 def random_vectors(rng, n, adc_w):
@@ -110,7 +126,8 @@ def random_vectors(rng, n, adc_w):
             u1, u2 = rng.randint(lo, hi), rng.randint(lo, hi)
             b = (rng.randint(0, 3), rng.randint(*S16), rng.randint(*S16),
                  rng.randint(*S16), rng.randint(*S16), rng.randint(*S16))
-        v.append((u1, u2, *b))
+        clip = CLIP0 if rng.random() < 0.5 else rng.randint(0, 65535)
+        v.append((u1, u2, *b, clip))
     return v
 
 
@@ -120,9 +137,9 @@ def model(vec, adc_w):
     from sim.model import fastpath as fp
 
     a = np.array(vec, dtype=np.int64)
-    u1, u2, g, m1, m2, c1, c12, c2 = a.T
-    r1, k1 = fp.align(u1, adc_w)
-    r2, k2 = fp.align(u2, adc_w)
+    u1, u2, g, m1, m2, c1, c12, c2, clip = a.T
+    r1, k1 = fp.align(u1, adc_w, clip)
+    r2, k2 = fp.align(u2, adc_w, clip)
     fr = fp.correct(r1, r2, g, m1, m2, c1, c12, c2)
     amax = np.minimum(np.maximum(np.abs(r1), np.abs(r2)), 32767)
     early = zip(r1, r2, amax, k1 | k2, fr["nsat"], fr["dsat"])
@@ -131,7 +148,7 @@ def model(vec, adc_w):
             [tuple(int(x) for x in t) for t in late])
 
 
-PORTS_IN = ("u1_i", "u2_i", "g_i", "m1_i", "m2_i", "c1_i", "c12_i", "c2_i")
+PORTS_IN = ("u1_i", "u2_i", "g_i", "m1_i", "m2_i", "c1_i", "c12_i", "c2_i", "clip_i")
 
 
 async def stream(dut, vec, gaps, rng, adc_w):

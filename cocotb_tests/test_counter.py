@@ -3,7 +3,8 @@ the core's timing (sim.model.core), and against an independent reference compute
 from the test's own unwrapped phase.
 
 Timing (rtl/counter.v; sim.model.core's *_AT constants, edges after the core's strobe
-edge t of a sample): valid_i, phase_i and n_i are sampled on t + PHASE_AT + 1, prod_i =
+edge t of a sample): valid_i, hold_i, phase_i and n_i are sampled on t + PHASE_AT + 1,
+prod_i =
 n * phase on t + NTH_AT + 1 (rtl/lut.v registers it on t + NTH_AT), mode_i on
 t + LATENCY; count_o, ovs_o and valid_o show the sample after edge t + LATENCY. The Eq. 12
 pulses of a sample (pv_i, a_i, b_i) are sampled on t + EDGE_AT (rtl/pulse.v registers
@@ -27,6 +28,12 @@ between pulses.
     flagged);
   * while one n was used since rst: count == floor(4 n Phi / 8192) (+ the preload) wrapped,
     directly.
+
+Held samples (hold_i, rtl/monitor.v's verdict that the phase is not trusted) carry a
+garbage phase: in phase mode their count is the last one (0 after rst), they never flag
+overspeed, and the next sample steps from the last trusted phase (the reference's Phi
+does not move for them; the step of the next trusted sample is the motion over the whole
+outage, up to half a period); the edge mode ignores hold_i.
 
 Stimulus: an unwrapped integer phase Phi (u13 units, 8192 per period) with steps in
 [-4096, 4095]; phase_i = Phi mod 8192. After rst Phi starts in [-4096, 4095] (so it
@@ -96,6 +103,7 @@ class PhaseRef:
 
     def reset(self, b0=0):
         self.phi = None          # unwrapped phase of the last sample (None: none since rst)
+        self.last = 0            # the last count (count_o after rst: 0)
         self.b0 = b0
         self.b = b0              # 4 n W summed over the period steps of Phi (+ b0)
         self.w_prev = 0          # W = floor(Phi / 8192) of the last sample (0 before)
@@ -124,7 +132,12 @@ class PhaseRef:
         self.pure_n = n if self.pure_n in (None, n) else False
         self.phi = phi
         direct = wrap_s(self.b0 + (4 * n * phi) // 8192, self.w) if self.pure_n else None
-        return wrap_s(count, self.w), int(ovs), direct
+        self.last = wrap_s(count, self.w)
+        return self.last, int(ovs), direct
+
+    def held(self):
+        """(count, ovs, direct) of a held sample: nothing moves."""
+        return self.last, 0, None
 
 
 class Decoder:
@@ -165,7 +178,20 @@ def mix_step(rng, n):
 
 
 def segment_steps(rng, kind, n, mode, length):
-    """Per sample (phase step, n, mode, forced (A, B) or None) of one segment."""
+    """Per sample (phase step, n, mode, forced (A, B) or None, hold) of one segment; a
+    held sample's step is ignored (the next trusted sample's step is the whole motion)."""
+    if kind == "hold":
+        # outages of 1..6 samples between trusted samples, steps up to half a period
+        out = []
+        while len(out) < length:
+            if rng.random() < 0.3:
+                out += [(0, n, mode, None, True)] * rng.randint(1, 6)
+            out.append((mix_step(rng, n), n, mode, None, False))
+        return out
+    return [st + (False,) for st in _segment_steps(rng, kind, n, mode, length)]
+
+
+def _segment_steps(rng, kind, n, mode, length):
     out = []
     if kind == "mix":
         out = [(mix_step(rng, n), n, mode, None) for _ in range(length)]
@@ -238,7 +264,7 @@ def build(plan, count_w, rng):
 
     ref = PhaseRef(count_w, rng)
     samples, ri = [], 0
-    for ts_, si, kind, i, (step, n, mode, ab) in raw:
+    for ts_, si, kind, i, (step, n, mode, ab, hold) in raw:
         e_ph = ts_ + T_PHASE
         while ri < len(resets) and resets[ri] < e_ph:
             ref.reset(preloads.get(resets[ri], (0, 0))[0])
@@ -248,13 +274,16 @@ def build(plan, count_w, rng):
         if lost:
             phi = rng.randint(0, 8191)
             cnt = ovs = direct = None
+        elif hold:                   # a garbage phase; nothing moves
+            phi = rng.randint(0, 8191)
+            cnt, ovs, direct = ref.held()
         else:
             phi = ref.start_phi() if ref.phi is None else ref.phi + step
             cnt, ovs, direct = ref.sample(phi, n)
         ab = ab or AB[((phi * n) % 8192) >> 11]
         samples.append(dict(t=ts_, seg=si, kind=kind, idx=i, phase=phi % 8192, n=n,
                             mode=mode, a=ab[0], b=ab[1], lost=lost, count_ph=cnt, ovs=ovs,
-                            direct=direct, phi=None if lost else phi))
+                            direct=direct, hold=hold, phi=None if lost or hold else phi))
     return samples, resets, preloads
 
 
@@ -308,8 +337,9 @@ def model_trace(samples, resets, preloads, count_w, length):
         t = np.array([samples[k]["t"] for k in ks], dtype=np.int64)
         ph = np.array([samples[k]["phase"] for k in ks], dtype=np.int64)
         n = np.array([samples[k]["n"] for k in ks], dtype=np.int64)
+        hold = np.array([samples[k]["hold"] for k in ks], dtype=bool)
         cnt, ovs, _ = fp.counter(ph, ph * n, n, count_w,
-                                 state=(b0, 0, False) if b0 else None)
+                                 state=(b0, 0, False, 0) if b0 else None, hold=hold)
         tp = np.array([samples[k]["t"] for k in ps], dtype=np.int64)
         a = np.array([samples[k]["a"] for k in ps], dtype=np.int64)
         b = np.array([samples[k]["b"] for k in ps], dtype=np.int64)
@@ -363,6 +393,9 @@ def make_plan(count_w, rng):
     plan = [
         # (kind, n, mode, length, before, check)
         ("mix", 100, 0, 400, None, None),               # from power-up (initial values)
+        ("hold", 100, 0, 400, None, "hold"),
+        ("hold", r(1, 511), 0, 300, "busy", "hold"),
+        ("hold", 64, 1, 200, None, None),                # edge mode ignores hold_i
         ("threshold", 37, 0, 0, None, "threshold"),
         ("fast", r(1, 511), 0, 300, "drain", None),
         ("fast", r(1, 511), 0, 300, "busy", None),
@@ -427,6 +460,7 @@ async def counter_sequences(dut):
         dut.rst.value = int(e in rst)
         x = ph_at.get(e)
         dut.valid_i.value = int(x is not None)
+        dut.hold_i.value = int(x["hold"]) if x else rng.randint(0, 1)
         dut.phase_i.value = x["phase"] if x else rng.randint(0, 8191)
         dut.n_i.value = x["n"] if x else rng.randint(0, 511)
         x = prod_at.get(e)
@@ -478,6 +512,11 @@ async def counter_sequences(dut):
                 f"segment {si} ({kind}) did not wrap the counter"
         elif check == "zero":                        # the x4 count runs through zero
             assert min(c) < -200 and max(c) > 200, (min(c), max(c))
+        elif check == "hold":                        # held samples kept their count
+            held = [x for x in seg if x["hold"]]
+            assert len(held) >= 20 and all(
+                got[x["t"] + T_OUT][1] == x["count_ph"] and got[x["t"] + T_OUT][2] == 0
+                for x in held), f"segment {si}: held samples"
         elif check == "threshold":
             o = [got[x["t"] + T_OUT][2] for x in seg]
             assert 0 < sum(o) < len(o), (si, sum(o))

@@ -28,20 +28,30 @@ Scenarios (one simulator process each, from power-up):
   highspeed  calibration at 0.02 fs, the signal frequency ramped to 0.4 fs, held, ramped
              to standstill, a dwell (HIGHSPEED); n = 10, A/B edges 3 clocks apart
              (backlog, overflow, catch-up); overspeed flags (3/4 pi per sample) at the top
+  faults     a calibration (the model's final bundle on the same recording) staged in
+             0x0b..0x10 and LOADed (CTRL bit 1) before the first sample, so the radius
+             checks are armed from the start while "not calibrated" stays up until the
+             estimator hands over; during one move: the signal lost (amplitude x 0.03),
+             channel 1 stuck, single-sample glitches (a point at a random angle), a short
+             over-range (amplitude x 1.6) and clipped samples (FAULT_EVENTS); the monitor's
+             registers written to non-default values
 
 Beyond RTL == model, independent checks: every change of m_a / m_b (paced outputs:
 scenarios other than paper) is on a clock edge, never both pins on one edge, at least
 ab_sep clocks after the previous one, and an x4 decoder of the pins in the test ends on
-the final count once the backlog is paid (check_ab_pins); in highspeed the count stays
-within pitch / 8 of the true position (no slips) from calibration on (check_truth).
+the final count once the backlog is paid (check_ab_pins); in highspeed and faults the
+count of every sample the monitor trusts stays within pitch / 8 of the true position (no
+slips) from calibration on (check_truth), so every fault is ridden through.
 
 After the last sample the bench reads the registers back through the registered read
 port (reg_re with reg_addr for one edge, reg_rdata after it): ID (0x1f), the run-time
 registers (0x01..0x07, HARM 0x12, JUMP 0x13, ABGEN 0x15, AB_BOUND 0x16), count (0x08),
 illegal count (0x09), updates (0x11), jumps (0x14), status (0x00: counter mode, uncal and
-hold), gain and coefficients (0x0b..0x10), the A/B backlog (0x17) must equal the model's
-final state, and the sticky faults (0x0a) the OR of all fault words (7 bits); writing ones
-to 0x0a clears those bits (0x15, then 0, then 0x40 for the A/B overflow, then 0x7f).
+hold, loaded), gain and coefficients (0x0b..0x10), the A/B backlog (0x17), CLIP, RADIUS,
+MONITOR (0x18..0x1a) and the travel (0x1c) must equal the model's final state, a capture
+(CTRL bit 2) the final count (0x1b), and the sticky faults (0x0a) the OR of all fault
+words (11 bits); writing ones to 0x0a clears those bits (0x15, then 0, then 0x40 for the
+A/B overflow, then 0x7f, then 0x7ff).
 The model's final bundle is that of a phantom sample strobed (in the model only) after every
 program has ended; a reset request on that phantom keeps it from starting an update.
 
@@ -68,6 +78,7 @@ CORE_SOURCES = fqtb.core_sources()
 
 OUT_LATENCY = core_model.LATENCY   # sim/model/core.py: the pipeline timing the RTL must have
 T_FIRST = 16                # first strobe edge (sim/harness/harness.cpp)
+T_FIRST_LOAD = 32           # with a LOAD before it (more register writes)
 REG_ORDER = ("interp", "eps", "lam_k", "kappa", "period", "settle", "gate")   # addr 1..7
 BACKLOG = 0x17              # A/B backlog register (read every sample during the run)
 
@@ -99,7 +110,17 @@ SCENARIOS = {
     # overflow (bound 1024), and the catch-up in the final dwell
     "highspeed": dict(exact=1, n={"icarus": 4000, "verilator": 24000},
                       regs=dict(interp=10, ab_sep=3, ab_bound=1024)),
+    # signal faults during a move, a calibration loaded before the first sample
+    "faults": dict(exact=1, n={"icarus": 6000, "verilator": 30000},
+                   regs=dict(interp=100, clip=32000, loss=4000, over=21000, glitch=900,
+                             stuck_n=6), load=True),
 }
+# faults: (fraction of the recording where it starts, what, length in samples); the move
+# runs from 0.05 to 0.95 of the recording at about 1800 samples per signal period at any
+# length, so a loss or a stuck channel spans 1/6 of a period (the monitor needs 1/16 of
+# travel to call a channel stuck), the glitches 10 samples spread over 1000
+FAULT_EVENTS = ((0.30, "loss", 300), (0.45, "stuck", 300), (0.55, "glitch", 1000),
+                (0.72, "over", 150), (0.80, "clip", 60))
 
 # highspeed: (start, end) of each phase as fractions of the recording, and the signal
 # frequency (f / fs) there: calibration at 0.02 fs, linear ramps, 0.4 fs, stop, dwell
@@ -129,11 +150,33 @@ def abgen_word(cfg):
     return cfg.ab_src << 8 | cfg.ab_sep
 
 
+def radius_word(cfg):
+    """RADIUS (0x19): [15:0] loss, [31:16] over-range thresholds."""
+    return cfg.over << 16 | cfg.loss
+
+
+def monitor_word(cfg):
+    """MONITOR (0x1a): [12:0] glitch threshold, [23:16] stuck samples."""
+    return cfg.stuck_n << 16 | cfg.glitch
+
+
 def setup_writes(cfg):
-    """[(addr, data)] written on edges 0, 1, ... before the first strobe."""
-    return ([(a, getattr(cfg, name)) for a, name in zip(range(1, 8), REG_ORDER)] +
-            [(0x00, ctrl_word(cfg)), (0x12, harm_word(cfg)), (0x13, jump_word(cfg)),
-             (0x15, abgen_word(cfg)), (0x16, cfg.ab_bound)])
+    """[(addr, data)] written on edges 0, 1, ... before the first strobe; with cfg.loads
+    (one LOAD) the bundle staged in 0x0b..0x10, then CTRL with bit 1 on its edge w."""
+    w = ([(a, getattr(cfg, name)) for a, name in zip(range(1, 8), REG_ORDER)] +
+         [(0x00, ctrl_word(cfg)), (0x12, harm_word(cfg)), (0x13, jump_word(cfg)),
+          (0x15, abgen_word(cfg)), (0x16, cfg.ab_bound), (0x18, cfg.clip),
+          (0x19, radius_word(cfg)), (0x1A, monitor_word(cfg))])
+    for edge, bundle in cfg.loads:
+        w += [(0x0B + i, v & 0xFFFF) for i, v in enumerate(bundle)]
+        assert edge == len(w), (edge, len(w))
+        w.append((0x00, ctrl_word(cfg) | 2))
+    return w
+
+
+def load_edge(cfg):
+    """The edge of the LOAD write that setup_writes() makes for cfg (loads still empty)."""
+    return len(setup_writes(cfg)) + 6
 
 
 def backlog_at(count, t, reads, cfg):
@@ -194,7 +237,8 @@ def recording(scenario, n):
     fs, pitch = 1e6, PITCH
     T = n / fs
     sc = n / 20000          # distances scale with the length: the same speeds for any n
-    seed = {"uniform": 1, "gaps": 2, "paper": 3, "reset_req": 4, "highspeed": 5}[scenario]
+    seed = {"uniform": 1, "gaps": 2, "paper": 3, "reset_req": 4, "highspeed": 5,
+            "faults": 6}[scenario]
     moves = []
     if scenario == "uniform":
         moves = [(160, 0.5, 0.05), (-120, 0.25, 0.6)]       # (um, duration, start) / T
@@ -208,6 +252,10 @@ def recording(scenario, n):
     elif scenario == "reset_req":
         moves = [(140, 0.4, 0.05), (160, 0.3, 0.6)]
         sig = siggen.Signal(A1=0.5, A2=0.55)
+    elif scenario == "faults":
+        moves = [(200, 0.9, 0.05)]
+        span = {what: (int(at * n), int(at * n) + ln) for at, what, ln in FAULT_EVENTS}
+        sig = siggen.Signal(dropout=(span["loss"] + (0.03,), span["over"] + (1.6,)))
     else:
         sig = siggen.Signal()
     x = highspeed_motion(n) if scenario == "highspeed" else np.zeros(n)
@@ -215,6 +263,16 @@ def recording(scenario, n):
         x = x + siggen.s_curve(n, fs, dist * sc, t_move * T, t_start * T)
     u1, u2, _ = siggen.encode(x, pitch, sig, seed=seed)
     rng = np.random.default_rng(seed + 100)
+    if scenario == "faults":
+        a, b = span["stuck"]
+        u1[a:b] = u1[a]                                  # channel 1 frozen
+        a, b = span["glitch"]
+        for k in np.linspace(a, b, 12).astype(int)[1:-1]:
+            g = rng.uniform(0, 2 * np.pi)                # one sample at a random angle
+            u1[k] = int(0.6 * 32767 * np.cos(g))
+            u2[k] = int(0.54 * 32767 * np.sin(g))
+        a, b = span["clip"]
+        u1[a:b] = 32767                                  # on the rail
     if scenario == "gaps":
         # rail spikes in the second half (after the small signals got input gain 2): clip
         # flags, gain saturation, offset/correction saturation
@@ -228,18 +286,33 @@ def recording(scenario, n):
         t = T_FIRST + np.concatenate([[0], np.cumsum(gaps[:-1])])
     else:
         div = 24 if scenario == "paper" else 36
-        t = T_FIRST + div * np.arange(n, dtype=np.int64)
+        t0 = T_FIRST_LOAD if SCENARIOS[scenario].get("load") else T_FIRST
+        t = t0 + div * np.arange(n, dtype=np.int64)
     requests = []
     if scenario == "reset_req":
         requests = pick_requests(u1, u2, t)
     return u1.astype(np.int64), u2.astype(np.int64), t.astype(np.int64), requests
 
 
-def _config(scenario, resets):
+def _config(scenario, resets, n=None):
+    """The model's configuration of a scenario; with a LOAD (faults) the bundle to load
+    is the model's final bundle on the same recording of n samples."""
     from sim.model import core
     sc = SCENARIOS[scenario]
-    return core.Config(TABLE="exact" if sc["exact"] else "paper", resets=list(resets),
-                       **sc["regs"])
+    cfg = core.Config(TABLE="exact" if sc["exact"] else "paper", resets=list(resets),
+                      **sc["regs"])
+    if sc.get("load") and n is not None:
+        cfg.loads = [(load_edge(cfg), calibration(scenario, n))]
+    return cfg
+
+
+def calibration(scenario, n):
+    """A saved calibration: the bundle in use after the model's run without a LOAD."""
+    from sim.model import core
+    u1, u2, t, _ = recording(scenario, n)
+    r = core.run(u1, u2, _config(scenario, []), strobes=t, trace=True)
+    assert r["fault"][-1] >> core.FAULT_BITS["uncal"] & 1 == 0, "never calibrated"
+    return tuple(int(r[f][-1]) for f in ("g", "m1", "m2", "c1", "c12", "c2"))
 
 
 # where in the recording the reset requests go (fractions of its length): early enough
@@ -287,7 +360,7 @@ def model_run(scenario, n):
     u1, u2, t, requests = recording(scenario, n)
     start_delay = getattr(core, "START_DELAY", 0)
     t_ph = int(t[-1]) + core.PHASE_STAGE + start_delay + max(CYCLES.values()) + 16
-    cfg = _config(scenario, [k for k, _ in requests] + [n])
+    cfg = _config(scenario, [k for k, _ in requests] + [n], n)
     res = core.run(np.append(u1, u1[-1]), np.append(u2, u2[-1]), cfg,
                    strobes=np.append(t, t_ph), trace=True)
     return u1, u2, t, requests, t_ph, res
@@ -351,29 +424,56 @@ def check_ab_pins(ab_log, ab_init, bench, cfg, final_count, scenario):
                                 f"after {len(ev)} edges, the counter ended on {final_count}")
 
 
-def check_truth(res, n, log):
-    """highspeed: from the first calibrated sample on, the phase-mode count minus 4 n x /
-    pitch (the truth in counts) stays within pitch / 8 of its median (no slips), while
-    the signal frequency reaches 0.4 fs; the A/B backlog overflowed and overspeed (>= 3/4
-    pi per sample) was flagged, so the run covers both."""
+def check_truth(scenario, res, n, log):
+    """The phase-mode count minus 4 n x / pitch (the truth in counts) stays within pitch /
+    8 of its median (no slips) on every sample the monitor trusts (no loss, stuck,
+    glitch or clip flag), from calibration on (faults: from the first sample: a calibration
+    was loaded), except while an injected loss, stuck channel or clip lasts: the count is
+    held, or follows a distorted phase until the stuck channel is flagged, and must be
+    right again as soon as the signal is back. highspeed: the signal frequency reaches 0.4 fs, the A/B backlog overflowed
+    and overspeed (>= 3/4 pi per sample) was flagged; faults: every fault was flagged."""
     import numpy as np
-    cfg = _config("highspeed", [])
-    x = highspeed_motion(n)
+    cfg = _config(scenario, [])
     f = np.asarray(res["fault"][:n])
-    cal = np.nonzero(((f >> core_model.FAULT_BITS["uncal"]) & 1) == 0)[0]
-    assert len(cal), "highspeed: never calibrated"
+    bit = core_model.FAULT_BITS
+
+    def flag(name):
+        return ((f >> bit[name]) & 1).astype(bool)
+
+    if scenario == "highspeed":
+        x = highspeed_motion(n)
+        cal = np.nonzero(~flag("uncal"))[0]
+        assert len(cal), "highspeed: never calibrated"
+        start = int(cal[0])
+        fmax = float(np.diff(x).max() / PITCH)
+        assert fmax > 0.399, f"highspeed: the motion peaks at {fmax:.3f} fs, not 0.4 fs"
+        need = ("abovf", "ovs")
+    else:
+        from sim import siggen
+        x = sum(siggen.s_curve(n, 1e6, d * n / 20000, tm * n / 1e6, ts * n / 1e6)
+                for d, tm, ts in [(200, 0.9, 0.05)])
+        start = 0
+        need = ("loss", "stuck", "glitch", "over", "clip")
+        assert flag("uncal")[0] and not flag("uncal")[-1] and res["loaded"][0] == 1
+        during = np.zeros(n, dtype=bool)
+        for at, what, ln in FAULT_EVENTS:
+            if what in ("loss", "stuck", "clip"):
+                during[int(at * n):int(at * n) + ln] = True
     per_period = 4 * cfg.interp                  # counts per signal period
+    trusted = ~(flag("loss") | flag("stuck") | flag("glitch") | flag("clip"))
+    trusted[:start] = False
+    if scenario == "faults":
+        trusted &= ~during
     err = np.asarray(res["count"][:n]) - per_period * x / PITCH
-    e = err[cal[0]:] - np.median(err[cal[0]:])
+    e = err[trusted] - np.median(err[trusted])
     worst = float(np.abs(e).max())
-    fmax = float(np.diff(x).max() / PITCH)
-    assert fmax > 0.399, f"highspeed: the motion peaks at {fmax:.3f} fs, not 0.4 fs"
-    assert worst < SLIP * per_period, (f"highspeed: the counter is {worst:.2f} counts off "
+    assert worst < SLIP * per_period, (f"{scenario}: the counter is {worst:.2f} counts off "
                                        f"the truth (a slip is > {SLIP * per_period:g})")
-    for bit in ("abovf", "ovs"):
-        assert ((f >> core_model.FAULT_BITS[bit]) & 1).any(), f"highspeed: no {bit} flag"
-    log.info("highspeed: peak %.3f fs, counter within %.2f counts (pitch/%d) of the truth "
-             "from sample %d", fmax, worst, per_period, int(cal[0]))
+    for name in need:
+        assert flag(name).any(), f"{scenario}: no {name} flag"
+    log.info("%s: counter within %.2f counts (pitch/%d) of the truth on %d trusted samples "
+             "from sample %d; flags %s", scenario, worst, per_period, int(trusted.sum()),
+             start, {nm: int(flag(nm).sum()) for nm in need})
 
 
 @cocotb.test()
@@ -391,7 +491,7 @@ async def core_run(dut):
     # ---- schedule: slot e = between edge e and e + 1 -------------------------------------
     strobe = {int(e): k for k, e in enumerate(t)}
     reads = {int(e) + OUT_LATENCY: k for k, e in enumerate(t)}   # slot t_k + LATENCY
-    cfg = _config(scenario, [])
+    cfg = _config(scenario, [], n)
     reg_writes = dict(enumerate(setup_writes(cfg)))             # edges 0, 1, ...
     assert max(reg_writes) < int(t[0])
     for k, w in requests:
@@ -542,8 +642,13 @@ async def core_run(dut):
     check("illegal count 0x09", await rd(0x09), int(np.sum(res["ill"][:n])) & 0xFFFF)
     check("updates 0x11", await rd(0x11), u32(res["n_updates"]))
     fault_ph = int(res["fault"][ph])
-    check("status 0x00 [3, 1:0] (counter mode, uncal, hold)", (await rd(0x00)) & 0xB,
-          ctrl_word(cfg) | ((fault_ph >> 4) & 1) | (((fault_ph >> 5) & 1) << 1))
+    check("status 0x00 [4, 3, 1:0] (loaded, counter mode, uncal, hold)",
+          (await rd(0x00)) & 0x1B, ctrl_word(cfg) | ((fault_ph >> 4) & 1)
+          | (((fault_ph >> 5) & 1) << 1) | int(res["loaded"][ph]) << 4)
+    check("CLIP 0x18", await rd(0x18), cfg.clip)
+    check("RADIUS 0x19", await rd(0x19), radius_word(cfg))
+    check("MONITOR 0x1a", await rd(0x1A), monitor_word(cfg))
+    check("travel 0x1c", await rd(0x1C), int(res["travel"][n - 1]))   # real samples only
     check("gain 0x0b", await rd(0x0B), int(res["g"][ph]))
     check("HARM 0x12", await rd(0x12), harm_word(cfg))
     check("JUMP 0x13", await rd(0x13), jump_word(cfg))
@@ -567,7 +672,12 @@ async def core_run(dut):
     await wr(0x0A, 0x40)
     check("sticky after writing 0x40", await rd(0x0A), sticky & ~0x55)
     await wr(0x0A, 0x7F)
-    check("sticky after writing 0x7f", await rd(0x0A), 0)
+    check("sticky after writing 0x7f", await rd(0x0A), sticky & ~0x7F)
+    await wr(0x0A, (1 << core_model.FAULT_W) - 1)
+    check("sticky after writing all ones", await rd(0x0A), 0)
+    # a capture (CTRL bit 2) of the count; reading the count register does not latch
+    await wr(0x00, ctrl_word(cfg) | 4)
+    check("capture 0x1b", await rd(0x1B), u32(res["count"][n - 1]))
     assert not bad, f"{scenario}: register read-back differs:\n" + "\n".join(bad)
 
     # ---- the A/B pins, edge by edge (paced outputs only) ------------------------------------
@@ -578,8 +688,8 @@ async def core_run(dut):
         check_ab_pins(ab_log, ab_init, bench, cfg, int(res["count"][n - 1]), scenario)
 
     # ---- the counter against the truth ------------------------------------------------------
-    if scenario == "highspeed":
-        check_truth(res, n, log)
+    if scenario in ("highspeed", "faults"):
+        check_truth(scenario, res, n, log)
 
     f = res["fault"][:n]
     cov = {name: int(((f >> bit) & 1).sum()) for name, bit in
