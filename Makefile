@@ -85,8 +85,9 @@ BOARD   ?= icebreaker
 bitstream:       ## bitstream [BOARD=icebreaker|ulx3s]: synthesis, place and route, pack; prints resources and Fmax, fails if the board clock is not met
 	scripts/bitstream.sh $(BUILD)/bitstream$(if $(filter-out icebreaker,$(BOARD)),_$(BOARD)) 1 $(BOARD)
 
-report: deps     ## performance (iCE40 UP5K, ECP5 25F): Fmax over nextpnr seeds, rates, latency, area, sim speed -> build/report/report.{json,md} [SEEDS=1,2,3,4,5]
-	$(PY) scripts/report.py --build $(BUILD)/report --make-build $(BUILD) $(if $(SEEDS),--seeds $(SEEDS))
+report: deps     ## performance (iCE40 UP5K, ECP5 25F): Fmax over nextpnr seeds, rates, latency, area, sim speed -> build/report.{json,md} [SEEDS=1,2,3,4,5]
+	$(PY) scripts/report.py --build $(BUILD)/report --json $(BUILD)/report.json --md $(BUILD)/report.md \
+	    --make-build $(BUILD) $(if $(SEEDS),--seeds $(SEEDS))
 
 test: deps lint harnesses ## all tests: lint, table check, formal proofs, model tests, cocotb (Icarus + Verilator)
 	$(PY) scripts/gen_tables.py --check

@@ -1,10 +1,13 @@
 #!/usr/bin/env python3
 """Performance report (issue 7): clock rate, sample rate, latency, area, simulation speed.
 
-    python3 scripts/report.py [--build build/report] [--seeds 1,2,3,4,5]
-        [--devices ice40_up5k,ecp5_25f] [--make-build build]
+    python3 scripts/report.py [--build build/report] [--json build/report.json]
+        [--md build/report.md] [--seeds 1,2,3,4,5] [--devices ice40_up5k,ecp5_25f]
+        [--make-build build]
 
-Writes build/report/report.json and report.md. Everything is measured here:
+Writes build/report.json (the issue's keys per device, and context beside them) and
+build/report.md; the work files, logs and report_full.json (every run, path and cell
+count) go to the --build folder. Everything is measured here:
 
 * Synthesis of rtl/boards/top_report.v (finequad_core with every port kept: inputs from a
   scan chain, outputs XOR-reduced into registers) for the iCE40 UP5K (Debian Yosys,
@@ -897,7 +900,10 @@ def markdown(rep):
 # ---- main ----------------------------------------------------------------------------------------
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--build", default=str(ROOT / "build" / "report"))
+    ap.add_argument("--build", default=str(ROOT / "build" / "report"),
+                    help="work folder (netlists, logs, simulations, report_full.json)")
+    ap.add_argument("--json", default=str(ROOT / "build" / "report.json"))
+    ap.add_argument("--md", default=str(ROOT / "build" / "report.md"))
     ap.add_argument("--make-build", default="build",
                     help="the Makefile's BUILD (where `make rtlsim` keeps its harness)")
     ap.add_argument("--seeds", default="1,2,3,4,5")
@@ -965,15 +971,18 @@ def main(argv=None):
                     for d in devs},
         "sim": sim,
     }
+    out_json, out_md = pathlib.Path(a.json), pathlib.Path(a.md)
+    for f in (out_json, out_md):
+        f.parent.mkdir(parents=True, exist_ok=True)
     (bdir / "report_full.json").write_text(json.dumps(full, indent=1))
-    (bdir / "report.json").write_text(json.dumps(devices, indent=1))
+    out_json.write_text(json.dumps(devices, indent=1))
     md = markdown(full)
-    (bdir / "report.md").write_text(md)
+    out_md.write_text(md)
     print(md)
     if not sim["fast_path"]["rtl_equals_model"]:
         die(f"RTL != model at DIV=1 (sample {sim['fast_path']['first_difference']}): see "
             f"{rel(bdir / 'fastpath')}", 1)
-    log(f"wrote {rel(bdir / 'report.json')}, {rel(bdir / 'report.md')} and "
+    log(f"wrote {rel(out_json)}, {rel(out_md)} and "
         f"{rel(bdir / 'report_full.json')} in {full['wall_s'] / 60:.1f} min")
 
 
