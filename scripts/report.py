@@ -554,23 +554,28 @@ def probe(exe, args):
     return json.loads(p.stdout)
 
 
-def measure_latency(exe, trials=100):
+def measure_latency(exe, trials=50):
+    """Per A/B source, `trials` samples forward (97/8192 period per sample) and `trials`
+    backward (131/8192), one every 64 clocks (sim/harness/probe.cpp latency)."""
     out = {}
     for src, name in ((0, "paced"), (1, "pulses")):
-        r = probe(exe, ["latency", "--trials", str(trials), "--ab-src", str(src)])["trials"]
+        r = []
+        for step, seed in (("97", "1"), ("-131", "2")):
+            r += probe(exe, ["latency", "--trials", str(trials), "--ab-src", str(src),
+                             "--step", step, "--space", "64", "--seed", seed])["trials"]
         valid = {t["valid"] for t in r}
         count = {t["count"] for t in r}
         ab = collections.Counter(t["ab"] for t in r if t["ab"] >= 0)
         if len(valid) != 1 or len(count) != 1 or -1 in valid | count:
-            raise ReportError(f"latency not constant over {trials} trials: m_valid {valid}, "
-                              f"m_count {count}")
+            raise ReportError(f"latency not constant over {len(r)} samples: m_valid {valid}, "
+                              f"m_count {count} (-1: no change within 64 clocks)")
         if not ab:
-            raise ReportError(f"A/B ({name}) never changed in {trials} trials")
+            raise ReportError(f"A/B ({name}) never changed in {len(r)} samples")
         out.update(valid=valid.pop(), count=count.pop())
         out[f"ab_{name}"] = max(ab)
         out[f"ab_{name}_trials"] = sum(ab.values())
         out[f"ab_{name}_min"] = min(ab)
-    out["trials"] = trials
+    out["trials"] = 2 * trials
     return out
 
 
@@ -803,12 +808,14 @@ def markdown(rep):
     L.append(f"- **Fmax**: nextpnr's achieved frequency of the core clock (report JSON), "
              f"median over the seeds; each seed is one place and route of the same "
              "netlist.")
-    L.append(f"- **latency** ({lat['trials']} trials, sim/harness/probe.cpp): a sample "
+    L.append(f"- **latency** ({lat['trials']} samples at constant speed, half forward, half "
+             f"backward, one every 64 clocks; sim/harness/probe.cpp): a sample "
              f"strobed on edge t appears on m_valid and m_count after edge t + "
-             f"{lat['valid']} / t + {lat['count']}; the paced A/B pins first change after "
-             f"t + {lat['ab_paced']} (all {lat['ab_paced_trials']} trials), the Eq. 12 "
-             f"pulses (ABGEN bit 8) after t + {lat['ab_pulses']} (in the "
-             f"{lat['ab_pulses_trials']} trials where they changed).")
+             f"{lat['valid']} / t + {lat['count']}; the paced A/B pins' first change came after "
+             f"edge t + {lat['ab_paced_min']} .. t + {lat['ab_paced']} (in "
+             f"{lat['ab_paced_trials']} of {lat['trials']} samples), the Eq. 12 pulses' "
+             f"(ABGEN bit 8) after t + {lat['ab_pulses_min']} .. t + {lat['ab_pulses']} (in "
+             f"the {lat['ab_pulses_trials']} samples where they changed).")
     L.append(f"- **samples per clock**: {fast['samples']} samples strobed on "
              f"{fast['samples']} consecutive clocks gave {fast['results']} results on "
              f"{fast['edges']} consecutive clocks (longest gap {fast['max_gap']}), equal to "

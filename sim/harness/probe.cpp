@@ -3,7 +3,8 @@
 // (Verilator). No Python runs per clock.
 //
 //   probe stream  --in in.csv --out out.csv --trace trace.csv [--div D] [--interp N]
-//   probe latency --trials K [--interp N] [--ab-src 0|1] [--ab-sep S] [--seed X]
+//   probe latency --trials K [--interp N] [--ab-src 0|1] [--ab-sep S] [--step U]
+//                 [--space C] [--seed X]
 //
 // stream: the timing of sim/harness/harness.cpp (registers written on edges 0..10 with
 // the harness' defaults, sample k strobed on edge T0 + k * div, T0 = 16), so out.csv
@@ -16,12 +17,13 @@
 // to stdout: edges with m_valid, the first and last of
 // them, the longest gap, JUMPS (0x14) read at the end.
 //
-// latency: per trial the core sits idle (no strobe) for a settling time with a constant
-// sample at angle a0 given before, then one sample at a1 = a0 + d (|d| < 3/8 period, so
-// no overspeed) is strobed on edge t. Reported per trial: the first edge after t with
-// m_valid, with m_count changed, and with (m_a, m_b) changed, as edge - t. The samples
-// are a centred circle of radius 0.49 of full scale, which the power-up coefficients
-// (radius 0.5 after the gain) take as calibrated enough for the phase.
+// latency: samples on a centred circle of radius 0.49 of full scale (the power-up
+// coefficients, radius 0.5 after the gain, take it as calibrated enough for the phase) at
+// a constant speed of --step u13 phase units (1/8192 period) per sample, so the signal
+// monitor's glitch and stuck checks stay quiet, one sample every --space clocks (the
+// paced A/B catch up in between); after 8 warm-up samples each sample is a trial: its
+// strobe edge t, and the first edge after t with m_valid, with m_count changed, and with
+// (m_a, m_b) changed, as edge - t (-1: not within --space clocks).
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -213,7 +215,7 @@ static int stream(int argc, char **argv, const std::string &in, const std::strin
 }
 
 static int latency(int argc, char **argv, long trials, long interp, long ab_src, long ab_sep,
-                   unsigned seed) {
+                   long step_u13, long space, unsigned seed) {
     Core c(argc, argv);
     const long regs[][2] = {{1, interp}, {0x15, ab_sep | (ab_src << 8)}, {0x16, 1024}};
     for (auto &r : regs) {
@@ -230,27 +232,15 @@ static int latency(int argc, char **argv, long trials, long interp, long ab_src,
         c.top->s_u1 = (int)std::lround(rad * std::cos(a));
         c.top->s_u2 = (int)std::lround(rad * std::sin(a));
     };
-    srand(seed);
     const double two_pi = 6.283185307179586;
-    double a = 0.0;
-    // settle: a few samples at a0, then idle long enough for the paced A/B to catch up
-    // (a step of d <= 3/8 period is at most 4 n 3/8 = 1.5 n counts at ab_sep clocks each)
-    const long settle = 64 + (long)(1.5 * interp + 2) * (ab_sep < 1 ? 1 : ab_sep);
+    srand(seed);
+    double a = two_pi * (rand() / (double)RAND_MAX);
+    const double d = two_pi * step_u13 / 8192.0;
+    // samples at a constant speed (the signal monitor's glitch and stuck checks stay
+    // quiet), one every `space` clocks: the paced A/B has caught up before the next one
+    const long warm = 8;
     std::printf("{\"trials\": [");
-    for (long k = 0; k < trials; k++) {
-        for (int i = 0; i < 4; i++) {
-            put(a, true);
-            c.step();
-            c.fall();
-        }
-        put(a, false);
-        for (long i = 0; i < settle; i++) {
-            c.step();
-            c.fall();
-        }
-        // d in +-[1/64, 3/8] of a period
-        double frac = 1.0 / 64 + (3.0 / 8 - 1.0 / 64) * (rand() / (double)RAND_MAX);
-        double d = (rand() & 1 ? 1 : -1) * frac * two_pi;
+    for (long k = -warm; k < trials; k++) {
         a = std::fmod(a + d + two_pi, two_pi);
         int count0 = (int)c.top->m_count, a0 = c.top->m_a, b0 = c.top->m_b;
         put(a, true);
@@ -259,24 +249,27 @@ static int latency(int argc, char **argv, long trials, long interp, long ab_src,
         c.fall();
         put(a, false);
         long lv = -1, lc = -1, lab = -1;
-        for (long i = 1; i <= 64; i++) {
+        for (long i = 1; i < space; i++) {
             c.step();
             if (lv < 0 && c.top->m_valid) lv = c.edge - t;
             if (lc < 0 && (int)c.top->m_count != count0) lc = c.edge - t;
             if (lab < 0 && (c.top->m_a != a0 || c.top->m_b != b0)) lab = c.edge - t;
             c.fall();
         }
-        std::printf("%s{\"d\": %.6f, \"valid\": %ld, \"count\": %ld, \"ab\": %ld}",
-                    k ? ", " : "", d / two_pi, lv, lc, lab);
+        if (k >= 0)
+            std::printf("%s{\"phase\": %.6f, \"valid\": %ld, \"count\": %ld, \"ab\": %ld}",
+                        k ? ", " : "", a / two_pi, lv, lc, lab);
     }
-    std::printf("], \"interp\": %ld, \"ab_src\": %ld, \"ab_sep\": %ld}\n", interp, ab_src, ab_sep);
+    std::printf("], \"interp\": %ld, \"ab_src\": %ld, \"ab_sep\": %ld, \"step_u13\": %ld, "
+                "\"space\": %ld}\n", interp, ab_src, ab_sep, step_u13, space);
     return 0;
 }
 
 int main(int argc, char **argv) {
     if (argc < 2) die("usage: probe stream|latency [options] (see sim/harness/probe.cpp)");
     std::string mode = argv[1], in, out, trace;
-    long div = 1, interp = 100, trials = 50, ab_src = 0, ab_sep = 4, seed = 1;
+    long div = 1, interp = 100, trials = 50, ab_src = 0, ab_sep = 4, seed = 1, step = 97,
+         space = 64;
     for (int i = 2; i < argc; i++) {
         std::string a = argv[i];
         auto val = [&](const char *name) -> std::string {
@@ -292,6 +285,8 @@ int main(int argc, char **argv) {
         else if (a == "--ab-src") ab_src = parse_long(val("--ab-src"), "--ab-src");
         else if (a == "--ab-sep") ab_sep = parse_long(val("--ab-sep"), "--ab-sep");
         else if (a == "--seed") seed = parse_long(val("--seed"), "--seed");
+        else if (a == "--step") step = parse_long(val("--step"), "--step");
+        else if (a == "--space") space = parse_long(val("--space"), "--space");
         else if (a.rfind("+verilator", 0) == 0) continue;
         else die("unknown argument '" + a + "'");
     }
@@ -305,6 +300,9 @@ int main(int argc, char **argv) {
             die("stream needs --in, --out and --trace");
         return stream(argc, argv, in, out, trace, div, interp);
     }
-    if (mode == "latency") return latency(argc, argv, trials, interp, ab_src, ab_sep, (unsigned)seed);
+    if (step < -3071 || step > 3071) die("--step must be within +-3071 (u13 units per sample)");
+    if (space < 16) die("--space must be >= 16 clocks");
+    if (mode == "latency")
+        return latency(argc, argv, trials, interp, ab_src, ab_sep, step, space, (unsigned)seed);
     die("unknown mode '" + mode + "' (stream or latency)");
 }
