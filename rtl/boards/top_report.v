@@ -8,8 +8,8 @@
 // optimised away and every core path starts and ends at a flip-flop (the paths to and
 // from the pins are not the core's). Not a design to load: the pins carry no protocol.
 //
-// Cost of the wrapper itself: IN_W (74) scan flip-flops, OUT_G (19) output registers
-// with one 4-input XOR each, and a 19-input XOR tree into sdo (scripts/report.py
+// Cost of the wrapper itself: IN_W (74) scan flip-flops, OUT_G (20) output registers
+// with one 4-input XOR each, and a 20-input XOR tree into sdo (scripts/report.py
 // lists it per module as top_report).
 module top_report #(
     // forwarded to finequad_core
@@ -18,7 +18,11 @@ module top_report #(
     // 1: reg_rdata is observed (the whole read-back multiplexer is kept); 0: reg_re is
     // tied low and the read-back is removed by synthesis (a reduced variant, for a
     // device the full core does not fit)
-    parameter [0:0] OPT_READBACK = 1'b1
+    parameter [0:0] OPT_READBACK = 1'b1,
+    // 1: the register port is driven from the scan chain; 0: reg_we and reg_re are tied
+    // low, so every register keeps its reset value and synthesis folds it into the logic
+    // (as a standalone board shell does; a further reduced variant)
+    parameter [0:0] OPT_REGPORT = 1'b1
 ) (
     input  wire clk,
     input  wire sdi,        // scan chain in
@@ -33,13 +37,13 @@ module top_report #(
     wire        s_valid   = chain[1];
     wire [15:0] s_u1      = chain[17:2];
     wire [15:0] s_u2      = chain[33:18];
-    wire        reg_we    = chain[34];
-    wire        reg_re    = OPT_READBACK ? chain[35] : 1'b0;
+    wire        reg_we    = OPT_REGPORT ? chain[34] : 1'b0;
+    wire        reg_re    = (OPT_REGPORT && OPT_READBACK) ? chain[35] : 1'b0;
     wire [5:0]  reg_addr  = chain[41:36];
     wire [31:0] reg_wdata = chain[73:42];
 
     wire [31:0] reg_rdata, m_count;
-    wire [6:0]  m_fault;
+    wire [10:0] m_fault;
     wire        m_valid, m_a, m_b;
     finequad_core #(.OPT_NTH_DSP(OPT_NTH_DSP), .OPT_HARMONIC(OPT_HARMONIC)) u_core (
         .clk(clk), .rst(rst),
@@ -50,7 +54,7 @@ module top_report #(
     );
 
     // outputs, four to a register (one LUT4 and its flip-flop), then one XOR tree
-    localparam OUT_W = 32 + 32 + 7 + 3;
+    localparam OUT_W = 32 + 32 + 11 + 3;
     localparam OUT_G = (OUT_W + 3) / 4;
     wire [4*OUT_G-1:0] outs = {{(4*OUT_G-OUT_W){1'b0}},
                                reg_rdata, m_count, m_fault, m_valid, m_a, m_b};
@@ -61,6 +65,6 @@ module top_report #(
             outs_q[i] <= ^outs[4*i +: 4];
         sdo <= ^outs_q;
     end
-    wire unused = &{1'b0, chain[35], 1'b0};
+    wire unused = &{1'b0, chain[35:34], 1'b0};
 endmodule
 `resetall
