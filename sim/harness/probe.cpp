@@ -21,7 +21,8 @@
 // coefficients, radius 0.5 after the gain, take it as calibrated enough for the phase) at
 // a constant speed of --step u13 phase units (1/8192 period) per sample, so the signal
 // monitor's glitch and stuck checks stay quiet, one sample every --space clocks (the
-// paced A/B catch up in between); after 8 warm-up samples each sample is a trial: its
+// paced A/B catch up in between); after 8 warm-up samples and an idle time for the A/B
+// to catch up with the first count (up to 4n from 0), each sample is a trial: its
 // strobe edge t, and the first edge after t with m_valid, with m_count changed, and with
 // (m_a, m_b) changed, as edge - t (-1: not within --space clocks).
 #include <cerrno>
@@ -255,6 +256,14 @@ static int latency(int argc, char **argv, long trials, long interp, long ab_src,
             if (lc < 0 && (int)c.top->m_count != count0) lc = c.edge - t;
             if (lab < 0 && (c.top->m_a != a0 || c.top->m_b != b0)) lab = c.edge - t;
             c.fall();
+        }
+        if (k == -1) {
+            // the first sample's count is up to 4 n from the power-up count 0: let the
+            // paced A/B catch up before the trials
+            for (long i = 0; i < 4 * interp * (ab_sep < 1 ? 1 : ab_sep) + 64; i++) {
+                c.step();
+                c.fall();
+            }
         }
         if (k >= 0)
             std::printf("%s{\"phase\": %.6f, \"valid\": %ld, \"count\": %ld, \"ab\": %ld}",
