@@ -81,9 +81,17 @@ DEVICES = {
     },
 }
 COMMON_TARGETS = {"latency_cycles": 8, "sim_samples_per_s": 200e3}
-VARIANT = {"OPT_HARMONIC": 0, "OPT_READBACK": 0}
-VARIANT_TEXT = ("OPT_HARMONIC=0 (rtl/phase.v instead of the harmonic compensation) and "
-                "OPT_READBACK=0 (reg_re tied low: the read-back multiplexer removed)")
+# reduced variants, tried in order when the full core does not fit a device; the first
+# that fits is placed (its numbers are reported apart, never as the full core's)
+VARIANTS = (
+    ({"OPT_HARMONIC": 0, "OPT_READBACK": 0},
+     "OPT_HARMONIC=0 (rtl/phase.v instead of the harmonic compensation) and "
+     "OPT_READBACK=0 (reg_re tied low: the read-back multiplexer removed)"),
+    ({"OPT_HARMONIC": 0, "OPT_READBACK": 0, "OPT_REGPORT": 0},
+     "OPT_HARMONIC=0, OPT_READBACK=0 and OPT_REGPORT=0 (the register port tied off: every "
+     "register keeps its reset value and synthesis folds it into the logic, as in a "
+     "standalone board shell)"),
+)
 KEYS = ("fmax_mhz", "fast_path_samples_per_clock", "max_sample_rate_msps",
         "rls_updates_msps", "latency_cycles", "luts", "ffs", "dsps", "brams",
         "sim_samples_per_s")
@@ -390,8 +398,24 @@ def fingerprint():
     return h.hexdigest()[:16]
 
 
+def lint_top(params):
+    """verilator --lint-only -Wall on top_report with these parameters: a port of the core
+    that changed width would otherwise be cut silently (and its logic removed)."""
+    vroot, vbin = verilator()
+    cmd = [vbin, "--lint-only", "-Wall", "-Wno-PROCASSINIT", "-Irtl", "-Irtl/tables",
+           "--top-module", "top_report"] + [f"-G{k}={v}" for k, v in params.items()]
+    p = subprocess.run(cmd + rtl_sources(), cwd=ROOT, capture_output=True, text=True,
+                       env=dict(os.environ, VERILATOR_ROOT=vroot))
+    if p.returncode != 0:
+        msg = [ln for ln in p.stderr.splitlines() if ln.startswith("%")]
+        raise ReportError("rtl/boards/top_report.v does not lint clean against the core "
+                          f"({' '.join(f'{k}={v}' for k, v in params.items()) or 'defaults'}):"
+                          "\n" + "\n".join(msg[:6]))
+
+
 def synth(dev, params, out_json, log, noflatten=False):
     cfg = DEVICES[dev]
+    lint_top(params)
     chp = " ".join(f"-set {k} {v}" for k, v in params.items())
     script = (f"read_verilog -Irtl/tables {' '.join(rtl_sources())}; "
               f"chparam -set TABLE_DIR \"rtl/tables/\" finequad_core; "
@@ -487,23 +511,35 @@ def device_flow(dev, bdir, seeds, freq, log):
     if not full_fits or all(r["error"] for r in runs):
         why = ("the full core does not fit" if not full_fits
                else "the full core failed to place on every seed")
-        log(f"{dev}: {why}; placing the reduced variant")
-        vd = d / "variant"
-        vd.mkdir(exist_ok=True)
-        times["synth_variant_s"] = synth(dev, {**cfg["params"], **VARIANT}, vd / "top.json",
-                                         vd / "yosys.log")
-        vutil, _, _, vtext, _, verr = pnr(dev, vd / "top.json", vd)
-        if verr:
-            raise ReportError(f"{dev}: nextpnr --pack-only of the variant failed: {verr}")
-        vruns = place(vd)
-        ok = [r["fmax_mhz"] for r in vruns if not r["error"]]
-        variant = {"design": f"top_report with {VARIANT_TEXT}",
-                   "why": why, "fits": fits(vutil, dev),
-                   "fmax_mhz": round(median(ok), 2) if ok else 0.0,
-                   "seeds_placed": len(ok), "runs": vruns,
-                   "util": {k: list(vutil[c]) for k, c in cfg["util"].items()}}
-        if "ffs" not in cfg["util"]:
-            variant["util"]["ffs"] = [ice40_ffs_from_log(vtext), vutil[cfg["util"]["luts"]][1]]
+        tried = []
+        for i, (params, text_v) in enumerate(VARIANTS, 1):
+            log(f"{dev}: {why}; reduced variant {i}: {', '.join(f'{k}={v}' for k, v in params.items())}")
+            vd = d / f"variant{i}"
+            vd.mkdir(exist_ok=True)
+            times[f"synth_variant{i}_s"] = synth(dev, {**cfg["params"], **params},
+                                                 vd / "top.json", vd / "yosys.log")
+            vutil, _, _, vtext, _, verr = pnr(dev, vd / "top.json", vd)
+            if verr:
+                raise ReportError(f"{dev}: nextpnr --pack-only of variant {i} failed: {verr}")
+            v = {"variant": i, "design": f"top_report with {text_v}", "why": why,
+                 "fits": fits(vutil, dev),
+                 "util": {k: list(vutil[c]) for k, c in cfg["util"].items()}}
+            if "ffs" not in cfg["util"]:
+                v["util"]["ffs"] = [ice40_ffs_from_log(vtext), vutil[cfg["util"]["luts"]][1]]
+            if v["fits"]:
+                vruns = place(vd)
+                ok = [r["fmax_mhz"] for r in vruns if not r["error"]]
+                v.update(fmax_mhz=round(median(ok), 2) if ok else 0.0, seeds_placed=len(ok),
+                         runs=vruns)
+                if ok:
+                    variant = v
+                    break
+            tried.append(v)
+        if variant is None and tried:
+            variant = {**tried[-1], "fmax_mhz": 0.0, "seeds_placed": 0,
+                       "runs": tried[-1].get("runs", [])}
+        if variant is not None:
+            variant["not_placed"] = [t for t in tried if t is not variant]
         full_fits = False
     ok = [r["fmax_mhz"] for r in runs if not r["error"]]
     fmax = median(ok) if ok else 0.0
@@ -762,7 +798,9 @@ def markdown(rep):
         if e["fits"]:
             return f"{e['fmax_mhz']:.2f}"
         v = e.get("placed_variant") or {}
-        return (f"0 (does not fit; reduced variant: {v.get('fmax_mhz', 0):.2f})")
+        if not v.get("seeds_placed"):
+            return "0 (does not fit; no reduced variant placed)"
+        return f"0 (does not fit; reduced variant {v['variant']}: {v['fmax_mhz']:.2f})"
     row("`fmax_mhz` (median)", fmax_cell)
     row("nextpnr seeds, --freq", lambda e: f"{', '.join(map(str, e['seeds']))}; "
         f"{e['freq_target_mhz']:g} MHz")
@@ -786,21 +824,32 @@ def markdown(rep):
             L.append(f"| {e['device']} | {q} | {t} | {m} | {verdict(ok)} |")
     L.append("")
 
+    def util_text(u):
+        return ", ".join(f"{k} {a[0]}/{a[1]} ({100 * a[0] / a[1]:.1f} %)" for k, a in u.items())
+
     for d, e in zip(devs, E):
         v = e.get("placed_variant")
-        if v:
-            u = v["util"]
-            L.append(f"**{e['device']}: the full core does not fit** ({e['luts']} of "
-                     f"{e['available']['luts']} logic cells). The seeds were placed with "
-                     f"a reduced variant, {v['design']}: "
-                     + ", ".join(f"{k} {a[0]}/{a[1]} ({100 * a[0] / a[1]:.1f} %)"
-                                 for k, a in u.items())
-                     + f"; Fmax median {v['fmax_mhz']:.2f} MHz over {v['seeds_placed']} "
-                     f"seeds ({', '.join(str(r['fmax_mhz']) for r in v['runs'])}), i.e. "
+        if not v:
+            continue
+        L.append(f"**{e['device']}: the full core does not fit** ({e['luts']} of "
+                 f"{e['available']['luts']} logic cells).")
+        for t in v.get("not_placed", []):
+            L.append(f"Reduced variant {t['variant']}, {t['design']}, does not fit either: "
+                     f"{util_text(t['util'])}.")
+        if v["seeds_placed"]:
+            L.append(f"The seeds were placed with reduced variant {v['variant']}, "
+                     f"{v['design']}: {util_text(v['util'])}; Fmax median "
+                     f"{v['fmax_mhz']:.2f} MHz over {v['seeds_placed']} seeds "
+                     f"({', '.join(str(r['fmax_mhz']) for r in v['runs'])}), i.e. "
                      f"{v['fmax_mhz'] / rep['sim']['clocks_per_update'] * 1e3:.0f} k "
-                     "updates/s and "
-                     f"{v['fmax_mhz'] * e['fast_path_samples_per_clock']:.2f} MS/s if it "
-                     "were the design.\n")
+                     f"updates/s and {v['fmax_mhz'] * e['fast_path_samples_per_clock']:.2f} "
+                     "MS/s if it were the design (not the full core's numbers: a reference "
+                     "for this device's fabric only).")
+        else:
+            L.append(f"Reduced variant {v['variant']}, {v['design']}: "
+                     f"{util_text(v['util'])}; " + ("it did not place on any seed."
+                                                   if v["fits"] else "it does not fit."))
+        L.append("")
 
     S = rep["sim"]
     lat, fast, spd = S["latency"], S["fast_path"], S["sim_speed"]

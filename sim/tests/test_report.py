@@ -264,3 +264,10 @@ def test_failing_endpoints_from_the_last_slack_histogram():
     assert report.failing_endpoints("Info: no timing here\n") is None
     with pytest.raises(report.ReportError, match="legend"):
         report.failing_endpoints("Slack histogram:\nInfo: [ -1, 2) |*\n")
+
+
+def test_top_report_lints_clean_against_the_core_with_every_variant():
+    """A core port that changes width would be cut silently by the report's top (its logic
+    then removed by synthesis): report.py lints first, and so does this test."""
+    for params in [{"OPT_NTH_DSP": 0}, {}] + [p for p, _ in report.VARIANTS]:
+        report.lint_top(params)
