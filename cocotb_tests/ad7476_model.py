@@ -24,6 +24,8 @@ Violations recorded in ``errors`` (the tests fail on any):
   recording is exhausted.
 
 ``cs_fall_ps`` keeps the time of every CS_N falling edge (the sampling instants).
+PmodAD1Fast (below) serves the same protocol without the timing checks, for long system
+simulations.
 """
 import random
 

@@ -20,9 +20,9 @@
 //                          SDATA lines are sampled: the bit the ADC put out one SCLK period
 //                          earlier (t4 <= 40 ns < 2H clocks minus I/O delays), held until
 //                          t7 >= 10 ns after this falling edge, so sampling at the edge
-//                          that makes SCLK fall is the latest safe point; with a 33 MHz
-//                          clock and H = 1 the margin is 60.6 - 40 = 20.6 ns for the
-//                          round trip through pads and board
+//                          that makes SCLK fall is the latest safe point; with a
+//                          31.875 MHz clock and H = 1 the margin is 62.7 - 40 = 22.7 ns
+//                          for the round trip through pads and board
 //   p = S + 2H(k-1) + H    SCLK rises
 //   p = S + 31H            SCLK rises after the 16th falling edge, CS_N rises
 //   p = S + 30H + 1        m_valid high for one clock with both samples (m_u1, m_u2)
@@ -33,8 +33,8 @@
 //   S / f_clk >= 22 ns + I/O delays (t2 >= 10 ns, and the first leading zero, which
 //   m_err checks, is only out t3 <= 22 ns after CS_N falls); PERIOD >= S + 31H + 1 (CS_N high >= 1 clock >= t1) and
 //   (PERIOD - S - 30H) / f_clk >= t8 + tQUIET = 86 ns.
-// Board values: iCEBreaker 33 MHz, H = 1, S = 1, PERIOD = 34: SCLK 16.5 MHz, t2 30.3 ns,
-// quiet 90.9 ns, 0.971 MS/s. ULX3S 35.714 MHz, H = 1, S = 1, PERIOD = 36: SCLK 17.9 MHz,
+// Board values: iCEBreaker 31.875 MHz, H = 1, S = 1, PERIOD = 34: SCLK 15.9 MHz, t2
+// 31.4 ns, quiet 94.1 ns, 0.9375 MS/s. ULX3S 35.714 MHz, H = 1, S = 1, PERIOD = 36: SCLK 17.9 MHz,
 // t2 28 ns, quiet 140 ns, 0.992 MS/s.
 //
 // Output samples: m_u1/m_u2 signed two's complement, s(OUT_W).0 with the 12-bit code

@@ -7,13 +7,13 @@
     scripts/fqhost.py -p /dev/ttyUSB1 dump
     scripts/fqhost.py -p /dev/ttyUSB1 watch count --interval 0.1
 
-Protocol (8N1, 115200 baud on both boards; big-endian; CHK makes the 8-bit sum of a
-frame's bytes zero):
+Protocol (8N1; the ULX3S build runs at 115 207 baud, 35.714 MHz / 310: use 115200;
+big-endian; CHK makes the 8-bit sum of a frame's bytes zero):
     read   'R' A1 A0 CHK                ->  ST D3 D2 D1 D0 CHK
     write  'W' A1 A0 D3 D2 D1 D0 CHK    ->  ST CHK
 A = AXI byte address (register k of finequad_core at 4 k). ST: 0x50 OKAY, 0x52 SLVERR,
 0x53 DECERR, 0x54 checksum error (frame not executed). The bridge drops a partial frame
-after TIMEOUT clocks without a byte (2^18 clocks: 7.9 ms at 33 MHz, 7.3 ms at 36 MHz) or
+after TIMEOUT clocks without a byte (283 000 clocks on the ULX3S: 7.9 ms) or
 on a break; this client waits RESYNC_S (20 ms) after a bad or missing answer, flushes its
 input and retries (reads, and writes answered 0x54; a write whose answer was lost is not
 repeated, because it may have been applied: FAULT_STICKY's write-1-to-clear and CTRL's

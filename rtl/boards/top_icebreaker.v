@@ -1,20 +1,22 @@
 `timescale 1ns / 1ps
 `default_nettype none
-// top_icebreaker: board shell for the iCEBreaker (iCE40 UP5K-SG48): 12 MHz -> 33 MHz PLL,
+// top_icebreaker: board shell for the iCEBreaker (iCE40 UP5K-SG48): 12 MHz -> 31.875 MHz PLL,
 // reset synchroniser, pins; everything else is rtl/finequad_system.v.
-//   PMOD1A: Digilent Pmod AD1 (pin 1 CS_N, 2 D0 = u1, 3 D1 = u2, 4 SCLK); 33 MHz,
-//           SCLK 16.5 MHz, a conversion every 34 clocks (0.971 MS/s)
+//   PMOD1A: Digilent Pmod AD1 (pin 1 CS_N, 2 D0 = u1, 3 D1 = u2, 4 SCLK); 31.875 MHz,
+//           SCLK 15.9 MHz, a conversion every 34 clocks (0.9375 MS/s)
 //   PMOD1B: pin 1 A, pin 2 B (paced quadrature, 3.3 V)
 //   FTDI channel B UART (RX pin 6 into the FPGA, TX pin 9 out): idle (see below)
 //   LEDs: green = calibrated, red = a fault (clip, saturation, overspeed) seen
 //   BTN_N (user button): reset while pressed
 // The UP5K does not hold the core with a live register port: with the host link
-// (OPT_HOSTLINK = 1) the design needs 7131 of 5280 logic cells (nextpnr-ice40, this
-// core), and even without it, with the harmonic compensation, 5318. So this board runs
-// the core standalone: no host link (the registers at their reset values, which synthesis
-// folds into the logic), OPT_HARMONIC = 0 (rtl/phase.v); the ULX3S build
-// (rtl/boards/top_ulx3s.v) has everything. 33 MHz rather than 36 (README, Synthesis);
-// scripts/bitstream.sh fails when a build misses it.
+// (OPT_HOSTLINK = 1) the system packs into 6525 of 5280 logic cells (nextpnr-ice40, core of
+// commit f1d8707; 7760 with the signal monitor being added to the core). So this
+// board runs the core standalone: no host link (the registers at their reset values,
+// which synthesis folds into the logic; TX idles high); the ULX3S build
+// (rtl/boards/top_ulx3s.v) has everything. With the core of commit f1d8707 this shell
+// takes 4558 cells (86 %) and reached 31.95, 32.16 and 32.18 MHz on nextpnr seeds 1..3
+// (the bring-up shell before it 33.3 MHz), hence 31.875 MHz instead of 33;
+// scripts/bitstream.sh fails when a build misses the PLL's clock.
 module top_icebreaker #(
     // folder of the core's $readmemh tables
     parameter TABLE_DIR = "rtl/tables/"
@@ -37,8 +39,8 @@ module top_icebreaker #(
 );
     wire clk, locked;
     SB_PLL40_PAD #(
-        // 12 MHz * 88 = 1056 MHz VCO, / 32 = 33 MHz
-        .FEEDBACK_PATH("SIMPLE"), .DIVR(4'd0), .DIVF(7'd87), .DIVQ(3'd5),
+        // 12 MHz * 85 = 1020 MHz VCO, / 32 = 31.875 MHz
+        .FEEDBACK_PATH("SIMPLE"), .DIVR(4'd0), .DIVF(7'd84), .DIVQ(3'd5),
         .FILTER_RANGE(3'd1)
     ) u_pll (
         .PACKAGEPIN(CLK), .PLLOUTGLOBAL(clk), .LOCK(locked),
@@ -53,8 +55,8 @@ module top_icebreaker #(
 
     wire [3:0] status;
     finequad_system #(
-        .TABLE_DIR(TABLE_DIR), .OPT_NTH_DSP(1'b0), .OPT_HARMONIC(1'b0), .OPT_HOSTLINK(1'b0),
-        .ADC_SCLK_HALF(1), .ADC_CS_SETUP(1), .ADC_PERIOD(34), .BAUD_DIV(286)
+        .TABLE_DIR(TABLE_DIR), .OPT_NTH_DSP(1'b0), .OPT_HARMONIC(1'b1), .OPT_HOSTLINK(1'b0),
+        .ADC_SCLK_HALF(1), .ADC_CS_SETUP(1), .ADC_PERIOD(34)
     ) u_sys (
         .clk(clk), .rst(rst),
         .adc_cs_n_o(P1A1), .adc_sclk_o(P1A4), .adc_sdata1_i(P1A2), .adc_sdata2_i(P1A3),
