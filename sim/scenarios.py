@@ -104,6 +104,11 @@ def suite():
                       "scored after the first period", x, base, seed=18, settle_s=0.0,
                       settle_periods=1.0))
 
+    x = siggen.constant_speed(1_500_000, FS, _speed(1e-6))
+    s.append(Scenario("creep1m", "creep at 4 um/s: 10^6 samples per signal period, "
+                      "scored after the first period", x, base, seed=21, settle_s=0.0,
+                      settle_periods=1.0))
+
     x = siggen.constant_speed(200_000, FS, 2 * MM)
     s.append(Scenario("noise2", "2 % noise, constant speed 2 mm/s", x,
                       replace(base, noise=0.02), seed=19))

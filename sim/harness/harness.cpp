@@ -3,7 +3,15 @@
 //
 //   rtlsim --in in.csv --out out.csv [--interp N] [--eps E] [--lam-k K] [--kappa Q]
 //          [--period P] [--settle S] [--gate G] [--jump J] [--count-mode M]
-//          [--ab-sep S] [--ab-src 0|1] [--ab-bound B] [--div D] [--vcd out.vcd]
+//          [--ab-sep S] [--ab-src 0|1] [--ab-bound B] [--clip C] [--radius R]
+//          [--monitor M] [--div D] [--vcd out.vcd] [--dump-regs]
+//   rtlsim --raw [options]       stream: stdin int16 LE pairs (u1, u2) per sample, stdout
+//                                one 8-byte record per sample: int32 count, uint16 fault,
+//                                uint8 a, uint8 b (LE); for long runs (scripts/soak.py)
+//
+// --clip, --radius, --monitor: the CLIP, RADIUS and MONITOR registers (0x18..0x1a) as
+// words. --dump-regs: after the last sample, stderr gets 'regs: name=value ...' of the
+// counters and status (UPDATES, JUMPS, ILLEGAL, FAULT_STICKY, STATUS, COUNT, GAIN).
 //
 // --count-mode: CTRL bit 3, 0 phase (count = 4 n phase, default), 1 edge (x4 of A/B).
 // a, b: the A/B pins after the sample's output edge (paced, or with --ab-src 1 the
@@ -83,11 +91,43 @@ static void read_csv(const std::string &path, std::vector<int> &u1, std::vector<
     if (u1.empty()) die(path + ": no samples after the header");
 }
 
+// The sample source: the CSV's samples, or int16 pairs from stdin (--raw).
+struct Source {
+    const std::vector<int> *u1 = nullptr, *u2 = nullptr;
+    size_t next = 0;
+    bool raw = false;
+    long count = 0;
+    bool get(int &a, int &b) {
+        if (raw) {
+            int16_t v[2];
+            size_t got = std::fread(v, sizeof v[0], 2, stdin);
+            if (got == 0) return false;
+            if (got != 2) die("--raw: stdin ended in the middle of sample " + std::to_string(count));
+            const int lo = -(1 << (ADC_W - 1)), hi = (1 << (ADC_W - 1)) - 1;
+            if (v[0] < lo || v[0] > hi || v[1] < lo || v[1] > hi)
+                die("--raw: sample " + std::to_string(count) + ": code out of the signed " +
+                    std::to_string(ADC_W) + "-bit range: " + std::to_string(v[0]) + "," +
+                    std::to_string(v[1]));
+            a = v[0];
+            b = v[1];
+        } else {
+            if (next >= u1->size()) return false;
+            a = (*u1)[next];
+            b = (*u2)[next];
+            next++;
+        }
+        count++;
+        return true;
+    }
+};
+
 int main(int argc, char **argv) {
     std::string in, out, vcd;
     long interp = 100, eps = 1638, lam_k = 8, kappa = 0x4000, period = 0, settle = 32,
          gate = 64, div = 36, count_mode = 0, jump = 41, ab_sep = 4, ab_src = 0,
-         ab_bound = 1024;
+         ab_bound = 1024, clip = 32512, radius = (22118L << 16) | 3277,
+         monitor = (8L << 16) | 1024;
+    bool raw = false, dump_regs = false;
     for (int i = 1; i < argc; i++) {
         std::string a = argv[i];
         auto val = [&](const char *name) -> std::string {
@@ -110,10 +150,18 @@ int main(int argc, char **argv) {
         else if (a == "--ab-sep") ab_sep = parse_long(val("--ab-sep"), "--ab-sep");
         else if (a == "--ab-src") ab_src = parse_long(val("--ab-src"), "--ab-src");
         else if (a == "--ab-bound") ab_bound = parse_long(val("--ab-bound"), "--ab-bound");
+        else if (a == "--clip") clip = parse_long(val("--clip"), "--clip");
+        else if (a == "--radius") radius = parse_long(val("--radius"), "--radius");
+        else if (a == "--monitor") monitor = parse_long(val("--monitor"), "--monitor");
+        else if (a == "--raw") raw = true;
+        else if (a == "--dump-regs") dump_regs = true;
         else if (a.rfind("+verilator", 0) == 0) continue;
         else die("unknown argument '" + a + "'");
     }
-    if (in.empty() || out.empty()) die("usage: rtlsim --in IN.csv --out OUT.csv [--interp N] ...");
+    if (!raw && (in.empty() || out.empty()))
+        die("usage: rtlsim --in IN.csv --out OUT.csv [--interp N] ... | rtlsim --raw [...]");
+    if (raw && (!in.empty() || !out.empty() || !vcd.empty()))
+        die("--raw streams stdin to stdout: no --in, --out or --vcd");
     if (interp < 1 || interp > 511) die("--interp must be 1..511, got " + std::to_string(interp));
     if (div < 1) die("--div must be >= 1");
     if (eps < 0 || eps > 32767) die("--eps must be 0..32767 (u0.15)");
@@ -128,12 +176,23 @@ int main(int argc, char **argv) {
     if (ab_bound < 0 || ab_bound > 65535) die("--ab-bound must be 0..65535 (counts)");
     if (jump < 0 || jump > 65535 || (jump & 0x7800))
         die("--jump must be the JUMP register: bit 15 off, bits 10..0 floor");
+    if (clip < 0 || clip > 65535) die("--clip must be 0..65535 (u16 level)");
+    if (radius < 0 || radius > 0xFFFFFFFFL) die("--radius must be a 32-bit word");
+    if (monitor < 0 || monitor > 0xFFFFFF || (monitor & 0xE000))
+        die("--monitor must be the MONITOR register: bits 23..16 stuck samples, 12..0 glitch");
 
     std::vector<int> u1, u2;
-    read_csv(in, u1, u2);
-    FILE *fo = std::fopen(out.c_str(), "w");
-    if (!fo) die("cannot write '" + out + "'");
-    std::fprintf(fo, "count,a,b,fault\n");
+    Source src;
+    src.raw = raw;
+    FILE *fo = stdout;
+    if (!raw) {
+        read_csv(in, u1, u2);
+        src.u1 = &u1;
+        src.u2 = &u2;
+        fo = std::fopen(out.c_str(), "w");
+        if (!fo) die("cannot write '" + out + "'");
+        std::fprintf(fo, "count,a,b,fault\n");
+    }
 
     auto ctx = std::make_unique<VerilatedContext>();
     ctx->commandArgs(argc, argv);
@@ -149,16 +208,42 @@ int main(int argc, char **argv) {
     const long regs[][2] = {{1, interp}, {2, eps}, {3, lam_k}, {4, kappa},
                             {5, period}, {6, settle}, {7, gate}, {0x13, jump},
                             {0x15, ab_sep | (ab_src << 8)}, {0x16, ab_bound},
+                            {0x18, clip}, {0x19, radius}, {0x1a, monitor},
                             {0, count_mode << 3}};
     const long n_regs = (long)(sizeof regs / sizeof regs[0]);
-    const long n = (long)u1.size();
-    const long last_edge = T0 + (n - 1) * div + 12;
-    long next = 0, written = 0;
+    if (T0 < n_regs + 1) die("internal: the register writes run into the first strobe");
+    long written = 0, strobed = 0;
+    long last_edge = -1;                 // set when the source runs dry
+    int a = 0, b = 0;
+    bool have = src.get(a, b);
+    if (!have && !raw) die("no samples");
     top->clk = 0;
     top->rst = 0;
     top->eval();
     if (tfp) tfp->dump(0);
-    for (long e = 0; e <= last_edge; e++) {
+    auto edge = [&](long e) {
+        // posedge at time e * PERIOD_PS, negedge half a period later
+        top->clk = 1;
+        top->eval();
+        if (tfp) tfp->dump((uint64_t)e * PERIOD_PS);
+        if (top->m_valid) {
+            if (raw) {
+                struct { int32_t count; uint16_t fault; uint8_t a, b; } r = {
+                    (int32_t)top->m_count, (uint16_t)top->m_fault, (uint8_t)top->m_a,
+                    (uint8_t)top->m_b};
+                if (std::fwrite(&r, sizeof r, 1, fo) != 1) die("--raw: cannot write stdout");
+            } else {
+                std::fprintf(fo, "%d,%d,%d,%d\n", (int)(int32_t)top->m_count, top->m_a,
+                             top->m_b, top->m_fault);
+            }
+            written++;
+        }
+        top->clk = 0;
+        top->eval();
+        if (tfp) tfp->dump((uint64_t)e * PERIOD_PS + PERIOD_PS / 2);
+    };
+    long e = 0;
+    for (; last_edge < 0 || e <= last_edge; e++) {
         // inputs for edge e
         top->reg_we = (e < n_regs);
         top->reg_re = 0;
@@ -166,27 +251,38 @@ int main(int argc, char **argv) {
             top->reg_addr = regs[e][0];
             top->reg_wdata = (uint32_t)regs[e][1];
         }
-        bool strobe = next < n && e == T0 + next * div;
+        bool strobe = have && e == T0 + strobed * div;
         top->s_valid = strobe;
-        top->s_u1 = strobe ? u1[next] : 0;
-        top->s_u2 = strobe ? u2[next] : 0;
-        if (strobe) next++;
-        // posedge at time e * PERIOD_PS, negedge half a period later
-        top->clk = 1;
-        top->eval();
-        if (tfp) tfp->dump((uint64_t)e * PERIOD_PS);
-        if (top->m_valid) {
-            std::fprintf(fo, "%d,%d,%d,%d\n", (int)(int32_t)top->m_count, top->m_a, top->m_b,
-                         top->m_fault);
-            written++;
+        top->s_u1 = strobe ? a : 0;
+        top->s_u2 = strobe ? b : 0;
+        if (strobe) {
+            strobed++;
+            have = src.get(a, b);
+            if (!have) last_edge = e + 12;
         }
-        top->clk = 0;
-        top->eval();
-        if (tfp) tfp->dump((uint64_t)e * PERIOD_PS + PERIOD_PS / 2);
+        edge(e);
     }
-    std::fclose(fo);
+    if (dump_regs) {
+        // registered read port: address for one edge, the value after it
+        const struct { const char *name; int addr; } rd[] = {
+            {"UPDATES", 0x11}, {"JUMPS", 0x14}, {"ILLEGAL", 0x09}, {"FAULT_STICKY", 0x0a},
+            {"STATUS", 0x00}, {"COUNT", 0x08}, {"GAIN", 0x0b}};
+        top->reg_we = 0;
+        top->s_valid = 0;
+        std::fprintf(stderr, "regs:");
+        for (const auto &r : rd) {
+            top->reg_re = 1;
+            top->reg_addr = r.addr;
+            edge(e++);
+            std::fprintf(stderr, " %s=%u", r.name, (unsigned)top->reg_rdata);
+        }
+        std::fprintf(stderr, "\n");
+    }
+    if (fo != stdout) std::fclose(fo);
+    else std::fflush(fo);
     if (tfp) tfp->close();
     top->final();
-    if (written != n) die("wrote " + std::to_string(written) + " rows for " + std::to_string(n) + " samples");
+    if (written != strobed)
+        die("wrote " + std::to_string(written) + " rows for " + std::to_string(strobed) + " samples");
     return 0;
 }

@@ -124,6 +124,10 @@ def test_suite_is_complete_and_reproducible():
     cr = by["creep"]
     assert scenarios.PITCH_NM / np.diff(cr.x).max() >= 1e5 * (1 - 1e-9)
     assert cr.start() == pytest.approx(1e5, abs=2)
+    # and at 10^6 samples per signal period (issue 4)
+    cr = by["creep1m"]
+    assert scenarios.PITCH_NM / np.diff(cr.x).max() >= 1e6 * (1 - 1e-9)
+    assert cr.start() == pytest.approx(1e6, abs=2)
     # high speed around 0.3 fs; 12-bit ADC near full scale; 2 % noise; 1 % 3rd harmonic
     assert np.diff(by["highspeed"].x).max() / scenarios.PITCH_NM == pytest.approx(0.3, abs=0.02)
     assert by["adc12_fullscale"].sig.adc_bits == 12 and by["adc12_fullscale"].sig.A1 >= 0.9
