@@ -24,7 +24,7 @@ HDIR    := $(BUILD)/rtlsim_$(TABLE)_adc$(ADC_W)
 HARNESS := $(HDIR)/Vfinequad_core
 
 .PHONY: help deps demo rtlsim model test lint tables bitstream vcdcompare clean harnesses \
-        bench-accuracy limits formal reproduce report
+        bench-accuracy limits formal reproduce report soak
 
 help:            ## this list
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed 's/:.*## /\t/'
@@ -109,6 +109,10 @@ vcdcompare: deps ## RTL VCD vs the model's reference VCD: IN=in.csv INTERP=n [TA
 	$(MAKE) --no-print-directory rtlsim IN=$(VCDCMP_IN) OUT=$(VCDCMP)/rtl.csv VCD=$(VCDCMP)/rtl.vcd
 	$(MAKE) --no-print-directory model IN=$(VCDCMP_IN) OUT=$(VCDCMP)/model.csv VCD=$(VCDCMP)/ref.vcd
 	$(PY) scripts/vcdcompare.py $(VCDCMP)/rtl.vcd $(VCDCMP)/ref.vcd --period-ps 27778
+
+SOAK_SAMPLES ?= 1e8
+soak: deps harnesses ## soak: SOAK_SAMPLES (1e8) through the RTL (make rtlsim's harness, streamed): slips, faults, error -> build/soak/soak.json
+	$(PY) scripts/soak.py --samples $(SOAK_SAMPLES) --out $(BUILD)/soak
 
 bench-accuracy: deps ## accuracy suite: RTL (make rtlsim) and baselines vs the floor -> build/bench/accuracy.{json,md}
 	$(PY) scripts/bench_accuracy.py --build $(BUILD)/bench --interp $(INTERP)
