@@ -10,7 +10,7 @@ whose leading zeros the model corrupts, and the model must see no timing violati
 (fSCLK, SCLK duty, t1, t2, t8 + tQUIET, 16 SCLK falling edges per frame; data sampled
 inside the t4..t7 window, outside it the model drives random bits).
 
-  icebreaker   31.875 MHz (31.372 ns), SCLK_HALF 1, CS_SETUP 1, PERIOD 34, OUT_W 12
+  icebreaker   20.25 MHz (49.382 ns), SCLK_HALF 1, CS_SETUP 1, PERIOD 33, OUT_W 12
   ulx3s        35.714 MHz (28 ns), SCLK_HALF 1, CS_SETUP 1, PERIOD 36, OUT_W 12
   slow16       100 MHz, SCLK_HALF 3, CS_SETUP 3, PERIOD 110, OUT_W 16 (CS_SETUP 2 = 20 ns
                was caught by the model: the first leading zero comes t3 = 22 ns after
@@ -30,7 +30,7 @@ import pytest
 import fqtb
 
 SETS = {
-    "icebreaker": dict(CLK_PS=31372, SCLK_HALF=1, CS_SETUP=1, PERIOD=34, OUT_W=12),
+    "icebreaker": dict(CLK_PS=49382, SCLK_HALF=1, CS_SETUP=1, PERIOD=33, OUT_W=12),
     "ulx3s": dict(CLK_PS=28000, SCLK_HALF=1, CS_SETUP=1, PERIOD=36, OUT_W=12),
     "slow16": dict(CLK_PS=10000, SCLK_HALF=3, CS_SETUP=3, PERIOD=110, OUT_W=16),
     "bad_quiet": dict(CLK_PS=30304, SCLK_HALF=1, CS_SETUP=1, PERIOD=33, OUT_W=12,

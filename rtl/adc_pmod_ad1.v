@@ -21,7 +21,7 @@
 //                          earlier (t4 <= 40 ns < 2H clocks minus I/O delays), held until
 //                          t7 >= 10 ns after this falling edge, so sampling at the edge
 //                          that makes SCLK fall is the latest safe point; with a
-//                          31.875 MHz clock and H = 1 the margin is 62.7 - 40 = 22.7 ns
+//                          35.714 MHz clock (ULX3S) and H = 1 the margin is 56 - 40 = 16 ns
 //                          for the round trip through pads and board
 //   p = S + 2H(k-1) + H    SCLK rises
 //   p = S + 31H            SCLK rises after the 16th falling edge, CS_N rises
@@ -33,8 +33,8 @@
 //   S / f_clk >= 22 ns + I/O delays (t2 >= 10 ns, and the first leading zero, which
 //   m_err checks, is only out t3 <= 22 ns after CS_N falls); PERIOD >= S + 31H + 1 (CS_N high >= 1 clock >= t1) and
 //   (PERIOD - S - 30H) / f_clk >= t8 + tQUIET = 86 ns.
-// Board values: iCEBreaker 31.875 MHz, H = 1, S = 1, PERIOD = 34: SCLK 15.9 MHz, t2
-// 31.4 ns, quiet 94.1 ns, 0.9375 MS/s. ULX3S 35.714 MHz, H = 1, S = 1, PERIOD = 36: SCLK 17.9 MHz,
+// Board values: iCEBreaker 20.25 MHz, H = 1, S = 1, PERIOD = 33: SCLK 10.1 MHz, t2
+// 49.4 ns, quiet 98.8 ns, 0.614 MS/s. ULX3S 35.714 MHz, H = 1, S = 1, PERIOD = 36: SCLK 17.9 MHz,
 // t2 28 ns, quiet 140 ns, 0.992 MS/s.
 //
 // Output samples: m_u1/m_u2 signed two's complement, s(OUT_W).0 with the 12-bit code
@@ -111,16 +111,25 @@ module adc_pmod_ad1 #(
         m_err = 1'b0;
     end
 
+    // the pins' next values, each assigned once per edge (rst included), so that a
+    // simulator shows no zero-width pulse on them while rst holds them high
+    wire tog = run_q && (hc_q == {CW{1'b0}});     // SCLK toggles on this edge
+    wire cs_n_d = rst ? 1'b1 :
+                  (p_d == {CW{1'b0}}) ? 1'b0 :
+                  (tog && tog_q == 6'd31) ? 1'b1 : cs_n_o;
+    wire sclk_d = rst ? 1'b1 :
+                  (p_d == FIRST) ? 1'b0 :
+                  tog ? !sclk_o : sclk_o;
+
     always @(posedge clk) begin
         p_q <= p_d;
         m_valid <= 1'b0;
         done_q <= 1'b0;
-        if (p_d == {CW{1'b0}})
-            cs_n_o <= 1'b0;
+        cs_n_o <= cs_n_d;
+        sclk_o <= sclk_d;
         if (p_d == FIRST) begin
             // first SCLK falling edge; sample the first leading zero
             run_q <= 1'b1;
-            sclk_o <= 1'b0;
             hc_q <= HLAST;
             tog_q <= 6'd1;
             sh1_q <= {sh1_q[14:0], sdata1_i};
@@ -130,7 +139,6 @@ module adc_pmod_ad1 #(
                 hc_q <= hc_q - 1'b1;
             end else begin
                 hc_q <= HLAST;
-                sclk_o <= !sclk_o;
                 tog_q <= tog_q + 1'b1;
                 if (sclk_o) begin                 // SCLK falls: sample the previous bit
                     sh1_q <= {sh1_q[14:0], sdata1_i};
@@ -138,10 +146,8 @@ module adc_pmod_ad1 #(
                     if (tog_q == 6'd30)
                         done_q <= 1'b1;
                 end
-                if (tog_q == 6'd31) begin         // SCLK rises after the 16th bit
-                    run_q <= 1'b0;
-                    cs_n_o <= 1'b1;
-                end
+                if (tog_q == 6'd31)               // SCLK rises after the 16th bit,
+                    run_q <= 1'b0;                // CS_N rises (cs_n_d)
             end
         end
         if (done_q) begin
@@ -154,8 +160,6 @@ module adc_pmod_ad1 #(
             p_q <= END;
             run_q <= 1'b0;
             done_q <= 1'b0;
-            cs_n_o <= 1'b1;
-            sclk_o <= 1'b1;
             m_valid <= 1'b0;
         end
     end

