@@ -26,16 +26,19 @@ import argparse
 import sys
 import time
 
-# finequad_core register words (README.md, "Parameters and registers"); numbers are
-# accepted for any other word
+# finequad_core register words (README.md, "Parameters and registers", and
+# rtl/finequad_core.v's read-back: 0x18..0x1c are the signal monitor's CLIP, RADIUS,
+# MONITOR, the count captured by CTRL bit 2, the travel); numbers are accepted for any
+# other word
 REGS = {
     "ctrl": 0x00, "status": 0x00, "interp": 0x01, "eps": 0x02, "lambda_k": 0x03,
     "kappa": 0x04, "period": 0x05, "settle": 0x06, "gate": 0x07, "count": 0x08,
     "illegal": 0x09, "fault_sticky": 0x0a, "gain": 0x0b, "m1": 0x0c, "m2": 0x0d,
     "c1": 0x0e, "c12": 0x0f, "c2": 0x10, "updates": 0x11, "harm": 0x12, "jump": 0x13,
-    "jumps": 0x14, "abgen": 0x15, "ab_bound": 0x16, "ab_backlog": 0x17, "id": 0x1f,
+    "jumps": 0x14, "abgen": 0x15, "ab_bound": 0x16, "ab_backlog": 0x17, "clip": 0x18,
+    "radius": 0x19, "monitor": 0x1a, "count_cap": 0x1b, "travel": 0x1c, "id": 0x1f,
 }
-SIGNED = {"count", "m1", "m2", "c1", "c12", "c2", "ab_backlog"}
+SIGNED = {"count", "count_cap", "m1", "m2", "c1", "c12", "c2", "ab_backlog"}
 
 
 class ProtocolError(Exception):
