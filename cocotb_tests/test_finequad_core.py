@@ -112,7 +112,7 @@ SCENARIOS = {
                       regs=dict(interp=10, ab_sep=3, ab_bound=1024)),
     # signal faults during a move, a calibration loaded before the first sample
     "faults": dict(exact=1, n={"icarus": 6000, "verilator": 30000},
-                   regs=dict(interp=100, clip=32000, loss=4000, over=21000, glitch=900,
+                   regs=dict(interp=100, clip=32000, loss=4000, over=21000, glitch_k=9,
                              stuck_n=6), load=True),
 }
 # faults: (fraction of the recording where it starts, what, length in samples); the move
@@ -156,8 +156,8 @@ def radius_word(cfg):
 
 
 def monitor_word(cfg):
-    """MONITOR (0x1a): [12:0] glitch threshold, [23:16] stuck samples."""
-    return cfg.stuck_n << 16 | cfg.glitch
+    """MONITOR (0x1a): [3:0] glitch exponent K, [23:16] stuck samples."""
+    return cfg.stuck_n << 16 | cfg.glitch_k
 
 
 def setup_writes(cfg):

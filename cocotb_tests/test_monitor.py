@@ -75,9 +75,9 @@ def motion(rng, kind, length, phi0, amp):
 
 
 def plan(scale):
-    """(kind, length, ref, registers (loss, over, glitch, stuck_n), before) segments;
+    """(kind, length, ref, registers (loss, over, glitch_k, stuck_n), before) segments;
     before: None, 'drain' or 'rst'."""
-    d = (3277, 22118, 1024, 8)
+    d = (3277, 22118, 10, 8)
     return [
         ("slow", 300 * scale, 0, d, None),          # from power-up, radius checks off
         ("mix", 400 * scale, 1, d, "drain"),
@@ -85,7 +85,7 @@ def plan(scale):
         ("stand", 400 * scale, 1, d, None),
         ("stuck1", 300 * scale, 1, d, None),
         ("slow", 100 * scale, 1, d, None),
-        ("stuck2", 300 * scale, 1, (3277, 22118, 1024, 3), "drain"),
+        ("stuck2", 300 * scale, 1, (3277, 22118, 10, 3), "drain"),
         ("glitch", 400 * scale, 1, d, None),
         ("rail", 300 * scale, 1, d, None),
         ("over", 300 * scale, 1, d, None),
@@ -93,8 +93,10 @@ def plan(scale):
         ("over_long", 4500 + 200 * scale, 1, d, None),
         ("glitch", 300 * scale, 1, (0, 65535, 0, 0), "drain"),     # every check off
         ("loss", 200 * scale, 0, d, "drain"),                       # disarmed
-        ("creep", 300 * scale, 1, (8000, 20000, 200, 255), "rst"),
-        ("glitch", 300 * scale, 1, (5000, 19000, 300, 1), "drain"),
+        ("creep", 300 * scale, 1, (8000, 20000, 8, 255), "rst"),
+        ("glitch", 300 * scale, 1, (5000, 19000, 11, 1), "drain"),
+        ("glitch", 200 * scale, 1, (5000, 19000, 12, 1), "drain"),     # K >= 12: off
+        ("glitch", 200 * scale, 1, (5000, 19000, 1, 1), "drain"),
         ("mix", 300 * scale, 1, d, None),
     ]
 
@@ -134,8 +136,8 @@ def model(samples, resets):
         while ri < len(resets) and resets[ri] < x["t"] + T_RAW:
             mon = Monitor()
             ri += 1
-        loss, over, glitch, stuck_n = x["regs"]
-        regs = MonitorRegs(loss=loss, over=over, glitch=glitch, stuck_n=stuck_n)
+        loss, over, glitch_k, stuck_n = x["regs"]
+        regs = MonitorRegs(loss=loss, over=over, glitch_k=glitch_k, stuck_n=stuck_n)
         lo, ov, st, gl, hold, excl = mon.step(x["r1"], x["r2"], x["ax"], x["ay"], x["xn"],
                                               x["yn"], x["phase"], x["ref"], x["clip"],
                                               regs)
@@ -174,7 +176,7 @@ async def monitor_stream(dut):
         dut.rst.value = int(e in rst)
         regs = regs_at.get(e, regs)
         dut.loss_th_i.value, dut.over_th_i.value = regs[0], regs[1]
-        dut.glitch_th_i.value, dut.stuck_n_i.value = regs[2], regs[3]
+        dut.glitch_k_i.value, dut.stuck_n_i.value = regs[2], regs[3]
         k = at[T_REF].get(e)
         dut.ref_i.value = samples[k]["ref"] if k is not None else rng.randint(0, 1)
         k = at[T_RAW].get(e)

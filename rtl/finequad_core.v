@@ -92,7 +92,7 @@ module finequad_core #(
     reg [15:0] r_clip = 16'd32512;              // CLIP: u16 |u| at or above: clipped
     reg [15:0] r_loss = 16'd3277;               // RADIUS [15:0]: u16 radius, loss (0.2)
     reg [15:0] r_over = 16'd22118;              // RADIUS [31:16]: over-range (1.35)
-    reg [12:0] r_glitch = 13'd1024;             // MONITOR [12:0]: max |phase accel.|
+    reg [3:0]  r_glitch = 4'd10;                // MONITOR [3:0]: max |phase accel.| 2^K
     reg [7:0]  r_stuckn = 8'd8;                 // MONITOR [23:16]: stuck after n samples
     // staged bundle (writes to 0x0b..0x10), handed to the fast path by a LOAD (CTRL 1)
     reg [1:0]  st_g = G_INIT;
@@ -147,7 +147,7 @@ module finequad_core #(
                     r_over <= reg_wdata[31:16];
                 end
                 6'h1a: begin
-                    r_glitch <= reg_wdata[12:0];
+                    r_glitch <= reg_wdata[3:0];
                     r_stuckn <= reg_wdata[23:16];
                 end
                 default: ;
@@ -163,7 +163,7 @@ module finequad_core #(
             r_sticky <= 11'd0; req_reset <= 1'b0; req_load <= 1'b0; req_cap <= 1'b0;
             r_cmode <= 1'b0;
             r_clip <= 16'd32512; r_loss <= 16'd3277; r_over <= 16'd22118;
-            r_glitch <= 13'd1024; r_stuckn <= 8'd8;
+            r_glitch <= 4'd10; r_stuckn <= 8'd8;
             st_g <= G_INIT; st_m1 <= 0; st_m2 <= 0; st_c1 <= 16'sd8192; st_c12 <= 0;
             st_c2 <= 16'sd8192;
             r_happly <= 1'b1; r_hlearn <= 1'b1; r_hmu <= 2'd1; r_hclear <= 1'b0;
@@ -226,7 +226,7 @@ module finequad_core #(
     monitor u_monitor (
         .clk(clk), .rst(rst), .valid0_i(c_v0), .raw1_i(c_raw1), .raw2_i(c_raw2),
         .clip_i(c_clip), .ref_i(b_ref), .ax_i(c_ax), .ay_i(c_ay), .xn_i(c_xn), .yn_i(c_yn), .pvalid_i(h_valid), .phase_i(h_phase),
-        .loss_th_i(r_loss), .over_th_i(r_over), .glitch_th_i(r_glitch),
+        .loss_th_i(r_loss), .over_th_i(r_over), .glitch_k_i(r_glitch),
         .stuck_n_i(r_stuckn), .hold_o(mon_hold), .excl_o(mon_excl), .loss_o(mon_loss),
         .over_o(mon_over), .stuck_o(mon_stuck), .glitch_o(mon_glitch),
         .travel_o(mon_travel)
@@ -345,7 +345,7 @@ module finequad_core #(
                 6'h17: reg_rdata <= {{16{g_backlog[15]}}, g_backlog};
                 6'h18: reg_rdata <= {16'd0, r_clip};
                 6'h19: reg_rdata <= {r_over, r_loss};
-                6'h1a: reg_rdata <= {8'd0, r_stuckn, 3'd0, r_glitch};
+                6'h1a: reg_rdata <= {8'd0, r_stuckn, 12'd0, r_glitch};
                 6'h1b: reg_rdata <= {{(32-COUNT_W+1){r_cap[COUNT_W-1]}}, r_cap[COUNT_W-2:0]};
                 6'h1c: reg_rdata <= {12'd0, mon_travel};
                 6'h1f: reg_rdata <= ID;

@@ -10,14 +10,18 @@
 //          code changed; run_ok_c = STUCK_N > 0 and run_c >= STUCK_N
 //   t + 2  ax_i, ay_i, xn_i, yn_i     u15 |u1c|, |u2c| (s2.14: calibrated circle 16384),
 //          their signs
-//   t + 3  o_1 = u2c, o_2 = u1c (the other channel, s17); det_c = run_ok_c and |o_c -
-//          snap_c| >= 2048; stk_c <= !chg_c and (stk_c or det_c); snap_c <= o_c if chg_c;
-//          stuck = stk_1 or stk_2 (as updated)
+//   t + 3  o_1 = u2c, o_2 = u1c (the other channel, s17); max, min of ax, ay
+//   t + 4  x_c = o_c - snap_c (s18); det_c = run_ok_c and x_c outside [-2048, 2047] (a
+//          bit test: 1/8 of the calibrated radius); stk_c <= !chg_c and (stk_c or det_c);
+//          snap_c <= o_c if chg_c; stuck = stk_1 or stk_2 (as updated)
 //          r = max + min >> 2 + min >> 3           u16 radius (alpha-max-plus-beta-min)
-//   t + 4  loss = ref and r < LOSS, over = ref and r > OVER
+//   t + 5  loss = ref and r < LOSS, over = ref and r > OVER
+//   Every per-sample recurrence (run, stk, snap, and stage H below) is one carry chain
+//   deep, so samples may come on every clock.
 //   H = the clock from t + 6 to t + 7: phase_i (u13 fine phase, before the harmonic
 //          correction) registered on t + 6 with pvalid_i
-//          glitch = GLITCH > 0, chk == 2 and |wrap13(phase - pred)| > GLITCH
+//          glitch = K > 0, chk == 2 and wrap13(phase - pred) outside [-2^K, 2^K - 1]
+//                   (K = glitch_k_i: a bit test, no compare chain)
 //          hold_o = pvalid and (loss or stuck or glitch or clip)  (combinational in H:
 //                   the counter keeps its count and last phase, rtl/counter.v)
 //          excl_o = hold_o or over while orun < 4095              (combinational in H:
@@ -53,7 +57,7 @@ module monitor (
     // registers
     input  wire [15:0]        loss_th_i,    // u16 radius (s2.14 units) below it: loss
     input  wire [15:0]        over_th_i,    // u16 radius above it: over-range
-    input  wire [12:0]        glitch_th_i,  // u13 max |phase acceleration| (0: off)
+    input  wire [3:0]         glitch_k_i,   // max |phase acceleration| 2^K (0: off)
     input  wire [7:0]         stuck_n_i,    // u8 unchanged codes before stuck (0: off)
     // stage H (combinational)
     output wire               hold_o,
@@ -65,7 +69,6 @@ module monitor (
     output reg                glitch_o = 1'b0,
     output wire [19:0]        travel_o      // u20 integer part of S
 );
-    localparam [17:0] STUCK_SPAN = 18'd2048;     // 1/8 of the calibrated radius
     localparam [11:0] OVER_PERSIST = 12'd4095;
 
     // ---- t + 1: runs of unchanged codes ------------------------------------------------
@@ -74,6 +77,8 @@ module monitor (
     wire      eq1 = (raw1_i == prev1), eq2 = (raw2_i == prev2);
     wire [7:0] run1n = eq1 ? ((run1 == 8'hff) ? run1 : run1 + 1'b1) : 8'd0;
     wire [7:0] run2n = eq2 ? ((run2 == 8'hff) ? run2 : run2 + 1'b1) : 8'd0;
+    // run_n >= N (N > 0) <=> the code is unchanged and run >= N - 1 (run saturates at 255)
+    wire [7:0] n_m1 = stuck_n_i - 1'b1;
     reg       chg1_1 = 1'b0, chg2_1 = 1'b0, rok1_1 = 1'b0, rok2_1 = 1'b0;
     always @(posedge clk) begin
         if (valid0_i) begin
@@ -84,76 +89,77 @@ module monitor (
         end
         chg1_1 <= !eq1;
         chg2_1 <= !eq2;
-        rok1_1 <= (stuck_n_i != 8'd0) && (run1n >= stuck_n_i);
-        rok2_1 <= (stuck_n_i != 8'd0) && (run2n >= stuck_n_i);
+        rok1_1 <= (stuck_n_i != 8'd0) && eq1 && (run1 >= n_m1);
+        rok2_1 <= (stuck_n_i != 8'd0) && eq2 && (run2 >= n_m1);
         if (rst) begin
             prev1 <= 0; prev2 <= 0; run1 <= 0; run2 <= 0;
         end
     end
-    // ---- t + 2 .. t + 3: the other channel's excursion, the stuck latch -----------------
-    reg        v1 = 1'b0, v2 = 1'b0;
+    // ---- t + 2 .. t + 4: the other channel's excursion, the stuck latch -----------------
+    reg        v1 = 1'b0, v2 = 1'b0, v3 = 1'b0;
     reg        chg1_2 = 1'b0, chg2_2 = 1'b0, rok1_2 = 1'b0, rok2_2 = 1'b0;
-    reg        stk1 = 1'b0, stk2 = 1'b0, stuck3 = 1'b0;
+    reg        chg1_3 = 1'b0, chg2_3 = 1'b0, rok1_3 = 1'b0, rok2_3 = 1'b0;
+    reg signed [16:0] o1 = 0, o2 = 0;            // t + 3: the other channel, signed
+    reg        stk1 = 1'b0, stk2 = 1'b0, stuck4 = 1'b0;
     reg signed [16:0] snap1 = 0, snap2 = 0;
-    wire signed [16:0] o1 = yn_i ? -$signed({2'b00, ay_i}) : $signed({2'b00, ay_i});
-    wire signed [16:0] o2 = xn_i ? -$signed({2'b00, ax_i}) : $signed({2'b00, ax_i});
     wire signed [17:0] x1 = {o1[16], o1} - {snap1[16], snap1};
     wire signed [17:0] x2 = {o2[16], o2} - {snap2[16], snap2};
-    wire far1 = (x1 >= $signed(STUCK_SPAN)) || (x1 <= -$signed(STUCK_SPAN));
-    wire far2 = (x2 >= $signed(STUCK_SPAN)) || (x2 <= -$signed(STUCK_SPAN));
-    wire stk1n = !chg1_2 && (stk1 || (rok1_2 && far1));
-    wire stk2n = !chg2_2 && (stk2 || (rok2_2 && far2));
+    wire far1 = (x1[17:11] != {7{x1[17]}});      // x outside [-2048, 2047]
+    wire far2 = (x2[17:11] != {7{x2[17]}});
+    wire stk1n = !chg1_3 && (stk1 || (rok1_3 && far1));
+    wire stk2n = !chg2_3 && (stk2 || (rok2_3 && far2));
     always @(posedge clk) begin
         v1 <= valid0_i;
         v2 <= v1;
-        chg1_2 <= chg1_1;
-        chg2_2 <= chg2_1;
-        rok1_2 <= rok1_1;
-        rok2_2 <= rok2_1;
-        stuck3 <= stk1n || stk2n;
-        if (v2) begin
+        v3 <= v2;
+        {chg1_2, chg2_2, rok1_2, rok2_2} <= {chg1_1, chg2_1, rok1_1, rok2_1};
+        {chg1_3, chg2_3, rok1_3, rok2_3} <= {chg1_2, chg2_2, rok1_2, rok2_2};
+        o1 <= yn_i ? -$signed({2'b00, ay_i}) : $signed({2'b00, ay_i});
+        o2 <= xn_i ? -$signed({2'b00, ax_i}) : $signed({2'b00, ax_i});
+        stuck4 <= stk1n || stk2n;
+        if (v3) begin
             stk1 <= stk1n;
             stk2 <= stk2n;
-            if (chg1_2)
+            if (chg1_3)
                 snap1 <= o1;
-            if (chg2_2)
+            if (chg2_3)
                 snap2 <= o2;
         end
         if (rst) begin
-            v1 <= 1'b0; v2 <= 1'b0; stk1 <= 1'b0; stk2 <= 1'b0; snap1 <= 0; snap2 <= 0;
+            v1 <= 1'b0; v2 <= 1'b0; v3 <= 1'b0; stk1 <= 1'b0; stk2 <= 1'b0;
+            snap1 <= 0; snap2 <= 0;
         end
     end
-    // the stuck flag of edge t + 3, at t + 6
-    reg [2:0] stuck_d = 0;
+    // the stuck flag of edge t + 4, at t + 6
+    reg [1:0] stuck_d = 0;
     always @(posedge clk)
-        stuck_d <= {stuck_d[1:0], stuck3};
-    wire stuck = stuck_d[2];
-    // the clip flag of edge t, at t + 6
-    reg [5:0] clip_d = 0;
+        stuck_d <= {stuck_d[0], stuck4};
+    wire stuck = stuck_d[1];
+    // the clip flag of edge t, at t + 5 (into `early`, below)
+    reg [4:0] clip_d = 0;
     always @(posedge clk)
-        clip_d <= {clip_d[4:0], clip_i};
-    wire clip = clip_d[5];
+        clip_d <= {clip_d[3:0], clip_i};
 
-    // ---- t .. t + 4: the radius ---------------------------------------------------------
-    reg        ref0 = 1'b0, ref1 = 1'b0, ref2 = 1'b0, ref3 = 1'b0;
-    reg [15:0] r3 = 0;
-    reg        loss4 = 1'b0, over4 = 1'b0;
-    reg [1:0]  loss_d = 0, over_d = 0;
-    wire       low = (ay_i <= ax_i);
-    wire [14:0] mx = low ? ax_i : ay_i;
-    wire [14:0] mn = low ? ay_i : ax_i;
+    // ---- t .. t + 5: the radius ---------------------------------------------------------
+    reg        ref0 = 1'b0, ref1 = 1'b0, ref2 = 1'b0, ref3 = 1'b0, ref4 = 1'b0;
+    reg [14:0] mx3 = 0, mn3 = 0;
+    reg [15:0] r4 = 0;
+    reg        loss5 = 1'b0, over5 = 1'b0, loss6 = 1'b0, over6 = 1'b0;
     always @(posedge clk) begin
-        ref0 <= ref_i;
-        ref1 <= ref0;
-        ref2 <= ref1;
-        ref3 <= ref2;
-        r3 <= {1'b0, mx} + {3'd0, mn[14:2]} + {4'd0, mn[14:3]};
-        loss4 <= ref3 && (r3 < loss_th_i);
-        over4 <= ref3 && (r3 > over_th_i);
-        loss_d <= {loss_d[0], loss4};
-        over_d <= {over_d[0], over4};
+        {ref0, ref1, ref2, ref3, ref4} <= {ref_i, ref0, ref1, ref2, ref3};
+        mx3 <= (ay_i <= ax_i) ? ax_i : ay_i;
+        mn3 <= (ay_i <= ax_i) ? ay_i : ax_i;
+        r4 <= {1'b0, mx3} + {3'd0, mn3[14:2]} + {4'd0, mn3[14:3]};
+        loss5 <= ref4 && (r4 < loss_th_i);
+        over5 <= ref4 && (r4 > over_th_i);
+        loss6 <= loss5;
+        over6 <= over5;
     end
-    wire loss = loss_d[1], over = over_d[1];
+    wire loss = loss6, over = over6;
+    // loss, stuck or clip of the sample in H, combined on the edge before (t + 6)
+    reg early = 1'b0;
+    always @(posedge clk)
+        early <= loss5 || stuck_d[0] || clip_d[4];
 
     // ---- stage H ----------------------------------------------------------------------------
     reg [12:0] ph_a = 0, pred = 0;
@@ -162,10 +168,18 @@ module monitor (
     reg [24:0] s = 0;
     reg [11:0] orun = 0;
     wire [12:0] e = phase_i - pred;                             // s13 acceleration
-    wire        glitch = (glitch_th_i != 13'd0) && chk[1] &&
-                         (($signed({e[12], e}) > $signed({1'b0, glitch_th_i})) ||
-                          ($signed({e[12], e}) < -$signed({1'b0, glitch_th_i})));
-    assign hold_o = pvalid_i && (loss || stuck || glitch || clip);
+    // e outside [-2^K, 2^K - 1] <=> a bit of e[11:K] differs from the sign e[12]
+    wire [11:0] e_off = e[11:0] ^ {12{e[12]}};
+    reg         big;
+    integer     kb;
+    always @* begin
+        big = 1'b0;
+        for (kb = 1; kb < 12; kb = kb + 1)
+            if (kb >= glitch_k_i && e_off[kb])
+                big = 1'b1;
+    end
+    wire        glitch = (glitch_k_i != 4'd0) && (glitch_k_i < 4'd12) && chk[1] && big;
+    assign hold_o = pvalid_i && (early || glitch);
     assign excl_o = hold_o || (pvalid_i && over && (orun != OVER_PERSIST));
     wire [12:0] d = phase_i - ph_a;                             // s13 step
     wire [24:0] sd = {u, 5'd0} - s;                             // s25
@@ -193,7 +207,7 @@ module monitor (
         end
     end
     assign travel_o = s[24:5];
-    wire unused = &{1'b0, mn[1:0], sd[4:0], 1'b0};
+    wire unused = &{1'b0, mn3[1:0], sd[4:0], x1[10:0], x2[10:0], 1'b0};
 
 `ifdef FORMAL
     // the saturating counters stay in range; chk never passes 2; the flags are raised

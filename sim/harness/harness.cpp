@@ -126,7 +126,7 @@ int main(int argc, char **argv) {
     long interp = 100, eps = 1638, lam_k = 8, kappa = 0x4000, period = 0, settle = 32,
          gate = 64, div = 36, count_mode = 0, jump = 41, ab_sep = 4, ab_src = 0,
          ab_bound = 1024, clip = 32512, radius = (22118L << 16) | 3277,
-         monitor = (8L << 16) | 1024;
+         monitor = (8L << 16) | 10;
     bool raw = false, dump_regs = false;
     for (int i = 1; i < argc; i++) {
         std::string a = argv[i];
@@ -178,8 +178,9 @@ int main(int argc, char **argv) {
         die("--jump must be the JUMP register: bit 15 off, bits 10..0 floor");
     if (clip < 0 || clip > 65535) die("--clip must be 0..65535 (u16 level)");
     if (radius < 0 || radius > 0xFFFFFFFFL) die("--radius must be a 32-bit word");
-    if (monitor < 0 || monitor > 0xFFFFFF || (monitor & 0xE000))
-        die("--monitor must be the MONITOR register: bits 23..16 stuck samples, 12..0 glitch");
+    if (monitor < 0 || monitor > 0xFFFFFF || (monitor & 0xFFF0))
+        die("--monitor must be the MONITOR register: bits 23..16 stuck samples, 3..0 glitch "
+            "exponent K");
 
     std::vector<int> u1, u2;
     Source src;

@@ -146,14 +146,14 @@ class Config:
     clip: int = fp.CLIP_LEVEL   # CLIP: |u| (s1.15 aligned) at or above it is clipped
     loss: int = 3277         # RADIUS [15:0]: radius (s2.14) below it: signal lost (0.2)
     over: int = 22118        # RADIUS [31:16]: radius above it: over-range (1.35)
-    glitch: int = 1024       # MONITOR [12:0]: max |phase acceleration| (0: off)
+    glitch_k: int = 10       # MONITOR [3:0]: max |phase acceleration| 2^K (0: off)
     stuck_n: int = 8         # MONITOR [23:16]: unchanged codes before stuck (0: off)
     loads: list = field(default_factory=list)   # [(w, (g, m1, m2, c1, c12, c2))]: a
                              # LOAD (CTRL bit 1) written on edge w with that bundle staged
                              # in 0x0b..0x10; samples strobed on edges >= w + 2 use it
 
     def monitor_regs(self):
-        return MonitorRegs(loss=self.loss, over=self.over, glitch=self.glitch,
+        return MonitorRegs(loss=self.loss, over=self.over, glitch_k=self.glitch_k,
                            stuck_n=self.stuck_n)
 
 

@@ -11,9 +11,9 @@ t + 6 and t + 7, when the sample's fine phase is registered and the counter deci
                  equal to the previous sample's (0 if it changed at k), saturating at 255.
                  snap_c = the OTHER channel's corrected value (s2.14, signed) when channel
                  c's code last changed. Channel c is stuck when run_c(k) >= STUCK_N
-                 (STUCK_N > 0) and the other channel has since moved by at least
-                 STUCK_SPAN (1/8 of the calibrated radius, 6 sigma of 2 % noise between
-                 two samples). Measured on the other channel, not on the phase: with one
+                 (STUCK_N > 0) and the other channel has since moved out of [-STUCK_SPAN,
+                 STUCK_SPAN - 1] (1/8 of the calibrated radius, 6 sigma of 2 % noise
+                 between two samples; a bit test in the RTL). Measured on the other channel, not on the phase: with one
                  channel frozen the phase can stand nearly still while the stage moves.
                  The other channel moves that far within 58 degrees of motion from any
                  start (worst: it starts just below its peak and must pass it), typically
@@ -30,10 +30,12 @@ t + 6 and t + 7, when the sample's fine phase is registered and the counter deci
                  loss = ref and r < LOSS;  over = ref and r > OVER.
   glitch         the phase acceleration: e = wrap13(phase - pred), pred = 2 ph_a - ph_b
                  the straight-line prediction from the last two accepted phases;
-                 glitch = GLITCH > 0, the last two samples accepted (chk >= 2) and
-                 |e| > GLITCH. A real stage cannot change its phase velocity by 1/8 of a
-                 period per sample within one sample (that is 5e5 m/s^2 at 1 MS/s on a
-                 4 um scale); noise is far below (2 % noise: sigma(e) ~ 64 units).
+                 glitch = 0 < K < 12, the last two samples accepted (chk >= 2) and e
+                 outside [-2^K, 2^K - 1] (K = GLITCH_K, default 10: 1/8 of a period; a
+                 power of two, so the RTL tests bits instead of comparing). A real stage
+                 cannot change its phase velocity by 1/8 of a period per sample within
+                 one sample (that is 5e5 m/s^2 at 1 MS/s on a 4 um scale); noise is far
+                 below (2 % noise: sigma(e) ~ 64 units).
   hold           loss or stuck or glitch or clip (a code at or near an ADC rail,
                  rtl/correct.v): the sample's phase is not trusted. The counter keeps its
                  count and its last phase (rtl/counter.v), so when the signal comes back
@@ -84,7 +86,7 @@ class MonitorRegs:
     """Run-time settings of the monitor (registers RADIUS and MONITOR)."""
     loss: int = 3277         # RADIUS [15:0]: u16 radius below which the signal is lost (0.2)
     over: int = 22118        # RADIUS [31:16]: u16 radius above which it is over-range (1.35)
-    glitch: int = 1024       # GLITCH [12:0]: max |phase acceleration| (0: off)
+    glitch_k: int = 10       # MONITOR [3:0]: max |phase acceleration| 2^K (0: off)
     stuck_n: int = 8         # GLITCH [23:16]: samples of an unchanged code (0: off)
 
 
@@ -118,7 +120,8 @@ class Monitor:
         changed = (r1 != self.prev[0], r2 != self.prev[1])
         for c in (0, 1):
             self.run[c] = 0 if changed[c] else min(self.run[c] + 1, 255)
-            far = abs(other[c] - self.snap[c]) >= STUCK_SPAN
+            x = other[c] - self.snap[c]
+            far = x >= STUCK_SPAN or x < -STUCK_SPAN      # outside [-2048, 2047]
             det = bool(regs.stuck_n) and self.run[c] >= regs.stuck_n and far
             self.stk[c] = (self.stk[c] or det) and not changed[c]
             stuck = stuck or self.stk[c]
@@ -131,7 +134,8 @@ class Monitor:
         over = bool(ref) and r > regs.over
         # glitch: the phase against the straight-line prediction
         e = wrap13(phase - self.pred)
-        glitch = regs.glitch != 0 and self.chk >= 2 and abs(e) > regs.glitch
+        k = regs.glitch_k
+        glitch = 0 < k < 12 and self.chk >= 2 and not (-(1 << k) <= e < (1 << k))
         hold = loss or stuck or glitch or bool(clip)
         excl = hold or (over and self.orun < OVER_PERSIST)
         # registered at t + 7
