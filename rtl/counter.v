@@ -136,5 +136,270 @@ module counter #(
         valid_o = 1'b0; count_o = 0; ovs_o = 1'b0; ill_o = 1'b0; ill_count_o = 16'd0;
     end
     wire unused = &{1'b0, prod_i[10:0], 1'b0};
+`ifdef FORMAL
+    // ---- formal properties (sim/formal/counter.sby) -----------------------------------------
+    // Every input is free on every clock but prod_i (the abstraction below). Ghost state f_*
+    // is rebuilt from the inputs alone (the last trusted sample, B by the wrap rule, the last
+    // pulse's A/B); invariants I1..I4 tie it to the registers (k-induction). Stage 1 = the
+    // edge sampling valid_i (B, f_prev), stage 2 = the next one (count_o, valid_o).
+    //  C1 rst: count_o, valid_o, ovs_o, ill_o, ill_count_o, B, the last phase and E are 0.
+    //  C2 valid_o two edges after valid_i (lost on a rst edge); count_o changes only on an
+    //     edge that raises valid_o with a sample (it holds between samples).
+    //  C3 phase mode: B moves only by -4n (phase wrapped backwards: raw >= 4096), +4n
+    //     (raw < -4096) or 0, n of the sample; count_o of a trusted sample = B + prod >> 11.
+    //  C4 phase mode, the step: a trusted sample's count differs from the previous trusted
+    //     sample's by at most 2n counts (half a period of phase), in the direction of the
+    //     phase step wrap13(phase - last trusted phase) (0 for 0), when both were taken with
+    //     the same n (see "n" below); likewise for count_o when the previous one shown was
+    //     a phase-mode count.
+    //  C5 a held sample (hold_i) leaves B, the last phase and (phase mode) count_o as they
+    //     were and never flags overspeed.
+    //  C6 ovs_o == |wrap13(phase - last trusted phase)| >= 3072 of a trusted sample, only
+    //     with valid_o, never before a first trusted sample after rst.
+    //  C7 edge mode: E moves only with a pulse, by +1 / -1 (a single-channel step, x4
+    //     direction: A changed to != B, or B changed to == A, is up) or 0 (none, or both:
+    //     illegal, never counted); an illegal step after the first pulse since rst raises
+    //     ill_o on the next edge and adds 1 to ill_count_o (mod 2^16); count_o of an
+    //     edge-mode sample is E.
+    // n: B keeps the factors it was built with (the header: change n at standstill), so
+    // across a change of n the count may jump; C4 is claimed for consecutive trusted
+    // samples with the same n only (n free otherwise, every other property for any n).
+    // prod_i: the counter trusts rtl/lut.v for prod = n * phase of the sample (registered
+    // one edge after the phase, i.e. on stage 2; lut.v forms it on every edge from the same
+    // n and phase nets, core wiring). An exact `*` in the proof leaves z3 on two 9x13
+    // products for longer than 10 minutes, so the product is abstracted ZipCPU-style: only
+    // what n * phase implies for two trusted samples with the same n > 0 is assumed, for
+    // Y = prod - prod_last (= n * raw, raw = phase - phase_last, phase_last = prod_last =
+    // 0 after rst): Y compares with n*c as raw compares with c, c in {0, +-4096, +-8192};
+    // n = 0: Y = 0. Nothing else about prod (single samples, n changes) is assumed.
+`ifdef COUNTER
+`define ASSUME assume
+`else
+`define ASSUME assert
+`endif
+    reg                      f_past_valid = 1'b0;
+    always @(posedge clk)
+        f_past_valid <= 1'b1;
+
+    // ---- stage 1 ghosts: the last trusted sample since rst, B by the wrap rule -------------
+    reg        [12:0]         f_lph = 13'd0;    // its phase (0 after rst)
+    reg        [8:0]          f_ln = 9'd0;      // its n
+    reg                       f_lok = 1'b0;     // one was taken since rst
+    reg signed [COUNT_W-1:0]  f_b = 0;          // B
+    wire                      f_acc = valid_i && !hold_i;
+    wire signed [14:0] f_raw = $signed({2'b00, phase_i}) - $signed({2'b00, f_lph});
+    wire signed [14:0] f_dph = (f_raw >= 15'sd4096) ? f_raw - 15'sd8192
+                             : (f_raw < -15'sd4096) ? f_raw + 15'sd8192 : f_raw;
+    wire signed [COUNT_W-1:0] f_n4 = $signed({{(COUNT_W-11){1'b0}}, n_i, 2'b00});
+    wire signed [COUNT_W-1:0] f_bstep = (f_raw >= 15'sd4096) ? -f_n4
+                                      : (f_raw < -15'sd4096) ? f_n4 : 0;
+    wire                      f_ovs = (f_dph >= 15'sd3072) || (f_dph <= -15'sd3072);
+    // stage 2 copies of the sample
+    reg                       f_v1 = 1'b0, f_h1 = 1'b0, f_same1 = 1'b0, f_ovs1 = 1'b0;
+    reg        [12:0]         f_ph1 = 13'd0;
+    reg        [8:0]          f_n1 = 9'd0;
+    reg signed [14:0]         f_raw1 = 15'sd0;
+    always @(posedge clk) begin
+        if (f_acc) begin
+            f_lph <= phase_i;
+            f_ln  <= n_i;
+            f_lok <= 1'b1;
+            f_b   <= f_b + f_bstep;
+        end
+        f_v1    <= valid_i && !rst;
+        f_h1    <= hold_i;
+        f_ph1   <= phase_i;
+        f_n1    <= n_i;
+        f_raw1  <= f_raw;
+        f_same1 <= !f_lok || (n_i == f_ln);
+        f_ovs1  <= f_acc && f_lok && f_ovs && !rst;
+        if (rst) begin
+            f_lph <= 13'd0;
+            f_ln  <= 9'd0;
+            f_lok <= 1'b0;
+            f_b   <= 0;
+        end
+    end
+
+    // ---- stage 2 ghosts: the last trusted sample's product, B and phase-mode count --------
+    reg        [21:0]         f_lp = 22'd0;
+    reg        [12:0]         f_lph2 = 13'd0;
+    reg signed [COUNT_W-1:0]  f_lb = 0, f_lc = 0;
+    reg                       f_pm = 1'b1;      // count_o shows f_lc
+    wire                      f_acc1 = f_v1 && !f_h1;
+    wire signed [COUNT_W-1:0] f_q = $signed({{(COUNT_W-11){1'b0}}, prod_i[21:11]});
+    wire signed [COUNT_W-1:0] f_c = f_b + f_q;  // the phase-mode count of the sample
+    wire signed [COUNT_W-1:0] f_dc = f_c - f_lc;
+    wire signed [COUNT_W-1:0] f_2n = $signed({{(COUNT_W-10){1'b0}}, f_n1, 1'b0});
+    wire signed [COUNT_W-1:0] f_4n1 = $signed({{(COUNT_W-11){1'b0}}, f_n1, 2'b00});
+    wire signed [COUNT_W-1:0] f_bstep1 = (f_raw1 >= 15'sd4096) ? -f_4n1
+                                       : (f_raw1 < -15'sd4096) ? f_4n1 : 0;
+    wire signed [14:0] f_dph1 = (f_raw1 >= 15'sd4096) ? f_raw1 - 15'sd8192
+                              : (f_raw1 < -15'sd4096) ? f_raw1 + 15'sd8192 : f_raw1;
+    always @(posedge clk) begin
+        if (f_acc1) begin
+            f_lp   <= prod_i;
+            f_lph2 <= f_ph1;
+            f_lb   <= f_b;
+            f_lc   <= f_c;
+        end
+        if (f_v1)
+            f_pm <= f_h1 ? (f_pm && !mode_i) : !mode_i;
+        if (rst) begin
+            f_lp   <= 22'd0;
+            f_lph2 <= 13'd0;
+            f_lb   <= 0;
+            f_lc   <= 0;
+            f_pm   <= 1'b1;
+        end
+    end
+
+    // ---- the multiplier abstraction (see above) -------------------------------------------
+    wire signed [22:0] f_y = $signed({1'b0, prod_i}) - $signed({1'b0, f_lp});
+    wire signed [23:0] f_n12 = $signed({2'b00, f_n1, 13'd0} >> 1);   // n * 4096
+    wire signed [23:0] f_n13 = $signed({2'b00, f_n1, 13'd0});        // n * 8192
+    wire signed [23:0] f_y24 = {f_y[22], f_y};
+    always @(*) if (f_acc1 && f_same1) begin
+        if (f_n1 == 9'd0) begin
+            `ASSUME(f_y == 0);
+        end else begin
+            `ASSUME((f_raw1 >= 15'sd0)     == (f_y24 >= 24'sd0));
+            `ASSUME((f_raw1 <= 15'sd0)     == (f_y24 <= 24'sd0));
+            `ASSUME((f_raw1 >= 15'sd4096)  == (f_y24 >= f_n12));
+            `ASSUME((f_raw1 <= 15'sd4096)  == (f_y24 <= f_n12));
+            `ASSUME((f_raw1 >= -15'sd4096) == (f_y24 >= -f_n12));
+            `ASSUME((f_raw1 <= -15'sd4096) == (f_y24 <= -f_n12));
+            `ASSUME((f_raw1 >= 15'sd8192)  == (f_y24 >= f_n13));
+            `ASSUME((f_raw1 <= -15'sd8192) == (f_y24 <= -f_n13));
+        end
+    end
+
+    // ---- edge mode ghosts: the last pulse's A/B ((1,1) after rst) ----------------------------
+    reg  f_pa = 1'b1, f_pb = 1'b1, f_epr = 1'b0;
+    wire f_ach = (a_i != f_pa), f_bch = (b_i != f_pb);
+    wire signed [COUNT_W-1:0] f_estep =
+        !pv_i ? 0 : (f_ach && !f_bch) ? ((a_i != b_i) ? 1 : -1)
+                  : (f_bch && !f_ach) ? ((b_i == a_i) ? 1 : -1) : 0;
+    wire f_ill = pv_i && f_ach && f_bch && f_epr;
+    always @(posedge clk) begin
+        if (pv_i) begin
+            f_pa  <= a_i;
+            f_pb  <= b_i;
+            f_epr <= 1'b1;
+        end
+        if (rst) begin
+            f_pa  <= 1'b1;
+            f_pb  <= 1'b1;
+            f_epr <= 1'b0;
+        end
+    end
+
+    // ---- invariants (from the initial values on) ---------------------------------------------
+    always @(*) begin
+        assert (b_acc == f_b);                                           // I1, C3
+        assert (ph_prev == f_lph && primed == f_lok);
+        assert (v1 == f_v1 && (v1 && ovs1) == f_ovs1);                   // I2
+        if (v1)
+            assert (hold1 == f_h1);
+        if (f_ovs1)
+            assert (f_v1 && !f_h1);
+        if (f_acc1) begin                                                // I3
+            assert (f_lph == f_ph1);
+            assert (f_raw1 == $signed({2'b00, f_ph1}) - $signed({2'b00, f_lph2}));
+            assert (f_b == f_lb + f_bstep1);
+        end else begin
+            assert (f_lph == f_lph2 && f_b == f_lb);
+        end
+        assert (f_lc == f_lb + $signed({{(COUNT_W-11){1'b0}}, f_lp[21:11]}));
+        if (f_pm)
+            assert (count_o == f_lc);
+        assert (qd_prev == {~f_pb, f_pa ^ f_pb} && eprimed == f_epr);   // I4
+    end
+
+    // C4: the step of the phase-mode count between trusted samples with the same n, in
+    // terms of the sample alone (B's step + q - q_last, s15; no width dependence), and
+    // the count's step is that (the ghost counts; count_o below)
+    wire signed [14:0] f_dcl = $signed({f_bstep1[COUNT_W-1], f_bstep1[13:0]})
+                               + $signed({4'd0, prod_i[21:11]}) - $signed({4'd0, f_lp[21:11]});
+    wire signed [14:0] f_2n15 = $signed({5'd0, f_n1, 1'b0});
+    always @(*) if (f_acc1) begin
+        assert (f_dc == {{(COUNT_W-15){f_dcl[14]}}, f_dcl});
+        if (f_same1) begin
+            assert (f_dcl <= f_2n15 && f_dcl >= -f_2n15);
+            if (f_dph1 >= 0)
+                assert (f_dcl >= 0);
+            if (f_dph1 <= 0)
+                assert (f_dcl <= 0);
+        end
+    end
+
+    // ---- per-edge properties -----------------------------------------------------------------
+    reg  signed [COUNT_W-1:0] f_count = 0;     // count_o before the edge
+    always @(posedge clk)
+        f_count <= count_o;
+    wire signed [COUNT_W-1:0] f_dcount = count_o - f_count;
+    always @(posedge clk) if (f_past_valid) begin
+        if ($past(rst)) begin                                            // C1
+            assert (count_o == 0 && !valid_o && !ovs_o && !ill_o && ill_count_o == 16'd0);
+            assert (b_acc == 0 && ph_prev == 13'd0 && e_acc == 0);
+        end else begin
+            // C2
+            assert (valid_o == $past(f_v1));
+            if (count_o != $past(count_o))
+                assert (valid_o);
+            // C3, C7: the count shown for a sample
+            if ($past(f_acc1) && !$past(mode_i))
+                assert (count_o == $past(f_c));
+            if ($past(f_v1) && $past(mode_i))
+                assert (count_o == $past(e_acc));
+            // C4 on count_o: the step from the count shown before is the sample's step
+            // (bounded above when n is the same)
+            if ($past(f_acc1 && f_pm) && !$past(mode_i))
+                assert (f_dcount == $past(f_dc));
+            if ($past(f_acc1 && f_same1 && f_pm) && !$past(mode_i)) begin
+                assert (f_dcount <= $past(f_2n) && f_dcount >= -$past(f_2n));
+                if ($past(f_dph1) >= 0)
+                    assert (f_dcount >= 0);
+                if ($past(f_dph1) <= 0)
+                    assert (f_dcount <= 0);
+            end
+            // C5
+            if ($past(valid_i && hold_i))
+                assert (b_acc == $past(b_acc) && ph_prev == $past(ph_prev));
+            if ($past(f_v1 && f_h1)) begin
+                assert (!ovs_o);
+                if (!$past(mode_i))
+                    assert (count_o == $past(count_o));
+            end
+            // C6
+            assert (ovs_o == $past(f_ovs1));
+            if (ovs_o)
+                assert (valid_o);
+            // C7
+            assert (e_acc == $past(e_acc + f_estep));
+            assert (ill_o == $past(f_ill));
+            assert (ill_count_o == $past(ill_count_o) + {15'd0, $past(f_ill)});
+        end
+    end
+
+    // ---- reachability ------------------------------------------------------------------------
+    always @(posedge clk) if (f_past_valid && !$past(rst)) begin
+        // a backward and a forward wrap counted, the step bound reached, in phase mode
+        cover ($past(f_acc1 && !mode_i && f_raw1 >= 15'sd4096) && f_dcount == -5);
+        cover ($past(f_acc1 && !mode_i && f_raw1 < -15'sd4096) && f_dcount > 0);
+        cover ($past(f_acc1 && f_same1 && f_pm && !mode_i && f_n1 == 9'd3)
+               && f_dcount == 6);
+        // overspeed on the first trusted sample after a held one
+        cover (ovs_o && $past(f_lok) && $past(f_v1 && f_h1, 2));
+        // a held sample keeps a count; a trusted one after a held one moves it
+        cover ($past(f_v1 && f_h1 && !mode_i) && $past(f_acc1 && !mode_i, 2)
+               && valid_o && count_o != 0);
+        cover ($past(f_acc1 && !mode_i) && $past(f_v1 && f_h1, 2) && f_dcount != 0);
+        // illegal steps counted; the edge-mode count two steps down
+        cover (ill_o && ill_count_o == 16'd2);
+        cover ($past(f_v1 && mode_i) && count_o == -2 && $past(e_acc, 3) == -1);
+    end
+`undef ASSUME
+`endif
 endmodule
 `resetall
