@@ -52,5 +52,51 @@ module pulse #(
     initial begin
         valid_o = 1'b0; a_o = 1'b1; b_o = 1'b1;
     end
+`ifdef FORMAL
+    // ---- formal properties (sim/formal/pulse.sby; every input free on every clock) ----------
+    // With c = +-(cos magnitude in u0.15) and s likewise, as signed integers (independent of
+    // the single-comparison form above):
+    //  P1 rst: a_o = b_o = 1, valid_o = 0.
+    //  P2 valid_o is valid_i one edge later; a_o and b_o change only on an edge with valid_i.
+    //  P3 on such an edge a_o <= 1 if c >= eps, else 0 if c <= -eps, else a_o (Eq. 12);
+    //     so a_o becomes 1 only if c >= eps and 0 only if c <= -eps. b_o likewise with s.
+    reg f_past_valid = 1'b0;
+    always @(posedge clk)
+        f_past_valid <= 1'b1;
+    wire signed [17:0] f_cm = $signed({2'b00, cos_mag_i, {(16-SIN_W){1'b0}}});
+    wire signed [17:0] f_sm = $signed({2'b00, sin_mag_i, {(16-SIN_W){1'b0}}});
+    wire signed [17:0] f_c = cos_neg_i ? -f_cm : f_cm;
+    wire signed [17:0] f_s = sin_neg_i ? -f_sm : f_sm;
+    wire signed [17:0] f_eps = $signed({2'b00, eps_i});
+    wire f_a = (f_c >= f_eps) ? 1'b1 : (f_c <= -f_eps) ? 1'b0 : a_o;
+    wire f_b = (f_s >= f_eps) ? 1'b1 : (f_s <= -f_eps) ? 1'b0 : b_o;
+    always @(posedge clk) if (f_past_valid) begin
+        if ($past(rst)) begin
+            assert (a_o && b_o && !valid_o);                              // P1
+        end else begin
+            assert (valid_o == $past(valid_i));                           // P2
+            if (!$past(valid_i))
+                assert (a_o == $past(a_o) && b_o == $past(b_o));
+            else
+                assert (a_o == $past(f_a) && b_o == $past(f_b));          // P3
+            if (a_o && !$past(a_o))
+                assert ($past(f_c >= f_eps));
+            if (!a_o && $past(a_o))
+                assert ($past(f_c <= -f_eps));
+            if (b_o && !$past(b_o))
+                assert ($past(f_s >= f_eps));
+            if (!b_o && $past(b_o))
+                assert ($past(f_s <= -f_eps));
+        end
+    end
+    // reachability: a falls and b rises with a threshold, a holds inside the band after a
+    // fall, both set by a zero value at eps = 0
+    always @(posedge clk) if (f_past_valid && !$past(rst)) begin
+        cover (!a_o && $past(a_o) && b_o && !$past(b_o) && $past(eps_i) > 16'd100);
+        cover (!a_o && $past(valid_i) && $past(f_c > -f_eps && f_c < f_eps)
+               && $past(f_c) != 0);
+        cover (a_o && !$past(a_o) && $past(eps_i == 16'd0 && f_c == 0 && cos_neg_i));
+    end
+`endif
 endmodule
 `resetall
