@@ -4,17 +4,24 @@
 // the input gain, and hands the correction coefficients over to the fast path.
 // Mirrors the estimator schedule in sim/model/core.py (documented there in full).
 //
-// On the edge where a sample is presented (smp_valid_i) and the engine is idle:
-//   reset pending        -> RESET program: P = kappa I; gain g chosen from the peak |u|
-//                           since the last reset (theta rescaled to it); peak cleared
-//   otherwise the sample is the candidate, decided when its fine phase is known:
-//   not trusted (excl_i: rtl/monitor.v; clipped samples too) -> skip (no reset either)
-//   u << g saturates     -> reset pending
-//   dither hold-off      -> skip (0..15 samples after each update, from an LFSR)
-//   |travel - travel at the last update| < gate -> skip (no new information: the
+// One candidate slot keeps the next sample ready while the engine runs, so that at a
+// sample per clock the engine runs program after program with no idle clock.
+// On the edge after a sample is presented (smp_valid_i):
+//   reset pending, slot empty, no program running -> RESET program: P = kappa I; gain g
+//                           chosen from the peak |u| since the last reset (theta rescaled
+//                           to it); peak cleared. A pending reset takes no candidate.
+//   no reset pending, slot empty -> the dither count (0..15 samples after each update,
+//                           from an LFSR) counts down, or at 0 the sample becomes the
+//                           candidate, also while a program runs
+// The candidate is checked when its fine phase is known (t + PH_DELAY + 2):
+//   not trusted (excl_i: rtl/monitor.v; clipped samples too) -> dropped (no reset either)
+//   u << g saturates     -> dropped, reset pending
+//   |travel - travel at the last update| < gate -> dropped (no new information: the
 //                           monitor's smoothed travel does not move at standstill, also
 //                           with noise, so the estimator does not wind up)
-//   otherwise            -> UPDATE program (Eqs. 5-8) on this sample
+//   otherwise            -> UPDATE program (Eqs. 5-8) on this sample, at once if the
+//                           engine is free, else on the edge its program ends (an EXTRACT
+//                           due then goes first); the slot is held until then
 // After WARMUP updates from power-up the gain is checked (a reset only if it changes);
 // then a reset every period_i updates (0: never) or when the jump detector fires.
 // Samples that arrive while the engine is busy are skipped by the estimator (they still
@@ -90,15 +97,18 @@ module estimator #(
     reg        running_extract = 1'b0;
     reg        freeze = 1'b0;              // the trace of P is at its bound: no forgetting
     reg        busy = 1'b0;                // a program runs (from its start decision)
-    reg        pending = 1'b0;             // a candidate waits for its fine phase
+    reg        slot_pend = 1'b0;           // a candidate waits for its check
+    reg        slot_rdy = 1'b0;            // a checked candidate waits for the engine
 
-    // ---- arrival: a RESET program, or the sample becomes the candidate ------------------------
-    // Decided on the edge after the arrival (t + 1) when the estimator is idle (no program
-    // running, no candidate waiting); every sample updates the peak |u| since the last reset.
+    // ---- arrival: a RESET program, the dither, or the sample becomes the candidate ------------
+    // Decided on the edge after the arrival (t + 1); every sample updates the peak |u| since
+    // the last reset.
     wire pend = reset_pend | req_reset_i;
-    wire idle = !busy && !pending;
-    wire do_reset = smp_valid_i && idle && pend;
-    wire do_cand = smp_valid_i && idle && !pend;
+    wire slot_empty = !slot_pend && !slot_rdy;
+    reg  [3:0]  skip = 4'd0;
+    wire do_reset = smp_valid_i && !busy && slot_empty && pend;
+    wire do_cand = smp_valid_i && slot_empty && !pend && skip == 4'd0;
+    wire do_skip = smp_valid_i && slot_empty && !pend && skip != 4'd0;
     reg  signed [15:0] cu1 = 0, cu2 = 0;  // the candidate
     reg  [14:0] cpeak = 0;                 // the peak before it (warm-up gain check)
     reg  [PH_DELAY-1:0] cwait = 0;         // its fine phase arrives when the top bit is set
@@ -165,11 +175,18 @@ module estimator #(
     // at speeds where the signal frequency is a simple fraction of the update rate the
     // updates still spread over the whole circle
     reg [15:0] lfsr = 16'hACE1;           // Galois, x^16 + x^14 + x^13 + x^11 + 1
-    reg [3:0]  skip = 4'd0;
     reg [7:0]  oct_seen = 8'd0;              // octants of the updates since the last commit
-    wire pre_ok = pre_valid && !pre_bad;
-    wire do_skip = pre_ok && !pre_xsat && skip != 4'd0;
-    wire do_update = pre_ok && !pre_xsat && skip == 4'd0 && pre_gate;
+    // the check: trusted, no saturation, enough travel
+    wire pre_pass = pre_valid && !pre_bad && !pre_xsat && pre_gate;
+    // a checked candidate waiting for the engine: its octant and travel
+    reg [2:0]  r_oct = 0;
+    reg [19:0] r_s = 0;
+    // the engine takes a new program now: not busy, or its program ends now and no
+    // EXTRACT follows
+    wire eng_free;
+    wire do_update = eng_free && (slot_rdy || pre_pass);
+    wire [2:0]  u_oct = slot_rdy ? r_oct : pre_oct;
+    wire [19:0] u_s = slot_rdy ? r_s : pre_s;
     wire [4:0] lam_k = (lam_k_i == 0) ? 5'd1 : (lam_k_i > 5'd23) ? 5'd23 : lam_k_i;
     // an EXTRACT program follows an UPDATE that ends valid when a hand-over is due: at
     // least settle_i updates since the last reset, all octants covered since the last
@@ -177,6 +194,7 @@ module estimator #(
     wire trig;
     wire do_extract = done && running_update && valid && settle >= settle_i &&
                       oct_seen == 8'hff && !trig;
+    assign eng_free = !busy || (done && !do_extract);
     reg        start_q = 1'b0;
     reg  [7:0] entry_q = 0;
     reg signed [15:0] x1_q = 0, x2_q = 0;
@@ -192,13 +210,22 @@ module estimator #(
         else if (done && !do_extract)
             busy <= 1'b0;
         if (do_cand)
-            pending <= 1'b1;
+            slot_pend <= 1'b1;
         else if (pre_valid)
-            pending <= 1'b0;
+            slot_pend <= 1'b0;
+        if (pre_pass && !do_update)
+            slot_rdy <= 1'b1;
+        else if (do_update)
+            slot_rdy <= 1'b0;
+        if (pre_valid) begin
+            r_oct <= pre_oct;
+            r_s <= pre_s;
+        end
         if (rst) begin
             start_q <= 1'b0;
             busy <= 1'b0;
-            pending <= 1'b0;
+            slot_pend <= 1'b0;
+            slot_rdy <= 1'b0;
         end
     end
 
@@ -255,25 +282,34 @@ module estimator #(
             reset_pend <= 1'b0;
             upd <= 0;
             settle <= 0;
-            oct_seen <= 8'd0;     // a hand-over needs all octants since the reset, too
-            running_update <= 1'b0;
         end
-        if (pre_ok && pre_xsat) begin
+        // the octants covered: cleared by a reset (a hand-over needs all octants since the
+        // reset, too), a jump and a hand-over; an update starting on the same edge adds
+        // its own
+        oct_seen <= ((do_reset || (done && running_update && trig) ||
+                      (done && running_extract && valid)) ? 8'd0 : oct_seen) |
+                    (do_update ? (8'd1 << u_oct) : 8'd0);
+        // an update runs from its start decision to its END (a new one may start on the
+        // END edge of the last)
+        if (do_update)
+            running_update <= 1'b1;
+        else if (done && running_update)
+            running_update <= 1'b0;
+        if (pre_valid && !pre_bad && pre_xsat)
             reset_pend <= 1'b1;
-        end else if (do_skip) begin
+        if (do_skip)
             skip <= skip - 1'b1;
-        end else if (do_update) begin
-            s_last <= pre_s;
+        if (do_update) begin
+            s_last <= u_s;
             skip <= lfsr[3:0];
-            oct_seen <= oct_seen | (8'd1 << pre_oct);
             lfsr <= {1'b0, lfsr[15:1]} ^ (lfsr[0] ? 16'hB400 : 16'h0000);
             upd <= upd + 1'b1;
             updates_o <= updates_o + 1'b1;
-            running_update <= 1'b1;
             // after WARMUP updates from power-up the gain is checked, and P reset only if
             // it changes (a reset throws the information away); then every period_i
             if (first && upd + 1'b1 >= WARMUP) begin
-                reset_pend <= g_chk != g_eng;
+                if (g_chk != g_eng)
+                    reset_pend <= 1'b1;
                 first <= 1'b0;
             end else if (!first && period_i != 0 && upd + 1'b1 >= period_i) begin
                 reset_pend <= 1'b1;
@@ -291,7 +327,6 @@ module estimator #(
             if (trig) begin
                 reset_pend <= 1'b1;
                 armed <= 1'b0;
-                oct_seen <= 8'd0;
                 jf <= jl;
                 jumps_o <= jumps_o + 1'b1;
             end else begin
@@ -301,7 +336,6 @@ module estimator #(
             end
             if (!valid)
                 reset_pend <= 1'b1;
-            running_update <= 1'b0;
             running_extract <= do_extract;
             settle <= (settle == 10'h3ff) ? settle : settle + 1'b1;
         end
@@ -318,7 +352,6 @@ module estimator #(
                 g_o <= g_eng;
                 uncal_o <= 1'b0;
                 loaded_o <= 1'b0;
-                oct_seen <= 8'd0;
                 armed <= 1'b1;
             end
             hold_o <= !valid;

@@ -6,45 +6,56 @@ Clock-edge timing (the RTL implements exactly this; edges are numbered from 0):
   the coefficient bundle as it stands before t_k (committed on edges < t_k), so a sample
   never mixes two bundles. Its fine phase is registered on t_k + PHASE_AT (6), its count
   on t_k + LATENCY (8); the paced A/B outputs follow the count from t_k + 9.
-* The estimator sees every sample on arrival (the raw sample and max |u| registered on
-  t_k) and decides on the edge after it, if it is idle (no program running, no
-  candidate waiting for its phase):
-    - reset pending  -> RESET program (P = kappa I, theta rescaled to the new input gain g,
-                        chosen from the peak |u| of the samples since the last reset,
-                        before this one), decided on t_k + 1; the peak restarts.
-    - otherwise      -> the sample becomes the candidate. Its fine phase arrives on
-                        t_k + PHASE_AT and the decision is made on s = t_k + PHASE_STAGE:
-        - x = u << g saturates -> no update; a reset becomes pending
+* The estimator keeps one candidate slot, so that the engine finds the next sample
+  ready when it finishes a program (it runs back to back at a sample per clock). Every
+  sample arrives at the estimator on t_k (the raw sample and max |u| registered), which
+  decides on the edge after it (t_k + 1), seeing the state of edges <= t_k:
+    - reset pending, the slot empty and no program running -> RESET program (P = kappa I,
+                        theta rescaled to the new input gain g, chosen from the peak |u|
+                        of the samples since the last reset, before this one); the peak
+                        restarts. A pending reset takes no new candidate.
+    - no reset pending, the slot empty -> if the dither count is not 0, it counts down
+                        (after each update the estimator lets 0..15 samples pass, from an
+                        LFSR, so that at speeds where the signal frequency is a simple
+                        fraction of the update rate the updates still spread over the
+                        circle); otherwise the sample becomes the candidate, whether or
+                        not a program is running.
+  The candidate is checked on c = t_k + PHASE_STAGE, when its fine phase and the
+  monitor's verdict are known (the first failing check drops it; the slot is empty
+  for samples strobed on or after c):
         - the monitor does not trust the sample (sim/model/monitor.py: signal loss,
-                        over-range, a stuck channel, a glitch, a clipped code) -> no
-                        update (checked first: such a sample forces no reset either)
-        - within the dither hold-off -> no update (after each update the estimator lets
-                        0..15 candidates pass, from an LFSR, so that at speeds where the
-                        signal frequency is a simple fraction of the update rate the
-                        updates still spread over the whole circle)
+                        over-range, a stuck channel, a glitch, a clipped code) -> dropped
+                        (no reset either)
+        - x = u << g saturates -> dropped; a reset becomes pending
         - the travel S (the monitor's smoothed unwrapped phase, as of the sample before
-                        the candidate) within `gate` of S at the last update -> no update
+                        the candidate) within `gate` of S at the last update -> dropped
                         (no new information: standstill, with noise, and creep do not
                         wind the estimator up)
-        - otherwise      -> UPDATE program on the candidate (Eqs. 5-8). After WARMUP
+        - otherwise the UPDATE program (Eqs. 5-8) is decided on D = max(c, the edge on
+                        which the running program ends; an EXTRACT due at an update's end
+                        goes first), and the slot is empty for samples strobed on or after
+                        D. On D: the travel at the last update and the octant coverage
+                        take the candidate's, the dither count reloads; after WARMUP
                         updates from power-up the input gain is checked (from the peak
-                        before the candidate) and a reset becomes pending only if it
-                        would change; then after every period-th update since the last
-                        reset (period 0: never, the default).
-  Every sample, also one that arrives while the estimator is busy, updates the peak.
-  A program decided on edge s starts on edge s + 1 and ends (END retires, busy clears)
-  on edge s + 1 + CYCLES[prog]; the estimator is idle again for samples strobed on or
-  after that edge (or on or after s when the candidate was not taken). At the end of an
+                        before the candidate) and a reset becomes pending only if it would
+                        change; then after every period-th update since the last reset
+                        (period 0: never, the default).
+  A program decided on edge D starts on D + 1 and ends (END retires) on D + 1 +
+  CYCLES[prog]; a RESET needs a sample strobed on or after that edge. At the end of an
   UPDATE, if theta was valid, at least `settle` updates have ended since the last reset,
   and the updates since the last commit and the last reset covered all eight octants (so
-  the fit is constrained all round, not by a short arc), the new bundle
-  {g, m1, m2, c1, c12, c2} is committed on that edge.
+  the fit is constrained all round, not by a short arc), an EXTRACT is decided on that
+  edge, and the new bundle {g, m1, m2, c1, c12, c2} is committed on its end.
   Jump detector, also at the end of an UPDATE: with |e| the update's a-priori residual
   (OUT E, s3.13, saturated to 15 bits; u15.5 below), jf a fast (1/4) and jl a slow (1/64)
   running mean of |e|: if armed (a commit since power-up or the last jump) and
   jf_next > 4 jl + jump_min, a reset becomes pending, the octant coverage restarts, the
   detector disarms and jf = jl (no commit on this update); otherwise jf = jf_next and,
   while armed or uncalibrated, jl follows |e|. A commit arms it.
+  A reset becomes pending on an edge (a dropped candidate: c; the warm-up or period
+  check: D; a jump or an invalid update: the update's end) and acts on the decisions of
+  samples strobed on or after it; a reset request through the registers is pending for
+  the sample it is attributed to (Config.resets).
 * The counter counts the fine phase after the harmonic compensation (sim/model/
   harmonic.py, rtl/harmonic.v; the block samples a sample's arrival on t_k + HARM_AT):
   a function of the samples alone, except the table clears (Config.harm_clears), which
@@ -216,8 +227,11 @@ class Core:
         self.first = True
         self.upd = 0
         self.settle = 0
-        self.free_at = -1             # the estimator takes samples strobed on edges >= this
-        self.skip = 0                 # candidates the estimator still lets pass (dither)
+        self.eng_end = -1             # the running program ends on this edge
+        self.slot = None              # the candidate awaiting its check (a dict)
+        self.slot_free = -1           # the slot is empty for samples strobed on edges >= this
+        self.reset_at = -1            # a pending reset acts on samples strobed on >= this
+        self.skip = 0                 # samples the estimator still lets pass (dither)
         self.cover = 0                # octants of the updates since the last commit
         self.lfsr = LFSR_SEED
         self.requests = set(cfg.resets)
@@ -404,42 +418,35 @@ class Core:
                 for kind, k, g, e in self.sched]
 
     def _schedule(self, u1r, u2r, t, clip):
-        """The monitor on every sample and the estimator's decisions, in sample order (see
-        the module text and sim/model/monitor.py). Returns the monitor's per-sample flags
+        """The monitor on every sample and the estimator's decisions, in edge order (see the
+        module text and sim/model/monitor.py). Returns the monitor's per-sample flags
         (loss, over, stuck, glitch, hold, excl; ref: the radius checks are armed;
         travel: S after the sample)."""
         cfg = self.cfg
-        est, lut, mon = self.est, self.lut, self.mon
+        lut, mon = self.lut, self.mon
         mregs = cfg.monitor_regs()
-        g_eng, peak, reset_pend, first = self.g_eng, self.peak, self.reset_pend, self.first
-        upd, settle, free_at, s_last = self.upd, self.settle, self.free_at, self.s_last
-        skip, cover, lfsr, uncal = self.skip, self.cover, self.lfsr, self.uncal
-        jf, jl, armed, freeze = self.jf, self.jl, self.armed, self.freeze
-        ev_edge, ev_state = self.ev_edge, self.ev_state
-        sched, jumps, requests = self.sched, self.jumps, self.requests
-        n_updates = self.n_updates
-        lam_k = min(max(cfg.lam_k, 1), 23)
-        kappa = max(cfg.kappa, 1)                  # KAPPA = 0 is taken as 1/256
-        tr_bound = (5 * kappa) >> 4                # 5 kappa in OUT TR's s12.4
         n = len(u1r)
         k0 = self.k0
         amax = np.minimum(np.maximum(np.abs(u1r), np.abs(u2r)), 32767).tolist()
         r1l, r2l, clipl = u1r.tolist(), u2r.tolist(), clip.tolist()
         tl = t.tolist()
+        requests = self.requests
         out = {f: np.zeros(n, dtype=bool) for f in ("loss", "over", "stuck", "glitch",
                                                      "hold", "excl", "ref")}
         travel = np.zeros(n, dtype=np.int64)
         blk_lo = blk_hi = 0           # the fast path of samples [blk_lo, blk_hi) under one
         blk = None                    # bundle event (computed a block at a time)
+        kappa = max(cfg.kappa, 1)                  # KAPPA = 0 is taken as 1/256
         for k in range(n):
             tk = tl[k]
             if k >= blk_hi:
                 # the state in force for t_k, up to the first sample that sees the next event
-                i = bisect.bisect_left(ev_edge, tk)
-                bundle, b_uncal, _, b_loaded = ev_state[i - 1]
+                i = bisect.bisect_left(self.ev_edge, tk)
+                bundle, b_uncal, _, b_loaded = self.ev_state[i - 1]
                 blk_lo, blk_hi = k, min(n, k + 256)
-                if i < len(ev_edge):
-                    blk_hi = min(blk_hi, int(np.searchsorted(t, ev_edge[i], side="right")))
+                if i < len(self.ev_edge):
+                    blk_hi = min(blk_hi, int(np.searchsorted(t, self.ev_edge[i],
+                                                             side="right")))
                 fr = _front(u1r[k:blk_hi], u2r[k:blk_hi], bundle, lut)
                 blk = (fr["ax"].tolist(), fr["ay"].tolist(), fr["phase"].tolist(),
                        (not b_uncal) or b_loaded, fr["xn"].tolist(), fr["yn"].tolist())
@@ -454,103 +461,121 @@ class Core:
             out["glitch"][k], out["hold"][k], out["excl"][k] = glitch, hold, excl
             out["ref"][k] = blk[3]
             travel[k] = mon.travel()
-            # ---- the estimator ----
+            # ---- the estimator: the held candidate's check on an edge <= t_k ----
+            if self.slot is not None and self.slot["c"] <= tk:
+                xdone = self._check(self.slot)
+                self.slot = None
+                if xdone is not None:
+                    # samples from the first one that sees the commit need their fast path
+                    blk_hi = min(blk_hi, int(np.searchsorted(t, xdone, side="right")))
+            # ---- its arrival decision on t_k + 1 ----
             if k0 + k in requests:
-                reset_pend = True
-            if tk < free_at:
-                peak = max(peak, amax[k])
-                continue
-            if reset_pend:
-                g_new = gsel(peak, g_eng)
-                dg = g_new - g_eng
-                est.run("reset", kappa=kappa, dg=dg)
-                freeze = int(est.out[6] >= tr_bound)
-                sched.append(("reset", k0 + k, g_new, None))
-                g_eng = g_new
-                peak = 0
-                reset_pend = False
-                upd = 0
-                settle = 0
-                cover = 0             # a hand-over needs all octants since the reset, too
-                free_at = tk + RESET_STAGE + START_DELAY + CYCLES["reset"]
-                continue
-            # the candidate: decided on s when its fine phase and the monitor's verdict
-            # are known
-            peak_before = peak        # the warm-up's gain check sees the samples before it
-            peak = max(peak, amax[k])
-            s = tk + PHASE_STAGE
-            free_at = s
-            if excl:
-                continue              # not trusted (monitor; clipped samples too)
-            x1, x2 = r1l[k] << g_eng, r2l[k] << g_eng
-            if not (-32768 <= x1 <= 32767 and -32768 <= x2 <= 32767):
-                reset_pend = True
-                continue
-            if skip:
-                skip -= 1
-                continue
-            # the travel since the last update (smoothed: noise at standstill does not
-            # pass), as of the sample before the candidate
-            if abs(((s_prev - s_last + (1 << 19)) & 0xFFFFF) - (1 << 19)) < cfg.gate:
-                continue
-            s_last = s_prev
-            cover |= 1 << (ph >> 10)
-            skip, lfsr = lfsr & 15, lfsr_step(lfsr)
-            ok = est.run("update", x1=x1, x2=x2, lam_k=lam_k, freeze=freeze)
-            freeze = int(est.out[6] >= tr_bound)
-            n_updates += 1
-            upd += 1
-            if first and upd >= WARMUP:
-                # the gain check after the warm-up: reset only if the input gain changes
-                reset_pend = gsel(peak_before, g_eng) != g_eng
-                first = False
-            elif not first and cfg.period and upd >= cfg.period:
-                reset_pend = True
-            done = s + START_DELAY + CYCLES["update"]
-            free_at = done
-            # jump detector on the a-priori residual |e| of this update (s3.13)
-            eabs = min(abs(est.out[5]), 32767) << 5
-            jf_next = jf + ((eabs - jf) >> 2)
-            trig = armed and cfg.jump_on and jf_next > (jl << 2) + (cfg.jump_min << 5)
-            if trig:
-                reset_pend = True
-                armed = False
-                cover = 0
-                jf = jl
-                jumps.append(k0 + k)
-            else:
-                jf = jf_next
-                if armed or uncal:
-                    jl += (eabs - jl) >> 6
-            if not ok:
-                reset_pend = True     # s' <= 0 (P no longer positive) or e saturated
-            if ok and settle >= cfg.settle and cover == 0xFF and not trig:
-                # EXTRACT follows: decided on the update's last edge, it hands the new
-                # bundle over on its own last edge if theta is an ellipse
-                okx = est.run("extract")
-                xdone = done + START_DELAY + CYCLES["extract"]
-                free_at = xdone
-                if okx:
-                    self._event(xdone, ("commit", (g_eng, *est.out[:5])))
-                    sched.append(("update", k0 + k, g_eng, xdone))
-                    uncal = 0
-                    cover = 0
-                    armed = True
+                self._pend_reset(-1)   # pending for this sample's decision
+            empty = self.slot is None and tk >= self.slot_free
+            if self.reset_pend and tk >= self.reset_at:
+                if empty and tk >= self.eng_end:
+                    g_new = gsel(self.peak, self.g_eng)
+                    self.est.run("reset", kappa=kappa, dg=g_new - self.g_eng)
+                    self.freeze = int(self.est.out[6] >= (5 * kappa) >> 4)
+                    self.sched.append(("reset", k0 + k, g_new, None))
+                    self.g_eng = g_new
+                    self.peak = 0
+                    self.reset_pend = False
+                    self.upd = 0
+                    self.settle = 0
+                    self.cover = 0    # a hand-over needs all octants since the reset, too
+                    self.eng_end = tk + RESET_STAGE + START_DELAY + CYCLES["reset"]
+                    continue
+            elif empty:
+                if self.skip:
+                    self.skip -= 1
                 else:
-                    self._event(xdone, ("invalid",))
-                    sched.append(("update", k0 + k, g_eng, None))
-                # samples from the first one that sees it need their fast path recomputed
-                blk_hi = min(blk_hi, int(np.searchsorted(t, xdone, side="right")))
-            else:
-                sched.append(("update", k0 + k, g_eng, None))
-            settle = min(settle + 1, 1023)
-        self.g_eng, self.peak, self.reset_pend, self.first = g_eng, peak, reset_pend, first
-        self.upd, self.settle, self.free_at, self.s_last = upd, settle, free_at, s_last
-        self.skip, self.cover, self.lfsr, self.uncal = skip, cover, lfsr, uncal
-        self.jf, self.jl, self.armed, self.freeze = jf, jl, armed, freeze
-        self.n_updates = n_updates
+                    self.slot = dict(k=k0 + k, c=tk + PHASE_STAGE, x1=r1l[k] << self.g_eng,
+                                     x2=r2l[k] << self.g_eng, peak=self.peak, excl=excl,
+                                     s_prev=s_prev, oct=ph >> 10)
+            self.peak = max(self.peak, amax[k])
         out["travel"] = travel
         return out
+
+    def _check(self, cand):
+        """The candidate's check on its edge c, and its UPDATE (with the END decisions:
+        jump detector, EXTRACT) if it passes. Returns the commit edge of a hand-over it
+        caused, else None."""
+        cfg = self.cfg
+        c = cand["c"]
+        self.slot_free = c
+        if cand["excl"]:
+            return None               # not trusted (monitor; clipped samples too)
+        x1, x2 = cand["x1"], cand["x2"]
+        if not (-32768 <= x1 <= 32767 and -32768 <= x2 <= 32767):
+            self._pend_reset(c)
+            return None
+        if abs(((cand["s_prev"] - self.s_last + (1 << 19)) & 0xFFFFF) - (1 << 19)) < cfg.gate:
+            return None               # too little travel since the last update
+        d = max(c, self.eng_end)      # the UPDATE is decided on d
+        self.slot_free = d
+        self.s_last = cand["s_prev"]
+        self.cover |= 1 << cand["oct"]
+        self.skip, self.lfsr = self.lfsr & 15, lfsr_step(self.lfsr)
+        lam_k = min(max(cfg.lam_k, 1), 23)
+        kappa = max(cfg.kappa, 1)
+        ok = self.est.run("update", x1=x1, x2=x2, lam_k=lam_k, freeze=self.freeze)
+        self.freeze = int(self.est.out[6] >= (5 * kappa) >> 4)
+        self.n_updates += 1
+        self.upd += 1
+        if self.first and self.upd >= WARMUP:
+            # the gain check after the warm-up: reset only if the input gain changes
+            if gsel(cand["peak"], self.g_eng) != self.g_eng:
+                self._pend_reset(d)
+            self.first = False
+        elif not self.first and cfg.period and self.upd >= cfg.period:
+            self._pend_reset(d)
+        done = d + START_DELAY + CYCLES["update"]
+        self.eng_end = done
+        # jump detector on the a-priori residual |e| of this update (s3.13)
+        eabs = min(abs(self.est.out[5]), 32767) << 5
+        jf_next = self.jf + ((eabs - self.jf) >> 2)
+        trig = self.armed and cfg.jump_on and \
+            jf_next > (self.jl << 2) + (cfg.jump_min << 5)
+        if trig:
+            self._pend_reset(done)
+            self.armed = False
+            self.cover = 0
+            self.jf = self.jl
+            self.jumps.append(cand["k"])
+        else:
+            self.jf = jf_next
+            if self.armed or self.uncal:
+                self.jl += (eabs - self.jl) >> 6
+        if not ok:
+            self._pend_reset(done)    # s' <= 0 (P no longer positive) or e saturated
+        xdone = None
+        if ok and self.settle >= cfg.settle and self.cover == 0xFF and not trig:
+            # EXTRACT, decided on the update's last edge; it hands the new bundle over on
+            # its own last edge if theta is an ellipse
+            okx = self.est.run("extract")
+            xdone = done + START_DELAY + CYCLES["extract"]
+            self.eng_end = xdone
+            if okx:
+                self._event(xdone, ("commit", (self.g_eng, *self.est.out[:5])))
+                self.sched.append(("update", cand["k"], self.g_eng, xdone))
+                self.uncal = 0
+                self.cover = 0
+                self.armed = True
+            else:
+                self._event(xdone, ("invalid",))
+                self.sched.append(("update", cand["k"], self.g_eng, None))
+        else:
+            self.sched.append(("update", cand["k"], self.g_eng, None))
+        self.settle = min(self.settle + 1, 1023)
+        return xdone
+
+    def _pend_reset(self, edge):
+        """A reset becomes pending on `edge` (acting on samples strobed on or after it)."""
+        if not self.reset_pend:
+            self.reset_pend, self.reset_at = True, edge
+        else:
+            self.reset_at = min(self.reset_at, edge)
 
 
 def run(u1_code, u2_code, cfg: Config = Config(), strobes=None, trace=False):
