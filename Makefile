@@ -43,7 +43,7 @@ tables: deps     ## regenerate rtl/tables/*.hex from sim/model
 # them: house style), so newer Verilators' PROCASSINIT notice is waived; everything else
 # of -Wall must be clean, with Debian's Verilator too where it is installed.
 lint: deps       ## verilator --lint-only -Wall on the core
-	for p in "" "-GTABLE_EXACT=0" "-GOPT_NTH_DSP=0 -GOPT_HARMONIC=0"; do \
+	for p in "" "-GTABLE_EXACT=0" "-GOPT_NTH_DSP=0 -GOPT_HARMONIC=0 -GOPT_TUNABLE=0"; do \
 	    $(VERILATOR) --lint-only -Wall -Wno-PROCASSINIT -Irtl -Irtl/tables $$p \
 	        --top-module finequad_core $(RTL) || exit 1; done
 	if command -v /usr/bin/verilator >/dev/null; then \

@@ -43,7 +43,13 @@ module finequad_core #(
     parameter [0:0] OPT_NTH_DSP = 1'b1,
     // 1: adaptive harmonic compensation of the fine phase (rtl/harmonic.v); 0: none
     // (rtl/phase.v; HARM reads 0: for devices too small for it)
-    parameter [0:0] OPT_HARMONIC = 1'b1
+    parameter [0:0] OPT_HARMONIC = 1'b1,
+    // 1: every setting is a register; 0: the tuning settings (EPS, LAMBDA_K, KAPPA,
+    // PERIOD, SETTLE, GATE, HARM, JUMP, ABGEN, AB_BOUND, CLIP, RADIUS, MONITOR) keep their
+    // reset values, which synthesis folds into the logic (writes are ignored, reads return
+    // them); CTRL, INTERP, the staged coefficients and FAULT_STICKY stay writable (for a
+    // small device, e.g. the iCE40 UP5K)
+    parameter [0:0] OPT_TUNABLE = 1'b1
 ) (
     input  wire                      clk,
     input  wire                      rst,
@@ -114,18 +120,23 @@ module finequad_core #(
                     r_cmode <= reg_wdata[3];
                 end
                 6'h01: r_interp <= reg_wdata[8:0];
-                6'h02: r_eps <= reg_wdata[15:0];
-                6'h03: r_lam_k <= reg_wdata[4:0];
-                6'h04: r_kappa <= reg_wdata[15:0];
-                6'h05: r_period <= reg_wdata[15:0];
-                6'h06: r_settle <= reg_wdata[9:0];
-                6'h07: r_gate <= reg_wdata[12:0];
                 6'h0b: st_g <= reg_wdata[1:0];
                 6'h0c: st_m1 <= reg_wdata[15:0];
                 6'h0d: st_m2 <= reg_wdata[15:0];
                 6'h0e: st_c1 <= reg_wdata[15:0];
                 6'h0f: st_c12 <= reg_wdata[15:0];
                 6'h10: st_c2 <= reg_wdata[15:0];
+                default: ;
+            endcase
+        end
+        if (reg_we && OPT_TUNABLE) begin
+            case (reg_addr)
+                6'h02: r_eps <= reg_wdata[15:0];
+                6'h03: r_lam_k <= reg_wdata[4:0];
+                6'h04: r_kappa <= reg_wdata[15:0];
+                6'h05: r_period <= reg_wdata[15:0];
+                6'h06: r_settle <= reg_wdata[9:0];
+                6'h07: r_gate <= reg_wdata[12:0];
                 6'h12: begin
                     r_happly <= reg_wdata[0];
                     r_hlearn <= reg_wdata[1];

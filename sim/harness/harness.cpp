@@ -35,7 +35,9 @@
 
 #include "Vfinequad_core.h"
 #include "verilated.h"
+#if VM_TRACE
 #include "verilated_vcd_c.h"
+#endif
 
 #ifndef PERIOD_PS
 #define PERIOD_PS 27778  // 36 MHz
@@ -198,6 +200,7 @@ int main(int argc, char **argv) {
     auto ctx = std::make_unique<VerilatedContext>();
     ctx->commandArgs(argc, argv);
     auto top = std::make_unique<Vfinequad_core>(ctx.get());
+#if VM_TRACE
     std::unique_ptr<VerilatedVcdC> tfp;
     if (!vcd.empty()) {
         ctx->traceEverOn(true);
@@ -205,6 +208,12 @@ int main(int argc, char **argv) {
         top->trace(tfp.get(), 99);
         tfp->open(vcd.c_str());
     }
+#else
+    // a harness built without --trace (the fast one): no VCD
+    struct NoTrace { void dump(uint64_t) {} void close() {} };
+    std::unique_ptr<NoTrace> tfp;
+    if (!vcd.empty()) die("--vcd: this harness was built without tracing (make rtlsim VCD=...)");
+#endif
     // CTRL (0) last: bit 3 the counter mode, bit 0 (covariance reset request) clear
     const long regs[][2] = {{1, interp}, {2, eps}, {3, lam_k}, {4, kappa},
                             {5, period}, {6, settle}, {7, gate}, {0x13, jump},
