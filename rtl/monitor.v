@@ -22,9 +22,10 @@
 //          correction) registered on t + 6 with pvalid_i
 //          glitch = K > 0, chk == 2 and wrap13(phase - pred) outside [-2^K, 2^K - 1]
 //                   (K = glitch_k_i: a bit test, no compare chain)
-//          hold_o = pvalid and (loss or stuck or glitch or clip)  (combinational in H:
-//                   the counter keeps its count and last phase, rtl/counter.v)
-//          excl_o = hold_o or over while orun < 4095              (combinational in H:
+//          hold_o = pvalid and (loss or stuck or glitch or (clip and over))
+//                   (combinational in H: the counter keeps its count and last phase,
+//                   rtl/counter.v; a clipped code alone still counts)
+//          excl_o = hold_o or clip or over while orun < 4095      (combinational in H:
 //                   the estimator does not take the sample)
 //   t + 7  loss_o, over_o, stuck_o, glitch_o (the sample's fault bits);
 //          orun <= over ? min(orun + 1, 4095) : 0; if accepted
@@ -156,10 +157,13 @@ module monitor (
         over6 <= over5;
     end
     wire loss = loss6, over = over6;
-    // loss, stuck or clip of the sample in H, combined on the edge before (t + 6)
-    reg early = 1'b0;
-    always @(posedge clk)
-        early <= loss5 || stuck_d[0] || clip_d[4];
+    // loss, stuck or clip with over-range of the sample in H, combined on the edge before
+    // (t + 6); clip alone for the estimator
+    reg early = 1'b0, clip6 = 1'b0;
+    always @(posedge clk) begin
+        early <= loss5 || stuck_d[0] || (clip_d[4] && over5);
+        clip6 <= clip_d[4];
+    end
 
     // ---- stage H ----------------------------------------------------------------------------
     reg [12:0] ph_a = 0, pred = 0;
@@ -180,7 +184,7 @@ module monitor (
     end
     wire        glitch = (glitch_k_i != 4'd0) && (glitch_k_i < 4'd12) && chk[1] && big;
     assign hold_o = pvalid_i && (early || glitch);
-    assign excl_o = hold_o || (pvalid_i && over && (orun != OVER_PERSIST));
+    assign excl_o = hold_o || (pvalid_i && (clip6 || (over && (orun != OVER_PERSIST))));
     wire [12:0] d = phase_i - ph_a;                             // s13 step
     wire [24:0] sd = {u, 5'd0} - s;                             // s25
     always @(posedge clk) begin

@@ -36,14 +36,17 @@ t + 6 and t + 7, when the sample's fine phase is registered and the counter deci
                  cannot change its phase velocity by 1/8 of a period per sample within
                  one sample (that is 5e5 m/s^2 at 1 MS/s on a 4 um scale); noise is far
                  below (2 % noise: sigma(e) ~ 64 units).
-  hold           loss or stuck or glitch or clip (a code at or near an ADC rail,
-                 rtl/correct.v): the sample's phase is not trusted. The counter keeps its
-                 count and its last phase (rtl/counter.v), so when the signal comes back
-                 after less than half a period of motion the count is right. Clipping of
-                 an overdriven signal touches a short arc around each peak, far less than
-                 half a period, so holding those samples loses nothing; a channel stuck
-                 on a rail (a broken line) would otherwise be counted as a phase.
-                 Over-range does not hold (a strong signal still has a good phase).
+  hold           loss or stuck or glitch, or a clipped code (at or near an ADC rail,
+                 rtl/correct.v) with the radius over-range: the sample's phase is not
+                 trusted. The counter keeps its count and its last phase (rtl/counter.v),
+                 so when the signal comes back after less than half a period of motion
+                 the count is right. A clipped code alone still counts: a slightly
+                 overdriven channel clips around its own peak, where the other channel
+                 carries the angle, and holding every such sample would let the count lag
+                 by the clipped arc while the stage moves; a channel stuck on a rail (a
+                 broken line) reads far from its true value, which throws the radius out
+                 of range. Over-range alone does not hold either (a strong signal still
+                 has a good phase). Clipped samples are never estimated (excl).
   excl           hold, or over-range while it has lasted fewer than OVER_PERSIST
                  samples: the estimator does not take the sample. A persistent
                  over-range (the amplitude really grew) is let in again, so the estimator
@@ -136,8 +139,8 @@ class Monitor:
         e = wrap13(phase - self.pred)
         k = regs.glitch_k
         glitch = 0 < k < 12 and self.chk >= 2 and not (-(1 << k) <= e < (1 << k))
-        hold = loss or stuck or glitch or bool(clip)
-        excl = hold or (over and self.orun < OVER_PERSIST)
+        hold = loss or stuck or glitch or (bool(clip) and over)
+        excl = hold or bool(clip) or (over and self.orun < OVER_PERSIST)
         # registered at t + 7
         self.orun = min(self.orun + 1, OVER_PERSIST) if over else 0
         if not hold:
