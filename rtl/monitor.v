@@ -214,46 +214,212 @@ module monitor (
     wire unused = &{1'b0, mn3[1:0], sd[4:0], x1[10:0], x2[10:0], 1'b0};
 
 `ifdef FORMAL
-    // the saturating counters stay in range; chk never passes 2; the flags are raised
-    // exactly when their conditions hold (registered with the sample)
+    // ---- formal properties (sim/formal/monitor.sby; every input free on every clock) --------
+    // Stated per edge for any inputs: a sample's values are its inputs on the edges the
+    // header gives (no assumption ties the stages of one sample together; ghost delay lines
+    // f_* carry them to stage H). With E the edge sampling pvalid_i (t + 7 of the header):
+    //  M1 loss (in H, loss_o after E) == ref && r < LOSS, over == ref && r > OVER for ref
+    //     sampled on E - 7, r = max + (min >> 2) + (min >> 3) of ax_i, ay_i sampled on
+    //     E - 4 (computed here in 17 bits), the thresholds sampled on E - 2; the 16-bit
+    //     radius register holds the exact sum (it never passes 16 bits).
+    //  M2 stuck: a channel's latch, on each sample's update (v3), becomes !chg && (latch ||
+    //     (run >= N > 0 && the other channel outside [-2048, 2047] of its snapshot)), chg =
+    //     the code changed from the previous sample, run its run of unchanged codes as
+    //     updated by the sample (the spec run >= N, not the run >= N - 1 shortcut), the
+    //     difference o - snap taken exactly (19 bits: o and snap stay in [-32767, 32767], so
+    //     the s18 x never wraps); the snapshot follows the other channel on a change;
+    //     stuck (in H, stuck_o after E) == the latch (either channel) right after the update
+    //     on E - 3.
+    //  M3 glitch_o == K > 0 && chk == 2 && wrap13(phase - pred) outside [-2^K, 2^K - 1]
+    //     (signed compares; off for K >= 12 as the range then covers every s13);
+    //     hold_o == pvalid && (loss || stuck || (clip && over) || glitch) of the sample
+    //     (clip sampled on E - 6); excl_o == hold_o || (pvalid && (clip || over && orun <
+    //     4095)): so hold_o and excl_o only with pvalid_i, excl_o whenever hold_o.
+    //  M4 a held sample moves nothing but chk (-> 0) (orun and the flags follow the sample);
+    //     an accepted one: ph_a <= phase, pred <= 2 phase - ph_a, chk <= min(chk + 1, 2),
+    //     U <= U + wrap13(phase - ph_a). No pvalid_i: nothing in H moves.
+    //  M5 saturating counters never wrap: run 0..255 (+1 while unchanged, 0 on a change),
+    //     orun 0..4095 (+1 while over, 0 otherwise), chk 0..2.
+    //  M6 S: the difference (U << 5) - S (s25) stays within +-2^22 (|U - S| <= 32 x 4096
+    //     in U units, at any phase steps: wrap13 bounds them), so S's step never sees a
+    //     wrapped difference.
+    //  M7 rst: the flags, orun, chk, U, S, ph_a, pred, the runs, latches and snapshots 0.
+    // The pipeline invariants (the RTL's stage registers against the ghost delay lines) make
+    // every property inductive in two steps.
     reg f_past_valid = 1'b0;
     always @(posedge clk)
         f_past_valid <= 1'b1;
-    always @(*) begin
-        assert(chk <= 2'd2);
-        assert(orun <= OVER_PERSIST);
-        if (!pvalid_i)
-            assert(!hold_o && !excl_o);
-        if (hold_o)
-            assert(excl_o);
-    end
-    always @(posedge clk) if (f_past_valid && !$past(rst) && $past(pvalid_i)) begin
-        assert(loss_o == $past(loss));
-        assert(over_o == $past(over));
-        assert(stuck_o == $past(stuck));
-        assert(glitch_o == $past(glitch));
-        // a held sample moves nothing but chk (to 0)
-        if ($past(hold_o)) begin
-            assert(ph_a == $past(ph_a) && pred == $past(pred));
-            assert(u == $past(u) && s == $past(s));
-            assert(chk == 2'd0);
+
+    // the radius as specified, in 17 bits (used in continuous assignments only)
+    function [16:0] f_radius(input [14:0] a, input [14:0] b);
+        reg [14:0] mx, mn;
+        begin
+            mx = (a >= b) ? a : b;
+            mn = (a >= b) ? b : a;
+            f_radius = {2'b00, mx} + {4'd0, mn[14:2]} + {5'd0, mn[14:3]};
         end
-        // the over-range run
-        if (!$past(over))
-            assert(orun == 12'd0);
-        else if ($past(orun) != OVER_PERSIST)
-            assert(orun == $past(orun) + 1'b1);
-        else
-            assert(orun == OVER_PERSIST);
+    endfunction
+
+    // ghost delay lines: ax, ay (4 samples), the thresholds (2), ref (7), clip (6), and the
+    // latch's next value (3)
+    reg [119:0] f_axy = 120'd0;
+    reg [63:0]  f_th = 64'd0;
+    reg [6:0]   f_ref = 7'd0;
+    reg [5:0]   f_clip = 6'd0;
+    reg [2:0]   f_stkp = 3'd0;
+    wire        f_stk1n, f_stk2n;
+    always @(posedge clk) begin
+        f_axy  <= {f_axy[89:0], ax_i, ay_i};
+        f_th   <= {f_th[31:0], loss_th_i, over_th_i};
+        f_ref  <= {f_ref[5:0], ref_i};
+        f_clip <= {f_clip[4:0], clip_i};
+        f_stkp <= {f_stkp[1:0], f_stk1n || f_stk2n};
     end
-    always @(posedge clk) if (f_past_valid && !$past(rst) && $past(valid0_i)) begin
-        // runs saturate at 255 and restart at 0 on a change
-        if ($past(raw1_i) != $past(prev1))
-            assert(run1 == 8'd0);
-        else if ($past(run1) != 8'hff)
-            assert(run1 == $past(run1) + 1'b1);
-        else
-            assert(run1 == 8'hff);
+    wire [16:0] f_r   = f_radius(f_axy[119:105], f_axy[104:90]);   // sampled on E - 4
+    wire [16:0] f_r5  = f_radius(f_axy[89:75], f_axy[74:60]);      // one sample later
+    wire [16:0] f_r4  = f_radius(f_axy[59:45], f_axy[44:30]);
+    wire [16:0] f_rin = f_radius(ax_i, ay_i);
+    wire        f_loss  = f_ref[6] && ({1'b0, f_th[63:48]} > f_r);
+    wire        f_over  = f_ref[6] && ({1'b0, f_th[47:32]} < f_r);
+    wire        f_loss5 = f_ref[5] && ({1'b0, f_th[31:16]} > f_r5);
+    wire        f_over5 = f_ref[5] && ({1'b0, f_th[15:0]} < f_r5);
+    wire        f_lowa  = (f_axy[29:15] >= f_axy[14:0]);
+
+    // the other channel (s17) and wrap13 of the phase error / step, as integers
+    wire signed [17:0] f_o1 = yn_i ? -$signed({3'b000, ay_i}) : $signed({3'b000, ay_i});
+    wire signed [17:0] f_o2 = xn_i ? -$signed({3'b000, ax_i}) : $signed({3'b000, ax_i});
+    wire signed [13:0] f_e  = $signed({1'b0, phase_i}) - $signed({1'b0, pred});
+    wire signed [13:0] f_ew = (f_e >= 14'sd4096) ? f_e - 14'sd8192
+                            : (f_e < -14'sd4096) ? f_e + 14'sd8192 : f_e;
+    wire signed [13:0] f_d  = $signed({1'b0, phase_i}) - $signed({1'b0, ph_a});
+    wire signed [13:0] f_dw = (f_d >= 14'sd4096) ? f_d - 14'sd8192
+                            : (f_d < -14'sd4096) ? f_d + 14'sd8192 : f_d;
+    wire signed [17:0] f_lim = $signed(18'd1 << glitch_k_i);     // 2^K
+    wire signed [17:0] f_ew18 = f_ew;
+    wire f_glitch = (glitch_k_i != 4'd0) && (chk == 2'd2)
+                    && ((f_ew18 < -f_lim) || (f_ew18 > f_lim - 18'sd1));
+
+    // stuck: the spec's chg and run >= N of the sample, carried to the latch's update edge
+    wire [7:0] f_run1n = (raw1_i != prev1) ? 8'd0 : (run1 == 8'hff) ? 8'hff : run1 + 1'b1;
+    wire [7:0] f_run2n = (raw2_i != prev2) ? 8'd0 : (run2 == 8'hff) ? 8'hff : run2 + 1'b1;
+    reg  [2:0] f_chg1 = 3'd0, f_chg2 = 3'd0, f_rok1 = 3'd0, f_rok2 = 3'd0;
+    always @(posedge clk) begin
+        f_chg1 <= {f_chg1[1:0], raw1_i != prev1};
+        f_chg2 <= {f_chg2[1:0], raw2_i != prev2};
+        f_rok1 <= {f_rok1[1:0], (stuck_n_i != 8'd0) && (f_run1n >= stuck_n_i)};
+        f_rok2 <= {f_rok2[1:0], (stuck_n_i != 8'd0) && (f_run2n >= stuck_n_i)};
+    end
+    wire signed [18:0] f_x1 = $signed({{2{o1[16]}}, o1}) - $signed({{2{snap1[16]}}, snap1});
+    wire signed [18:0] f_x2 = $signed({{2{o2[16]}}, o2}) - $signed({{2{snap2[16]}}, snap2});
+    wire f_far1 = (f_x1 < -19'sd2048) || (f_x1 > 19'sd2047);
+    wire f_far2 = (f_x2 < -19'sd2048) || (f_x2 > 19'sd2047);
+    assign f_stk1n = !f_chg1[2] && (stk1 || (f_rok1[2] && f_far1));
+    assign f_stk2n = !f_chg2[2] && (stk2 || (f_rok2[2] && f_far2));
+
+    // ---- properties and invariants on every clock ---------------------------------------------
+    wire signed [24:0] f_sd = sd;
+    always @(*) begin
+        assert (chk <= 2'd2);                                            // M5
+        assert (orun <= OVER_PERSIST);
+        assert (f_sd <= 25'sd4194304 && f_sd >= -25'sd4194304);          // M6
+        assert (snap1 <= 17'sd32767 && snap1 >= -17'sd32767);            // M2
+        assert (snap2 <= 17'sd32767 && snap2 >= -17'sd32767);
+        assert (o1 <= 17'sd32767 && o1 >= -17'sd32767);
+        assert (o2 <= 17'sd32767 && o2 >= -17'sd32767);
+        assert (x1 == f_x1[17:0] && x2 == f_x2[17:0]);                  // s18 exact
+        assert (stk1n == f_stk1n && stk2n == f_stk2n);
+        assert (stuck == f_stkp[2]);
+        assert (f_rin < 17'h10000);                                      // M1
+        assert ({1'b0, r4} == f_r4);
+        assert (loss == f_loss && over == f_over);
+        assert (hold_o == (pvalid_i && (loss || stuck || (f_clip[5] && over) || f_glitch)));
+        assert (excl_o == (hold_o || (pvalid_i && (f_clip[5] || (over && orun != OVER_PERSIST)))));
+        if (!pvalid_i)                                                   // M3
+            assert (!hold_o && !excl_o);
+        if (hold_o)
+            assert (excl_o);
+        // pipeline invariants
+        assert (ref0 == f_ref[0] && ref1 == f_ref[1] && ref2 == f_ref[2]
+                && ref3 == f_ref[3] && ref4 == f_ref[4]);
+        assert (mx3 == (f_lowa ? f_axy[29:15] : f_axy[14:0]));
+        assert (mn3 == (f_lowa ? f_axy[14:0] : f_axy[29:15]));
+        assert (loss5 == f_loss5 && over5 == f_over5);
+        assert (clip_d == f_clip[4:0] && clip6 == f_clip[5]);
+        assert ({stuck_d, stuck4} == f_stkp);
+        assert (early == (loss || stuck || (clip6 && over)));
+        assert ({chg1_3, chg1_2, chg1_1} == f_chg1 && {chg2_3, chg2_2, chg2_1} == f_chg2);
+        assert ({rok1_3, rok1_2, rok1_1} == f_rok1 && {rok2_3, rok2_2, rok2_1} == f_rok2);
+    end
+
+    // ---- per edge ----------------------------------------------------------------------------
+    always @(posedge clk) if (f_past_valid) begin
+        if ($past(rst)) begin                                            // M7
+            assert (!loss_o && !over_o && !stuck_o && !glitch_o);
+            assert (orun == 12'd0 && chk == 2'd0 && u == 20'd0 && s == 25'd0);
+            assert (ph_a == 13'd0 && pred == 13'd0);
+            assert (run1 == 8'd0 && run2 == 8'd0 && prev1 == 0 && prev2 == 0);
+            assert (!stk1 && !stk2 && snap1 == 0 && snap2 == 0 && !v1 && !v2 && !v3);
+        end else begin
+            // M5: the runs
+            if ($past(valid0_i)) begin
+                assert (run1 == $past(f_run1n) && run2 == $past(f_run2n));
+                assert (prev1 == $past(raw1_i) && prev2 == $past(raw2_i));
+            end else begin
+                assert (run1 == $past(run1) && run2 == $past(run2));
+                assert (prev1 == $past(prev1) && prev2 == $past(prev2));
+            end
+            // M2: the latch and the snapshot move only on a sample's update; stuck in H is
+            // the latch right after the update (f_stkp[0] -> f_stkp[2])
+            if ($past(v3)) begin
+                assert (stk1 == $past(f_stk1n) && stk2 == $past(f_stk2n));
+                assert ((stk1 || stk2) == f_stkp[0]);
+                assert (snap1 == ($past(f_chg1[2]) ? $past(o1) : $past(snap1)));
+                assert (snap2 == ($past(f_chg2[2]) ? $past(o2) : $past(snap2)));
+            end else begin
+                assert (stk1 == $past(stk1) && stk2 == $past(stk2));
+                assert (snap1 == $past(snap1) && snap2 == $past(snap2));
+            end
+            assert (o1 == $past(f_o1[16:0]) && o2 == $past(f_o2[16:0]));
+            // the stage H state
+            if (!$past(pvalid_i)) begin
+                assert (ph_a == $past(ph_a) && pred == $past(pred) && chk == $past(chk));
+                assert (u == $past(u) && s == $past(s) && orun == $past(orun));
+            end else begin
+                // M1..M3: the fault bits of the sample
+                assert (loss_o == $past(f_loss) && over_o == $past(f_over));
+                assert (stuck_o == $past(f_stkp[2]));
+                assert (glitch_o == $past(f_glitch));
+                // M5: the over-range run
+                if (!$past(over))
+                    assert (orun == 12'd0);
+                else if ($past(orun) != OVER_PERSIST)
+                    assert (orun == $past(orun) + 1'b1);
+                else
+                    assert (orun == OVER_PERSIST);
+                // M4
+                if ($past(hold_o)) begin
+                    assert (ph_a == $past(ph_a) && pred == $past(pred));
+                    assert (u == $past(u) && s == $past(s));
+                    assert (chk == 2'd0);
+                end else begin
+                    assert (ph_a == $past(phase_i));
+                    assert (pred == $past(phase_i + phase_i - ph_a));
+                    assert (chk == (($past(chk) == 2'd2) ? 2'd2 : $past(chk) + 1'b1));
+                    assert (u == $past(u + {{6{f_dw[13]}}, f_dw}));
+                end
+            end
+        end
+    end
+
+    // ---- reachability ------------------------------------------------------------------------
+    always @(posedge clk) if (f_past_valid && !$past(rst)) begin
+        cover (loss_o);
+        cover (over_o && !$past(hold_o) && $past(excl_o));
+        cover (stuck_o && $past(pvalid_i) && $past(v3, 4));
+        cover (glitch_o && $past(glitch_k_i) == 4'd3);
+        cover ($past(pvalid_i && !hold_o) && $past(pvalid_i && hold_o, 2) && chk == 2'd1);
+        cover (run1 == 8'd5 && stk2);
+        cover ($past(hold_o) && $past(f_clip[5] && over && !loss && !stuck && !f_glitch));
     end
 `endif
 endmodule
