@@ -7,22 +7,22 @@
 //
 // Datapath: one 32x32 multiplier (4 iCE40 DSP blocks), 64-bit accumulator, register file
 // of 64 x 32 bits in two block-RAM copies (two read ports), a rounding, saturating
-// write-back, and forwarding of the two youngest results to operand A.
+// write-back, and forwarding of the two youngest results to both operands.
 // Pipeline of an instruction in slot k of a program started on edge S:
 //   S+k    fetch      instr_q   <= rom[entry + k]
 //   S+k+1  read       rda/rdb   <= rf[a], rf[b]
-//   S+k+2  operands   opa/opb   (forwarded result, register, or special input); the
-//                     seed table read with A's bits
-//   S+k+3  multiply   four 16x16 partial products (DSP blocks); the seed; NORM, CHK on A
+//   S+k+2  operands   opa/opb   (forwarded result, register, or special input)
+//   S+k+3  multiply   four 16x16 partial products (DSP blocks); the seed table read with
+//                     A << dz; NORM, CHK on A
 //   S+k+4  product    prod_q    <= {hh, ll} + (hl << 16) + (lh << 16) (carry save, one
 //                     carry chain), or the seed << 15
 //   S+k+5  accumulate acc       <= (clr ? 0 : acc) +- prod_q; shift sh - dyn
 //   S+k+6  shift      t_q       <= (acc << 1) >>> shift
 //   S+k+7  round      res_q     <= sat32((t_q + 1) >>> 1), and the 16-bit OUT value
 //   S+k+8  write      rf[dst] / out[dst] <= res; END: the program ends
-// A register written in slot k is read from the register file from slot k + 8 on; as
-// operand A it is forwarded from the round (slot k + 6) and write (slot k + 7) stages, so
-// slot k + 6 may use it (program.HAZARD_A = 6, HAZARD_B = 8).
+// A register written in slot k is read from the register file from slot k + 8 on; it is
+// forwarded (to A and B) from the round (slot k + 6) and write (slot k + 7) stages, so
+// slot k + 6 may use it (program.HAZARD = 6).
 // Special inputs (latched on start_i): X1, X2 (s2.30 from the s1.15 sample), ONEL
 // (s9.23, 1 + 2**-k, or 1 when freeze_i), KAPPA (s9.23), GS1, GS2 (s8.24, 2**-dg,
 // 2**-2dg). A may be a register, X1 or X2; B any register or special.
@@ -182,7 +182,7 @@ module rls_engine #(
     reg  [31:0] bv;
     always @* begin
         if (!b1[6])
-            bv = rdb;
+            bv = (fw6 && b1[5:0] == fd6) ? res_q : (fw7 && b1[5:0] == fd7) ? res_w : rdb;
         else case (b1[2:0])
             3'd0: bv = x1_30;
             3'd1: bv = x2_30;
@@ -193,15 +193,12 @@ module rls_engine #(
             default: bv = 32'd0;
         endcase
     end
-    wire [2:0] op1 = i1[2:0];
     reg  signed [31:0] opa_q = 0, opb_q = 0;
-    reg  [15:0] seed_q = 0;
     reg  [35:0] i2 = 0;
     reg         v2 = 1'b0;
     always @(posedge clk) begin
         opa_q  <= av;
         opb_q  <= bv;
-        seed_q <= seeds_rom[(op1 == OP_SEEDS) ? {1'b1, av[30:24]} : {1'b0, av[29:23]}];
         i2 <= i1;
         v2 <= v1;
         if (rst)
@@ -235,19 +232,22 @@ module rls_engine #(
 
     // ---- multiply: four registered 16x16 partial products ---------------------------------------
     // (the low halves are unsigned: {1'b0, x[15:0]} makes each product a signed 17x16 that
-    // still fits one DSP block)
+    // still fits one DSP block); a SEED reads its table with the registered operand A
+    // normalised by its dz (m = A << dz: the mantissa's top bits)
     reg signed [31:0] pp_ll = 0, pp_lh = 0, pp_hl = 0, pp_hh = 0;
     reg [15:0] seed3_q = 0;
     reg [35:0] i3 = 0;
     reg        v3 = 1'b0;
     reg [4:0]  dz3 = 0;
+    wire [4:0]  dz2 = i2[15] ? dz1 : dz0;        // the dz this instruction uses
+    wire [31:0] m2 = opa_q << dz2;
     always @(posedge clk) begin
         pp_ll <= $signed({1'b0, opa_q[15:0]}) * $signed({1'b0, opb_q[15:0]});
         pp_lh <= $signed({1'b0, opa_q[15:0]}) * $signed(opb_q[31:16]);
         pp_hl <= $signed(opa_q[31:16]) * $signed({1'b0, opb_q[15:0]});
         pp_hh <= $signed(opa_q[31:16]) * $signed(opb_q[31:16]);
-        seed3_q <= seed_q;
-        dz3 <= i2[15] ? dz1 : dz0;       // the dz this instruction's write-back uses
+        seed3_q <= seeds_rom[(op2 == OP_SEEDS) ? {1'b1, m2[30:24]} : {1'b0, m2[29:23]}];
+        dz3 <= dz2;                      // for the write-back's dyn shift
         i3  <= i2;
         v3  <= v2;
         if (rst)
@@ -387,7 +387,7 @@ module rls_engine #(
     end
 
     wire unused = &{1'b0, i6[29:7], i6[4:3], i5b[29:15], i5b[4:0], i5[29:7], i5[4:0], i3[35:3], i2[35:16],
-                    i2[14:0], dz3, sh_raw[6], t_inc[0], b1[5:3], a1[5:1],
+                    i2[14:0], m2[31], m2[22:0], sh_raw[6], t_inc[0], b1[5:3], a1[5:1],
                     op2, i4[35:15], nz6[5], 1'b0};
 endmodule
 `resetall
