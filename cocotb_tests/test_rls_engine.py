@@ -1,4 +1,5 @@
-"""rls_engine (microcoded RLS machine) against sim.model.estimator.Estimator.
+"""rls_engine (microcoded RLS machine) against sim.model.estimator.Estimator, for every
+LANES (the engine's parameter; the model executes the ROM image scheduled for it).
 
 A RESET program (entry ENTRY['reset']) and then many UPDATE and EXTRACT programs
 (ENTRY['update'], ENTRY['extract']) on samples of noisy ellipses, with resets in between
@@ -7,9 +8,9 @@ trace-bound freeze. Programs start back to back (the next on the edge after the 
 one's END) or after random gaps, so results are forwarded across programs too. For every
 program started on edge S the bench checks: busy_o high after edges S .. S+C-1 and low
 after edge S+C, done_o high exactly after edge S+C-1 (C = sim.model.estimator.CYCLES
-[program]); then valid_o, out_o (the seven 16-bit OUT registers) and the sticky sat_o
-equal the model's after that program. A few programs run on garbage samples so that
-invalid results and saturation occur."""
+[program] of the model with the same LANES); then valid_o, out_o (the seven 16-bit OUT
+registers) and the sticky sat_o equal the model's after that program. A few programs run
+on garbage samples so that invalid results and saturation occur."""
 import math
 import random
 
@@ -18,12 +19,13 @@ import pytest
 import fqtb
 
 
+@pytest.mark.parametrize("lanes", [1, 2])
 @pytest.mark.parametrize("sim", fqtb.SIMULATORS)
-def test_rls_engine(sim):
+def test_rls_engine(sim, lanes):
     fqtb.run_block(sim, "rls_engine", fqtb.sources("rls_engine"),
                    "test_rls_engine",
-                   parameters=dict(TABLE_DIR=fqtb.qstr(fqtb.TABLE_DIR)),
-                   extra_env=dict(N_PROGRAMS=400))
+                   parameters=dict(TABLE_DIR=fqtb.qstr(fqtb.TABLE_DIR), LANES=lanes),
+                   extra_env=dict(N_PROGRAMS=400, LANES=lanes))
 
 
 # ---- cocotb side ------------------------------------------------------------------------
@@ -82,11 +84,13 @@ def make_programs(rng, n):
 @cocotb.test()
 async def rls_programs(dut):
     from sim.model import program as prog
-    from sim.model.estimator import CYCLES, Estimator
+    from sim.model.estimator import Estimator
 
+    lanes = fqtb.env_int("LANES", 1)
     rng = random.Random(707)
     progs = make_programs(rng, fqtb.env_int("N_PROGRAMS", 300))
-    est = Estimator()
+    est = Estimator(lanes)
+    CYCLES = est.cycles
     bench = fqtb.ClockedBench(dut)
     dut.rst.value = 1
     dut.start_i.value = 0
@@ -160,5 +164,6 @@ async def rls_programs(dut):
     assert not bad, f"{len(bad)} mismatches:\n" + "\n".join(bad[:20])
     assert n_invalid > 0 and est.sat, "the sequence should reach invalid and saturating programs"
     assert n_extracts > 20
-    dut._log.info("rls_engine: %d updates, %d extractions, %d resets (%d invalid) equal; "
-                  "final theta %s", n_updates, n_extracts, n_resets, n_invalid, est.theta())
+    dut._log.info("rls_engine LANES=%d: %d updates, %d extractions, %d resets (%d invalid) "
+                  "equal, clocks %s; final theta %s", lanes, n_updates, n_extracts, n_resets,
+                  n_invalid, CYCLES, est.theta())

@@ -40,7 +40,10 @@ module estimator #(
     // updates after power-up before the input gain is checked (reset if it changes)
     parameter WARMUP = 64,
     // edges from a sample's arrival (smp_valid_i) to its fine phase (ph_valid_i)
-    parameter PH_DELAY = 5
+    parameter PH_DELAY = 5,
+    // lanes of the RLS engine (rtl/rls_engine.v LANES): 1, or 2 on devices with 4 DSP
+    // blocks to spare (shorter programs: sim/model/estimator.py CYCLES_BY_LANES)
+    parameter ENGINE_LANES = 1
 ) (
     input  wire               clk,
     input  wire               rst,
@@ -230,7 +233,7 @@ module estimator #(
     end
 
     wire [15:0] kappa = (kappa_i == 16'd0) ? 16'd1 : kappa_i;
-    rls_engine #(.TABLE_DIR(TABLE_DIR)) u_engine (
+    rls_engine #(.TABLE_DIR(TABLE_DIR), .LANES(ENGINE_LANES)) u_engine (
         .clk(clk), .rst(rst),
         .start_i(start_q), .entry_i(entry_q), .x1_i(x1_q), .x2_i(x2_q),
         .lam_k_i(lam_k), .freeze_i(freeze), .kappa_i(kappa), .dg_i(dg_q),

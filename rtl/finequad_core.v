@@ -49,7 +49,10 @@ module finequad_core #(
     // reset values, which synthesis folds into the logic (writes are ignored, reads return
     // them); CTRL, INTERP, the staged coefficients and FAULT_STICKY stay writable (for a
     // small device, e.g. the iCE40 UP5K)
-    parameter [0:0] OPT_TUNABLE = 1'b1
+    parameter [0:0] OPT_TUNABLE = 1'b1,
+    // lanes of the estimator's RLS engine, 1 or 2 (2: four more DSP blocks, shorter
+    // programs: rtl/rls_engine.v, sim/model/estimator.py CYCLES_BY_LANES)
+    parameter ENGINE_LANES = 1
 ) (
     input  wire                      clk,
     input  wire                      rst,
@@ -285,7 +288,8 @@ module finequad_core #(
     assign m_b = r_absrc ? p_b : g_b;
 
     // ---- estimator: every sample on arrival, its fine phase 4 edges after (t+2 .. t+6) ------------
-    estimator #(.TABLE_DIR(TABLE_DIR), .G_INIT(G_INIT), .PH_DELAY(PHASE_AT)) u_est (
+    estimator #(.TABLE_DIR(TABLE_DIR), .G_INIT(G_INIT), .PH_DELAY(PHASE_AT),
+                .ENGINE_LANES(ENGINE_LANES)) u_est (
         .clk(clk), .rst(rst),
         .smp_valid_i(c_v0), .u1_i(c_raw1), .u2_i(c_raw2), .amax_i(c_amax),
         .ph_valid_i(h_valid), .phase_i(h_phase), .excl_i(mon_excl),

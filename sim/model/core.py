@@ -76,7 +76,7 @@ import numpy as np
 from . import abgen
 from . import fastpath as fp
 from . import harmonic
-from .estimator import CYCLES, Estimator
+from .estimator import Estimator
 from .monitor import Monitor, MonitorRegs
 
 # Pipeline timing of rtl/finequad_core.v: edges from a sample's strobe edge t to the edge
@@ -126,6 +126,7 @@ class Config:
     COUNT_W: int = 32
     G_INIT: int = 0
     OPT_HARMONIC: int = 1    # 0: no harmonic compensation (rtl/phase.v), HARM reads 0
+    ENGINE_LANES: int = 1    # lanes of the RLS engine (1 or 2): its clocks per program
     interp: int = 100        # n, 1..511
     count_mode: int = 0      # CTRL bit 3: counter mode, 0 phase (4 n phase, nothing
                              # lost below half a period per sample), 1 edge (x4 of A/B)
@@ -216,7 +217,7 @@ class Core:
         if cfg.count_mode not in (0, 1):
             raise ValueError(f"count_mode must be 0 or 1, got {cfg.count_mode!r}")
         self.cfg = cfg
-        self.est = Estimator()
+        self.est = Estimator(cfg.ENGINE_LANES)
         self.lut = fp.Lut(cfg.TABLE, cfg.SIN_W)
         self.k0 = 0                   # samples fed so far
         self.t_last = None            # strobe edge of the last sample fed
@@ -484,7 +485,7 @@ class Core:
                     self.upd = 0
                     self.settle = 0
                     self.cover = 0    # a hand-over needs all octants since the reset, too
-                    self.eng_end = tk + RESET_STAGE + START_DELAY + CYCLES["reset"]
+                    self.eng_end = tk + RESET_STAGE + START_DELAY + self.est.cycles["reset"]
                     continue
             elif empty:
                 if self.skip:
@@ -530,7 +531,7 @@ class Core:
             self.first = False
         elif not self.first and cfg.period and self.upd >= cfg.period:
             self._pend_reset(d)
-        done = d + START_DELAY + CYCLES["update"]
+        done = d + START_DELAY + self.est.cycles["update"]
         self.eng_end = done
         # jump detector on the a-priori residual |e| of this update (s3.13)
         eabs = min(abs(self.est.out[5]), 32767) << 5
@@ -554,7 +555,7 @@ class Core:
             # EXTRACT, decided on the update's last edge; it hands the new bundle over on
             # its own last edge if theta is an ellipse
             okx = self.est.run("extract")
-            xdone = done + START_DELAY + CYCLES["extract"]
+            xdone = done + START_DELAY + self.est.cycles["extract"]
             self.eng_end = xdone
             if okx:
                 self._event(xdone, ("commit", (self.g_eng, *self.est.out[:5])))
