@@ -10,23 +10,27 @@
 // 32x32 multiplier (four 16x16 partial products: 4 iCE40 / ECP5 DSP blocks), a 64-bit
 // accumulator and a rounding, saturating write-back; a register file of 64 x 32 bits in
 // LANES banks (bank b holds the registers 64/LANES * b .. and is written by lane b only),
-// each bank one block RAM per read port (two operands per lane: 2 * LANES copies), and
-// forwarding of the two youngest results of the writing lane to every operand.
+// each bank one RAM per read port (two operands per lane: 2 * LANES copies), and
+// forwarding of the youngest results of the writing lane to every operand.
 // Pipeline of an instruction in slot k of a program started on edge S:
-//   S+k    fetch      word_q    <= rom[entry + k] (LANES instructions)
-//   S+k+1  read       rd        <= rf[a], rf[b] (every bank; the bank bit selects below)
-//   S+k+2  operands   opa/opb   (forwarded result, register, or special input)
-//   S+k+3  multiply   four 16x16 partial products (DSP blocks); the seed table read with
-//                     A << dz; NORM, CHK on A
+//   S+k    fetch      word_q    <= rom[entry + k] (LANES instructions; fetching stops when
+//                     END reaches the read stage, the word behind it is squashed)
+//   S+k+1  read       rd        <= rf[a], rf[b] (LANES = 1: block RAM read; every bank)
+//   S+k+2  operands   opa/opb   (forwarded result, register, or special input; LANES = 2:
+//                     the distributed-RAM banks are read here, asynchronously)
+//   S+k+3  multiply   four 16x16 partial products (DSP blocks); the seed table's address
+//                     from A << dz; NORM, CHK on A
 //   S+k+4  product    prod_q    <= {hh, ll} + (hl << 16) + (lh << 16) (carry save, one
-//                     carry chain), or the seed << 15
-//   S+k+5  accumulate acc       <= (clr ? 0 : acc) +- prod_q; shift sh - dyn
+//                     carry chain); the seed table read
+//   S+k+5  accumulate acc       <= (clr ? 0 : acc) +- prod_q (carry select: 32-bit
+//                     halves), or the seed << 15; shift sh - dyn
 //   S+k+6  shift      t_q       <= (acc << 1) >>> shift
 //   S+k+7  round      res_q     <= sat32((t_q + 1) >>> 1), and the 16-bit OUT value
 //   S+k+8  write      rf[dst] / out[dst] <= res; END (lane 0): the program ends
-// A register written in slot k is read from the register file from slot k + 8 on; it is
-// forwarded (to A and B of every lane) from the round (slot k + 6) and write (slot k + 7)
-// stages of its lane, so slot k + 6 may use it (program.HAZARD = 6).
+// A register written in slot k is read from the register file from slot k + 8 on (LANES =
+// 2: k + 7); it is forwarded (to A and B of every lane) from the round stage (slot k + 6)
+// and, with LANES = 1, the write stage (slot k + 7) of its lane, so slot k + 6 may use it
+// (program.HAZARD = 6).
 // Special inputs (latched on start_i): X1, X2 (s2.30 from the s1.15 sample), ONEL
 // (s9.23, 1 + 2**-k, or 1 when freeze_i), KAPPA (s9.23), GS1, GS2 (s8.24, 2**-dg,
 // 2**-2dg). A may be a register, X1 or X2; B any register or special.
@@ -74,37 +78,29 @@ module rls_engine #(
     end
 
     // ---- latched special inputs -----------------------------------------------------------
+    // ONEL = 2**23 + 2**(23 - k) (or 2**23 when frozen), GS1 = 2**(24 - dg), GS2 =
+    // 2**(24 - 2 dg), decoded one bit at a time from the inputs and latched with them (a
+    // shifter, and later a decoder behind the latch, were critical paths on the UP5K)
     reg signed [15:0] sp_x1 = 0, sp_x2 = 0;
     reg [15:0] sp_kappa = 0;
-    reg [4:0]  sp_k = 5'd8;
-    reg        sp_frz = 1'b0;
-    reg signed [2:0] sp_dg = 0;
+    reg [31:0] onel = 32'h00800000, gs1 = 32'h01000000, gs2 = 32'h01000000;
+    wire signed [31:0] dgi = {{29{dg_i[2]}}, dg_i};
+    wire signed [31:0] ki = {27'd0, lam_k_i};
+    integer bi;
     always @(posedge clk) begin
         if (start_i) begin
             sp_x1    <= x1_i;
             sp_x2    <= x2_i;
             sp_kappa <= kappa_i;
-            sp_k     <= lam_k_i;
-            sp_frz   <= freeze_i;
-            sp_dg    <= dg_i;
+            for (bi = 0; bi < 32; bi = bi + 1) begin
+                onel[bi] <= (bi == 23) || (!freeze_i && ki == 23 - bi);
+                gs1[bi]  <= (dgi == 24 - bi);
+                gs2[bi]  <= (dgi + dgi == 24 - bi);
+            end
         end
     end
     wire signed [31:0] x1_30 = {sp_x1[15], sp_x1, 15'd0};                  // s2.30
     wire signed [31:0] x2_30 = {sp_x2[15], sp_x2, 15'd0};
-    // the powers of two, decoded one bit at a time (a shifter here was the UP5K's
-    // critical path): ONEL = 2**23 + 2**(23 - k) (or 2**23 when frozen), GS1 = 2**(24 - dg),
-    // GS2 = 2**(24 - 2 dg)
-    reg [31:0] onel, gs1, gs2;
-    wire signed [31:0] dgi = {{29{sp_dg[2]}}, sp_dg};
-    wire signed [31:0] ki = {27'd0, sp_k};
-    integer bi;
-    always @* begin
-        for (bi = 0; bi < 32; bi = bi + 1) begin
-            onel[bi] = (bi == 23) || (!sp_frz && ki == 23 - bi);
-            gs1[bi]  = (dgi == 24 - bi);
-            gs2[bi]  = (dgi + dgi == 24 - bi);
-        end
-    end
     wire signed [31:0] kap = {1'b0, sp_kappa, 15'd0};                       // s9.23
 
     // leading zeros of a byte, then of 64 bits from the first non-zero byte (a two-level
@@ -144,43 +140,50 @@ module rls_engine #(
     endfunction
 
     // ---- fetch ----------------------------------------------------------------------------
-    // Fetching runs from start_i until END is fetched (lane 0); the word fetched behind END
-    // is squashed (v0 low).
+    // Fetching runs from start_i until END (lane 0) reaches the read stage (decoded from a
+    // register there, not from the ROM's output); the word fetched behind END is squashed
+    // on its way into the read stage, the next one by v0.
     reg [ROM_AW-1:0] pc_q = 0;
     reg              run_q = 1'b0;
     reg [RW-1:0]     word_q = 0;
     reg              v0 = 1'b0;           // word_q holds instructions to execute
-    wire             end0 = v0 && word_q[2:0] == OP_END;
+    reg              v1 = 1'b0;
+    wire [LANES-1:0] end1_l;              // the read stage holds END
+    wire             end1 = v1 && end1_l[0];
     wire [ROM_AW-1:0] fetch_addr = start_i ? entry_i : pc_q;
     always @(posedge clk) begin
         word_q  <= rom[fetch_addr];
         pc_q    <= fetch_addr + 1'b1;
-        v0      <= start_i || (run_q && !end0);
+        v0      <= start_i || (run_q && !end1);
+        v1      <= v0 && !end1;
         if (start_i)
             run_q <= 1'b1;
-        else if (end0)
+        else if (end1)
             run_q <= 1'b0;
         if (rst) begin
             run_q <= 1'b0;
             v0    <= 1'b0;
+            v1    <= 1'b0;
         end
     end
 
-    // ---- the valid bits of the stages (shared by the lanes) --------------------------------
-    reg v1 = 1'b0, v2 = 1'b0, v3 = 1'b0, v4 = 1'b0, v5 = 1'b0, v5b = 1'b0, v6 = 1'b0;
+    // ---- the valid bits of the later stages (shared by the lanes) ---------------------------
+    reg v2 = 1'b0, v3 = 1'b0, v4 = 1'b0, v5 = 1'b0, v5b = 1'b0, v6 = 1'b0;
     always @(posedge clk) begin
-        {v6, v5b, v5, v4, v3, v2, v1} <= {v5b, v5, v4, v3, v2, v1, v0};
+        {v6, v5b, v5, v4, v3, v2} <= {v5b, v5, v4, v3, v2, v1};
         if (rst)
-            {v6, v5b, v5, v4, v3, v2, v1} <= 7'd0;
+            {v6, v5b, v5, v4, v3, v2} <= 6'd0;
     end
 
     // ---- what the lanes share: the write ports, the forwarded results, dz, flags, OUT -----
     wire [LANES-1:0]    wr_en;            // write stage: a register write
     wire [6*LANES-1:0]  wr_dst;
     wire [32*LANES-1:0] wr_res;           // res_q: the value written on the coming edge
-    wire [LANES-1:0]    fw6_l, fw7_l;     // round / write stage hold a register write
-    wire [6*LANES-1:0]  fd6_l, fd7_l;     // their destinations
-    wire [32*LANES-1:0] res6_l, res7_l;   // and values
+    wire [LANES-1:0]    wr5_l;            // shift stage holds a register write
+    wire [6*LANES-1:0]  wd5_l;            // its destination
+    wire [LANES-1:0]    fw6_l;            // round stage holds a register write
+    wire [6*LANES-1:0]  fd6_l;            // its destination
+    wire [32*LANES-1:0] res6_l, res7_l;   // the round and write stages' values
     wire [LANES-1:0]    dz0_we, dz1_we, inval_l, sat_l, out_we;
     wire [5*LANES-1:0]  dzn_l;
     wire [3*LANES-1:0]  out_dst;
@@ -190,7 +193,15 @@ module rls_engine #(
     reg                 inval_q = 1'b0;
 
     // ---- register file: bank b (written by lane b) in NP copies, one per read port -------
+    // LANES = 1: block RAM, read on the read edge (the address from the ROM word), so a
+    // register is in the RAM for slots k + 8 on and forwarded from the round and write
+    // stages. LANES = 2 (for devices with distributed RAM, e.g. the ECP5: 32-deep banks):
+    // read asynchronously in the operand stage (the address from the registered
+    // instruction, not from the ROM's output), so a register is in the RAM for slots k + 7
+    // on and forwarded from the round stage only.
+    localparam [0:0] ASYNC_RF = (LANES == 2);
     wire [6*NP-1:0]     rd_addr;          // port p = 2 l + {0: A, 1: B} of lane l (fetch)
+    wire [6*NP-1:0]     rd_addr1;         // the same, one stage later (read)
     wire [32*NP*LANES-1:0] rd_all;        // port p of bank b: [32 (NP b + p) +: 32]
     genvar b, p;
     generate
@@ -199,14 +210,18 @@ module rls_engine #(
             localparam [7:0]   BCH = BCHI[7:0];
             for (p = 0; p < NP; p = p + 1) begin : g_port
                 reg [31:0] mem [0:(1<<BW)-1];
-                reg [31:0] rd_q = 0;
                 initial $readmemh({TABLE_DIR, "rls_regfile_", LCH, "_", BCH, ".hex"}, mem);
-                always @(posedge clk) begin
+                always @(posedge clk)
                     if (wr_en[b])
                         mem[wr_dst[6*b +: BW]] <= wr_res[32*b +: 32];
-                    rd_q <= mem[rd_addr[6*p +: BW]];
+                if (ASYNC_RF) begin : g_async
+                    assign rd_all[32*(NP*b + p) +: 32] = mem[rd_addr1[6*p +: BW]];
+                end else begin : g_sync
+                    reg [31:0] rd_q = 0;
+                    always @(posedge clk)
+                        rd_q <= mem[rd_addr[6*p +: BW]];
+                    assign rd_all[32*(NP*b + p) +: 32] = rd_q;
                 end
-                assign rd_all[32*(NP*b + p) +: 32] = rd_q;
             end
         end
     endgenerate
@@ -220,39 +235,72 @@ module rls_engine #(
             assign rd_addr[6*(2*l + 1) +: 6] = ins0[28:23];
 
             // ---- read ----------------------------------------------------------------------
+            // The forwarding decisions for the operand stage are made beside the register
+            // file's read: LANES = 1 here (from the instruction and the results then 5 and 6
+            // slots old, registered), LANES = 2 in the operand stage (from the registered
+            // instruction and the result then 6 slots old: the ROM's output goes to
+            // registers only). The operand stage then only selects.
             reg [IW-1:0] i1 = 0;
             always @(posedge clk)
                 i1 <= ins0;
+            assign end1_l[l] = i1[2:0] == OP_END;
+            wire ha6, ha7, hb6, hb7;
+            if (ASYNC_RF) begin : g_hit1
+                wire [6:0] ar = i1[22:16], br = i1[29:23];
+                wire       oar = (LANES == 2) ? ar[5] : 1'b0;
+                wire       obr = (LANES == 2) ? br[5] : 1'b0;
+                assign ha6 = !ar[6] && fw6_l[oar] && fd6_l[6*oar +: 6] == ar[5:0];
+                assign hb6 = !br[6] && fw6_l[obr] && fd6_l[6*obr +: 6] == br[5:0];
+                assign ha7 = 1'b0;
+                assign hb7 = 1'b0;
+            end else begin : g_hit0
+                wire [6:0] a0 = ins0[22:16], b0 = ins0[29:23];
+                wire       oa0 = (LANES == 2) ? a0[5] : 1'b0;
+                wire       ob0 = (LANES == 2) ? b0[5] : 1'b0;
+                reg        ha6_q = 1'b0, ha7_q = 1'b0, hb6_q = 1'b0, hb7_q = 1'b0;
+                always @(posedge clk) begin
+                    ha6_q <= !a0[6] && wr5_l[oa0] && wd5_l[6*oa0 +: 6] == a0[5:0];
+                    hb6_q <= !b0[6] && wr5_l[ob0] && wd5_l[6*ob0 +: 6] == b0[5:0];
+                    ha7_q <= !a0[6] && fw6_l[oa0] && fd6_l[6*oa0 +: 6] == a0[5:0];
+                    hb7_q <= !b0[6] && fw6_l[ob0] && fd6_l[6*ob0 +: 6] == b0[5:0];
+                end
+                assign ha6 = ha6_q;
+                assign ha7 = ha7_q;
+                assign hb6 = hb6_q;
+                assign hb7 = hb7_q;
+            end
+            assign rd_addr1[6*(2*l) +: 6]     = i1[21:16];
+            assign rd_addr1[6*(2*l + 1) +: 6] = i1[28:23];
 
             // ---- operands: forwarding, specials ----------------------------------------------
-            // a register of bank o is forwarded from lane o's round (6 slots old) and write
-            // (7 slots old) stages
+            // a register of bank o is forwarded from lane o's round (6 slots old) and, with
+            // the block-RAM register file, write (7 slots old) stages; the RAM's data pass
+            // one multiplexer (ram ? rd : other)
             wire [6:0] a1 = i1[22:16], b1 = i1[29:23];
             wire       oa = (LANES == 2) ? a1[5] : 1'b0;    // owning lane (bank)
             wire       ob = (LANES == 2) ? b1[5] : 1'b0;
             wire [31:0] rda = rd_all[32*(NP*oa + 2*l) +: 32];
             wire [31:0] rdb = rd_all[32*(NP*ob + 2*l + 1) +: 32];
-            wire [31:0] fwa = (fw6_l[oa] && fd6_l[6*oa +: 6] == a1[5:0]) ? res6_l[32*oa +: 32] :
-                              (fw7_l[oa] && fd7_l[6*oa +: 6] == a1[5:0]) ? res7_l[32*oa +: 32] :
-                              rda;
-            wire [31:0] fwb = (fw6_l[ob] && fd6_l[6*ob +: 6] == b1[5:0]) ? res6_l[32*ob +: 32] :
-                              (fw7_l[ob] && fd7_l[6*ob +: 6] == b1[5:0]) ? res7_l[32*ob +: 32] :
-                              rdb;
-            wire [31:0] av = a1[6] ? (a1[0] ? x2_30 : x1_30) : fwa;
-            reg  [31:0] bv;
+            wire ram_a = !a1[6] && !ha6 && !ha7;
+            wire ram_b = !b1[6] && !hb6 && !hb7;
+            wire [31:0] oth_a = a1[6] ? (a1[0] ? x2_30 : x1_30) :
+                                ha6 ? res6_l[32*oa +: 32] : res7_l[32*oa +: 32];
+            reg  [31:0] oth_b;
             always @* begin
                 if (!b1[6])
-                    bv = fwb;
+                    oth_b = hb6 ? res6_l[32*ob +: 32] : res7_l[32*ob +: 32];
                 else case (b1[2:0])
-                    3'd0: bv = x1_30;
-                    3'd1: bv = x2_30;
-                    3'd2: bv = onel;
-                    3'd3: bv = kap;
-                    3'd4: bv = gs1;
-                    3'd5: bv = gs2;
-                    default: bv = 32'd0;
+                    3'd0: oth_b = x1_30;
+                    3'd1: oth_b = x2_30;
+                    3'd2: oth_b = onel;
+                    3'd3: oth_b = kap;
+                    3'd4: oth_b = gs1;
+                    3'd5: oth_b = gs2;
+                    default: oth_b = 32'd0;
                 endcase
             end
+            wire [31:0] av = ram_a ? rda : oth_a;
+            wire [31:0] bv = ram_b ? rdb : oth_b;
             reg  signed [31:0] opa_q = 0, opb_q = 0;
             reg  [IW-1:0] i2 = 0;
             always @(posedge clk) begin
@@ -276,10 +324,10 @@ module rls_engine #(
 
             // ---- multiply: four registered 16x16 partial products --------------------------------
             // (the low halves are unsigned: {1'b0, x[15:0]} makes each product a signed 17x16
-            // that still fits one DSP block); a SEED reads its table with the registered
-            // operand A normalised by its dz (m = A << dz: the mantissa's top bits)
+            // that still fits one DSP block); a SEED forms its table address from the
+            // registered operand A normalised by its dz (m = A << dz: the mantissa's top bits)
             reg signed [31:0] pp_ll = 0, pp_lh = 0, pp_hl = 0, pp_hh = 0;
-            reg [15:0] seed3_q = 0;
+            reg [7:0]  sa3_q = 0;                // seed table address
             reg [IW-1:0] i3 = 0;
             reg [4:0]  dz3 = 0;
             wire [4:0]  dz2 = i2[15] ? dz1 : dz0;        // the dz this instruction uses
@@ -289,21 +337,23 @@ module rls_engine #(
                 pp_lh <= $signed({1'b0, opa_q[15:0]}) * $signed(opb_q[31:16]);
                 pp_hl <= $signed(opa_q[31:16]) * $signed({1'b0, opb_q[15:0]});
                 pp_hh <= $signed(opa_q[31:16]) * $signed(opb_q[31:16]);
-                seed3_q <= seeds_rom[(op2 == OP_SEEDS) ? {1'b1, m2[30:24]} : {1'b0, m2[29:23]}];
+                sa3_q <= (op2 == OP_SEEDS) ? {1'b1, m2[30:24]} : {1'b0, m2[29:23]};
                 dz3 <= dz2;                      // for the write-back's dyn shift
                 i3 <= i2;
             end
             wire [2:0] op3 = i3[2:0];
 
-            // ---- product: {hh, ll} + (hl + lh) << 16 (carry save, then one chain), or the seed;
-            // the accumulate controls decoded here, and the product negated for a subtraction
-            // (-prod = ~prod + 1: the +1 is the accumulate's carry in), so that the accumulate
-            // stage is the 64-bit carry chain alone --------------------------------------------
+            // ---- product: {hh, ll} + (hl + lh) << 16 (carry save, then one chain); the seed
+            // table read (from the registered address; its output goes to the accumulator
+            // through one multiplexer); the accumulate controls decoded here, and the product
+            // negated for a subtraction (-prod = ~prod + 1: the +1 is the accumulate's carry
+            // in), so that the accumulate stage is the 64-bit carry chain alone -------------------
             wire       seed3 = (op3 == OP_SEEDR || op3 == OP_SEEDS);
             wire       neg3 = i3[4] && !seed3;
             reg signed [63:0] prod_q = 0;        // the product, or its complement when neg4
+            reg [15:0] seed4_q = 0;              // the seed (u1.15)
             reg [IW-1:0] i4 = 0;
-            reg        en4 = 1'b0, neg4 = 1'b0, clr4 = 1'b0;
+            reg        en4 = 1'b0, neg4 = 1'b0, clr4 = 1'b0, sd4 = 1'b0;
             reg [4:0]  dz4 = 0;
             wire [47:0] pa = {pp_hh, pp_ll[31:16]};                             // bits 63..16
             wire [47:0] pb = {{16{pp_hl[31]}}, pp_hl};
@@ -312,13 +362,12 @@ module rls_engine #(
             wire [47:0] cs_c = {(pa[46:0] & pb[46:0]) | (pa[46:0] & pc[46:0]) |
                                 (pb[46:0] & pc[46:0]), 1'b0};
             always @(posedge clk) begin
-                if (seed3)
-                    prod_q <= {33'd0, seed3_q, 15'd0};
-                else
-                    prod_q <= {cs_s + cs_c, pp_ll[15:0]} ^ {64{neg3}};
+                prod_q  <= seed3 ? 64'd0 : {cs_s + cs_c, pp_ll[15:0]} ^ {64{neg3}};
+                seed4_q <= seeds_rom[sa3_q];
                 en4  <= v3 && (op3 == OP_MAC || seed3);
                 neg4 <= neg3;
                 clr4 <= i3[3] || seed3;
+                sd4  <= seed3;
                 i4  <= i3;
                 dz4 <= dz3;
                 if (rst)
@@ -334,9 +383,18 @@ module rls_engine #(
                                  (dyn4 == 2'd2) ? {3'd0, dz4[4:1]} : 7'd0;
             wire signed [7:0] sh_raw = $signed({2'b00, i4[14:9]}) - $signed({1'b0, dyn_amt});
             wire [5:0]  sh_eff = sh_raw[7] ? 6'd0 : sh_raw[5:0];
+            // the 64-bit sum as a carry-select adder: the high half is added with and
+            // without the low half's carry, side by side, so the loop is one 33-bit carry
+            // chain and a multiplexer; a SEED clears the accumulator and the product (the
+            // sum is 0) and ORs the seed into bits 30..15
+            wire [63:0] acc_a = clr4 ? 64'd0 : acc;
+            wire [32:0] lo_sum = {1'b0, acc_a[31:0]} + {1'b0, prod_q[31:0]} + {32'd0, neg4};
+            wire [31:0] hi_sum0 = acc_a[63:32] + prod_q[63:32];
+            wire [31:0] hi_sum1 = acc_a[63:32] + prod_q[63:32] + 32'd1;
             always @(posedge clk) begin
                 if (en4)
-                    acc <= (clr4 ? 64'd0 : acc) + prod_q + {63'd0, neg4};
+                    acc <= {lo_sum[32] ? hi_sum1 : hi_sum0,
+                            lo_sum[31:0] | {1'b0, seed4_q & {16{sd4}}, 15'd0}};
                 sh_q <= sh_eff;
                 i5 <= i4;
             end
@@ -362,8 +420,8 @@ module rls_engine #(
             reg  signed [31:0] res_q = 0, res_w = 0;
             reg  signed [15:0] res16 = 0;
             reg         res16_sat = 1'b0;
-            reg         fw6 = 1'b0, fw7 = 1'b0;
-            reg  [5:0]  fd6 = 0, fd7 = 0;
+            reg         fw6 = 1'b0;
+            reg  [5:0]  fd6 = 0;
             reg  [IW-1:0] i6 = 0;
             always @(posedge clk) begin
                 res_q <= fit32 ? t_inc[32:1] : (t_q[65] ? 32'sh80000000 : 32'sh7fffffff);
@@ -376,6 +434,8 @@ module rls_engine #(
                     fw6 <= 1'b0;
             end
             assign sat_l[l] = v5b && i5b[5] && !i5b[6] && !fit32;
+            assign wr5_l[l] = v5b && i5b[5] && !i5b[6];
+            assign wd5_l[6*l +: 6] = i5b[35:30];
 
             // ---- write ---------------------------------------------------------------------------
             wire wb6 = v6 && i6[5];
@@ -387,17 +447,10 @@ module rls_engine #(
             assign out_res[16*l +: 16] = res16;
             assign inval_l[l] = (v2 && (op2 == OP_NORMR || op2 == OP_NORMS || op2 == OP_CHK) &&
                                  !a_pos) || (wb6 && i6[6] && res16_sat);
-            always @(posedge clk) begin
+            always @(posedge clk)
                 res_w <= res_q;
-                fw7 <= fw6;
-                fd7 <= fd6;
-                if (rst)
-                    fw7 <= 1'b0;
-            end
             assign fw6_l[l] = fw6;
-            assign fw7_l[l] = fw7;
             assign fd6_l[6*l +: 6] = fd6;
-            assign fd7_l[6*l +: 6] = fd7;
             assign res6_l[32*l +: 32] = res_q;
             assign res7_l[32*l +: 32] = res_w;
             assign end6_l[l] = i6[2:0] == OP_END;
@@ -444,6 +497,6 @@ module rls_engine #(
     initial begin
         busy_o = 1'b0; out_o = 0; sat_o = 1'b0;
     end
-    wire unused = &{1'b0, end6_l, wr_dst, rd_addr, 1'b0};
+    wire unused = &{1'b0, end1_l, end6_l, wr_dst, rd_addr, rd_addr1, wr5_l, wd5_l, 1'b0};
 endmodule
 `resetall

@@ -16,6 +16,7 @@ module top_report #(
     parameter [0:0] OPT_NTH_DSP = 1'b1,
     parameter [0:0] OPT_HARMONIC = 1'b1,
     parameter [0:0] OPT_TUNABLE = 1'b1,
+    parameter ENGINE_LANES = 1,
     // 1: reg_rdata is observed (the whole read-back multiplexer is kept); 0: reg_re is
     // tied low and the read-back is removed by synthesis (a reduced variant, for a
     // device the full core does not fit)
@@ -47,7 +48,7 @@ module top_report #(
     wire [10:0] m_fault;
     wire        m_valid, m_a, m_b;
     finequad_core #(.OPT_NTH_DSP(OPT_NTH_DSP), .OPT_HARMONIC(OPT_HARMONIC),
-                    .OPT_TUNABLE(OPT_TUNABLE)) u_core (
+                    .OPT_TUNABLE(OPT_TUNABLE), .ENGINE_LANES(ENGINE_LANES)) u_core (
         .clk(clk), .rst(rst),
         .s_valid(s_valid), .s_u1(s_u1), .s_u2(s_u2),
         .reg_we(reg_we), .reg_re(reg_re), .reg_addr(reg_addr), .reg_wdata(reg_wdata),
