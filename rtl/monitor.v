@@ -237,7 +237,8 @@ module monitor (
     //     4095)): so hold_o and excl_o only with pvalid_i, excl_o whenever hold_o.
     //  M4 a held sample moves nothing but chk (-> 0) (orun and the flags follow the sample);
     //     an accepted one: ph_a <= phase, pred <= 2 phase - ph_a, chk <= min(chk + 1, 2),
-    //     U <= U + wrap13(phase - ph_a). No pvalid_i: nothing in H moves.
+    //     U <= U + wrap13(phase - ph_a). No pvalid_i: nothing in H moves, the fault bits
+    //     hold.
     //  M5 saturating counters never wrap: run 0..255 (+1 while unchanged, 0 on a change),
     //     orun 0..4095 (+1 while over, 0 otherwise), chk 0..2.
     //  M6 S: the difference (U << 5) - S (s25) stays within +-2^22 (|U - S| <= 32 x 4096
@@ -384,6 +385,8 @@ module monitor (
             if (!$past(pvalid_i)) begin
                 assert (ph_a == $past(ph_a) && pred == $past(pred) && chk == $past(chk));
                 assert (u == $past(u) && s == $past(s) && orun == $past(orun));
+                assert (loss_o == $past(loss_o) && over_o == $past(over_o));
+                assert (stuck_o == $past(stuck_o) && glitch_o == $past(glitch_o));
             end else begin
                 // M1..M3: the fault bits of the sample
                 assert (loss_o == $past(f_loss) && over_o == $past(f_over));
