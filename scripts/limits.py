@@ -22,6 +22,8 @@ Limits (x4 counting: one count per quarter of an n-th order period, pitch / (4 n
 import argparse
 import sys
 
+N_MAX = 511                     # the core's largest n (INTERP is 9 bits)
+
 
 def limits(pitch_um, fs, edge_sep=4, fclk=36e6, v=None, interp=None):
     """Dict of the limits (speeds in m/s, factors as floats before rounding down)."""
@@ -49,6 +51,8 @@ def main(argv=None):
     bad = [f"--{k} must be > 0, got {v}" for k, v in
            (("pitch", a.pitch), ("fs", a.fs), ("edge-sep", a.edge_sep), ("fclk", a.fclk),
             ("v", a.v), ("interp", a.interp)) if v is not None and v <= 0]
+    if a.interp is not None and a.interp > N_MAX:
+        bad.append(f"--interp must be 1..{N_MAX} (the core's INTERP), got {a.interp}")
     if a.fs is not None and a.fclk is not None and a.fs > a.fclk > 0:
         bad.append(f"--fs ({a.fs:g} Hz) cannot exceed --fclk ({a.fclk:g} Hz): one sample "
                    "per clock at most")
@@ -69,8 +73,11 @@ def main(argv=None):
         print(f"    A/B outputs keep up to {r['ab_v_max']:.4g} m/s (above: backlog, then "
               f"overflow flag)")
     if a.v is not None:
+        def n_of(x):
+            n = int(x + 1e-9)
+            return f"{N_MAX} (the core's largest; the limit is {n})" if n > N_MAX else str(n)
         print(f"  at {a.v:g} m/s: highest n for the paper's edge counter "
-              f"{int(r['edge_counter_n_max'] + 1e-9)}, for the A/B outputs {int(r['ab_n_max'] + 1e-9)}"
+              f"{n_of(r['edge_counter_n_max'])}, for the A/B outputs {n_of(r['ab_n_max'])}"
               + ("" if a.v < r["counter_v_max"] else
                  "; the internal counter cannot follow this speed"))
     return 0

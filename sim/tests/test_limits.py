@@ -32,6 +32,11 @@ def test_cli_prints_the_limits_and_rejects_bad_input():
     assert p.returncode == 0 and "highest n for the paper's edge counter 100," in p.stdout
     p = run("--pitch", "4", "--fs", "1e6", "--interp", "100")
     assert p.returncode == 0 and "loses counts above 0.01 m/s" in p.stdout
+    # n above the core's 511 is reported as 511, with the physical limit beside it
+    p = run("--pitch", "4", "--fs", "1e6", "--v", "0.001")
+    assert p.returncode == 0 and "for the A/B outputs 511 (the core's largest; the limit is 9000)" in p.stdout
+    p = run("--pitch", "4", "--fs", "1e6", "--interp", "512")
+    assert p.returncode == 2 and "--interp must be 1..511" in p.stderr
     p = run("--pitch", "-4", "--fs", "1e6")
     assert p.returncode == 2 and "--pitch must be > 0" in p.stderr
     p = run("--pitch", "4", "--fs", "1e9")
