@@ -30,12 +30,16 @@
 //   t + 7  loss_o, over_o, stuck_o, glitch_o (the sample's fault bits);
 //          orun <= over ? min(orun + 1, 4095) : 0; if accepted
 //          (not hold): ph_a <= phase, pred <= 2 phase - ph_a (mod 8192), chk <= min(chk +
-//          1, 2), S <= S + ((U << 5) - S) >>> 5, U <= U + wrap13(phase - ph_a); held:
-//          chk <= 0. travel_o = S[24:5] (u20 phase units, wraps; the estimator's gate).
+//          1, 2), S <= S + ((U << 5) - S) >>> 5, U <= U + wrap13(phase - ph_a), grun <= 0;
+//          coasting (held by the glitch test alone, and not the COAST_MAX-th glitch in a
+//          row of an unclipped sample): ph_a <= pred, pred <= 2 pred - ph_a (the line goes
+//          on), grun <= min(grun + 1, COAST_MAX), chk kept; otherwise held: chk <= 0,
+//          grun <= 0 (the next two samples re-anchor the line).
+//          travel_o = S[24:5] (u20 phase units, wraps; the estimator's gate).
 // Formats: U u20 (wraps), S u20.5 (wraps; the difference (U << 5) - S is taken as s25,
 // and |U - S| stays below 2^19 at any speed below half a period per sample: 32 x 4096),
-// snap s17 (|o| <= 32767, the difference s18), orun u12 and run u8 saturate, pred and
-// ph_a u13 wrap. Nothing overflows
+// snap s17 (|o| <= 32767, the difference s18), orun u12, run u8 and grun u5 saturate,
+// pred and ph_a u13 wrap. Nothing overflows
 // (the formal properties below and sim/formal/monitor.sby).
 module monitor (
     input  wire               clk,
@@ -71,6 +75,9 @@ module monitor (
     output wire [19:0]        travel_o      // u20 integer part of S
 );
     localparam [11:0] OVER_PERSIST = 12'd4095;
+    // glitches coasted in a row before an unclipped sample re-anchors the line: a burst
+    // of interference is shorter; a line still off after 16 samples is the wrong line
+    localparam [4:0]  COAST_MAX = 5'd16;
 
     // ---- t + 1: runs of unchanged codes ------------------------------------------------
     reg signed [15:0] prev1 = 0, prev2 = 0;
@@ -171,6 +178,7 @@ module monitor (
     reg [19:0] u = 0;
     reg [24:0] s = 0;
     reg [11:0] orun = 0;
+    reg [4:0]  grun = 0;                                        // glitches coasted in a row
     wire [12:0] e = phase_i - pred;                             // s13 acceleration
     // e outside [-2^K, 2^K - 1] <=> a bit of e[11:K] differs from the sign e[12]
     wire [11:0] e_off = e[11:0] ^ {12{e[12]}};
@@ -184,6 +192,10 @@ module monitor (
     end
     wire        glitch = (glitch_k_i != 4'd0) && (glitch_k_i < 4'd12) && chk[1] && big;
     assign hold_o = pvalid_i && (early || glitch);
+    // a glitch alone coasts along the line (up to COAST_MAX in a row; a clipped sample, a
+    // channel on a rail, coasts on for as long as it lasts)
+    wire        coast = glitch && !early && !(grun == COAST_MAX && !clip6);
+    wire [12:0] v = pred - ph_a;                                // s13 the line's step
     assign excl_o = hold_o || (pvalid_i && (clip6 || (over && (orun != OVER_PERSIST))));
     wire [12:0] d = phase_i - ph_a;                             // s13 step
     wire [24:0] sd = {u, 5'd0} - s;                             // s25
@@ -200,14 +212,20 @@ module monitor (
                 chk <= chk[1] ? chk : chk + 1'b1;
                 s <= s + {{5{sd[24]}}, sd[24:5]};
                 u <= u + {{7{d[12]}}, d};
+                grun <= 5'd0;
+            end else if (coast) begin
+                ph_a <= pred;
+                pred <= pred + v;
+                grun <= (grun == COAST_MAX) ? grun : grun + 1'b1;
             end else begin
                 chk <= 2'd0;
+                grun <= 5'd0;
             end
         end
         if (rst) begin
             loss_o <= 1'b0; over_o <= 1'b0; stuck_o <= 1'b0; glitch_o <= 1'b0;
             orun <= 0;
-            ph_a <= 0; pred <= 0; chk <= 0; s <= 0; u <= 0;
+            ph_a <= 0; pred <= 0; chk <= 0; s <= 0; u <= 0; grun <= 0;
         end
     end
     assign travel_o = s[24:5];
@@ -235,12 +253,14 @@ module monitor (
     //     hold_o == pvalid && (loss || stuck || (clip && over) || glitch) of the sample
     //     (clip sampled on E - 6); excl_o == hold_o || (pvalid && (clip || over && orun <
     //     4095)): so hold_o and excl_o only with pvalid_i, excl_o whenever hold_o.
-    //  M4 a held sample moves nothing but chk (-> 0) (orun and the flags follow the sample);
-    //     an accepted one: ph_a <= phase, pred <= 2 phase - ph_a, chk <= min(chk + 1, 2),
-    //     U <= U + wrap13(phase - ph_a). No pvalid_i: nothing in H moves, the fault bits
-    //     hold.
+    //  M4 a held sample moves neither U nor S (orun and the flags follow the sample); a
+    //     coasting one (glitch alone, not the 16th in a row unless clipped) moves the line
+    //     on: ph_a <= pred, pred <= 2 pred - ph_a, chk kept, grun + 1 (saturating); any
+    //     other held one: ph_a, pred kept, chk <= 0, grun <= 0; an accepted one: ph_a <=
+    //     phase, pred <= 2 phase - ph_a, chk <= min(chk + 1, 2), U <= U + wrap13(phase -
+    //     ph_a), grun <= 0. No pvalid_i: nothing in H moves, the fault bits hold.
     //  M5 saturating counters never wrap: run 0..255 (+1 while unchanged, 0 on a change),
-    //     orun 0..4095 (+1 while over, 0 otherwise), chk 0..2.
+    //     orun 0..4095 (+1 while over, 0 otherwise), chk 0..2, grun 0..16.
     //  M6 S: the difference (U << 5) - S (s25) stays within +-2^22 (|U - S| <= 32 x 4096
     //     in U units, at any phase steps: wrap13 bounds them), so S's step never sees a
     //     wrapped difference.
@@ -299,6 +319,8 @@ module monitor (
     wire signed [17:0] f_ew18 = f_ew;
     wire f_glitch = (glitch_k_i != 4'd0) && (chk == 2'd2)
                     && ((f_ew18 < -f_lim) || (f_ew18 > f_lim - 18'sd1));
+    wire f_coast = f_glitch && !(loss || stuck || (f_clip[5] && over))
+                   && !(grun == 5'd16 && !f_clip[5]);
 
     // stuck: the spec's chg and run >= N of the sample, carried to the latch's update edge
     wire [7:0] f_run1n = (raw1_i != prev1) ? 8'd0 : (run1 == 8'hff) ? 8'hff : run1 + 1'b1;
@@ -320,7 +342,7 @@ module monitor (
     // ---- properties and invariants on every clock ---------------------------------------------
     wire signed [24:0] f_sd = sd;
     always @(*) begin
-        assert (chk <= 2'd2);                                            // M5
+        assert (chk <= 2'd2 && grun <= 5'd16);                                          // M5
         assert (orun <= OVER_PERSIST);
         assert (f_sd <= 25'sd4194304 && f_sd >= -25'sd4194304);          // M6
         assert (snap1 <= 17'sd32767 && snap1 >= -17'sd32767);            // M2
@@ -357,7 +379,7 @@ module monitor (
         if ($past(rst)) begin                                            // M7
             assert (!loss_o && !over_o && !stuck_o && !glitch_o);
             assert (orun == 12'd0 && chk == 2'd0 && u == 20'd0 && s == 25'd0);
-            assert (ph_a == 13'd0 && pred == 13'd0);
+            assert (ph_a == 13'd0 && pred == 13'd0 && grun == 5'd0);
             assert (run1 == 8'd0 && run2 == 8'd0 && prev1 == 0 && prev2 == 0);
             assert (!stk1 && !stk2 && snap1 == 0 && snap2 == 0 && !v1 && !v2 && !v3);
         end else begin
@@ -384,6 +406,7 @@ module monitor (
             // the stage H state
             if (!$past(pvalid_i)) begin
                 assert (ph_a == $past(ph_a) && pred == $past(pred) && chk == $past(chk));
+                assert (grun == $past(grun));
                 assert (u == $past(u) && s == $past(s) && orun == $past(orun));
                 assert (loss_o == $past(loss_o) && over_o == $past(over_o));
                 assert (stuck_o == $past(stuck_o) && glitch_o == $past(glitch_o));
@@ -401,10 +424,17 @@ module monitor (
                     assert (orun == OVER_PERSIST);
                 // M4
                 if ($past(hold_o)) begin
-                    assert (ph_a == $past(ph_a) && pred == $past(pred));
                     assert (u == $past(u) && s == $past(s));
-                    assert (chk == 2'd0);
+                    if ($past(f_coast)) begin
+                        assert (ph_a == $past(pred) && pred == $past(pred + pred - ph_a));
+                        assert (chk == $past(chk));
+                        assert (grun == (($past(grun) == 5'd16) ? 5'd16 : $past(grun) + 1'b1));
+                    end else begin
+                        assert (ph_a == $past(ph_a) && pred == $past(pred));
+                        assert (chk == 2'd0 && grun == 5'd0);
+                    end
                 end else begin
+                    assert (grun == 5'd0);
                     assert (ph_a == $past(phase_i));
                     assert (pred == $past(phase_i + phase_i - ph_a));
                     assert (chk == (($past(chk) == 2'd2) ? 2'd2 : $past(chk) + 1'b1));
@@ -423,6 +453,7 @@ module monitor (
         cover ($past(pvalid_i && !hold_o) && $past(pvalid_i && hold_o, 2) && chk == 2'd1);
         cover (run1 == 8'd5 && stk2);
         cover ($past(hold_o) && $past(f_clip[5] && over && !loss && !stuck && !f_glitch));
+        cover (grun == 5'd3);
     end
 `endif
 endmodule

@@ -202,6 +202,11 @@ def main():
     ap.add_argument("--div", type=int, default=36, help="clocks per sample")
     ap.add_argument("--harness", default=str(ROOT / "build/rtlsim_exact_adc16/Vfinequad_core"))
     ap.add_argument("--out", default=str(ROOT / "build/soak"))
+    ap.add_argument("--stop-on-slip", action="store_true",
+                    help="stop at the first situation with a slip (for debugging)")
+    ap.add_argument("--record-from", type=int, default=None, metavar="K",
+                    help="save situations K, K+1, ... sample by sample (codes, truth, count, "
+                         "fault) to OUT/situation_<i>.npz (for debugging)")
     a = ap.parse_args()
     if a.samples < 1e4:
         sys.exit("soak: error: --samples must be at least 10000")
@@ -224,7 +229,7 @@ def main():
                 if item is None:
                     break
                 u1, u2 = item[0], item[1]
-                truth_q.put(item[2:])
+                truth_q.put(item)
                 proc.stdin.write(np.stack([u1, u2], axis=1).astype("<i2").tobytes())
         except BrokenPipeError:
             pass
@@ -248,11 +253,12 @@ def main():
     per_kind = {k: dict(samples=0, sq=0.0, max_nm=0.0) for k in KINDS}
     offset, cal_seen, prev_slip = None, False, False
     offs = []
+    history = []                      # per situation: what happened
     while True:
         item = truth_q.get()
         if item is None:
             break
-        x, kind, inj = item
+        u1, u2, x, kind, inj = item
         n = len(x)
         raw = proc.stdout.read(n * REC.itemsize)
         if len(raw) != n * REC.itemsize:
@@ -304,7 +310,27 @@ def main():
             pk["sq"] += float((e[scored] ** 2).sum())
             if scored.any():
                 pk["max_nm"] = max(pk["max_nm"], float(np.abs(e[scored]).max()))
+        rec = dict(index=len(history), kind=kind, first_sample=st["samples"], samples=n,
+                   injected=[w for w, _, _ in inj],
+                   faults={k: int(((f >> b) & 1).sum()) for k, b in core.FAULT_BITS.items()
+                           if ((f >> b) & 1).any()})
+        if offset is not None:
+            e = err - offset
+            scored = ok & ~uncal
+            rec.update(max_err_nm=round(float(np.abs(e[scored]).max()), 1) if scored.any()
+                       else None, slips=int((scored & (np.abs(e) > PITCH_NM / 8)).sum()))
+        history.append(rec)
+        if a.record_from is not None and rec["index"] >= a.record_from:
+            np.savez_compressed(out / f"situation_{rec['index']}.npz", u1=u1, u2=u2, x=x,
+                                count=r["count"], fault=r["fault"], kind=kind,
+                                offset=np.nan if offset is None else offset)
         st["samples"] += n
+        if a.stop_on_slip and rec.get("slips"):
+            print(f"soak: stopping at situation {rec['index']} ({kind}): {rec}")
+            proc.kill()
+            st["history"] = history
+            (out / "soak.json").write_text(json.dumps(st, indent=1))
+            return 1
     rest = proc.stdout.read()
     proc.wait()
     regs_line = proc.stderr.read().decode().strip()
@@ -321,7 +347,8 @@ def main():
               regs={k: int(v) for k, v in regs.items()},
               per_situation={k: dict(samples=v["samples"], max_nm=round(v["max_nm"], 1),
                                      rms_nm=round((v["sq"] / max(1, v["samples"])) ** 0.5,
-                                                  2)) for k, v in per_kind.items()})
+                                                  2)) for k, v in per_kind.items()},
+              history=history)
     (out / "soak.json").write_text(json.dumps(st, indent=1))
     print(f"soak: {st['samples']} samples in {st['wall_s']} s ({st['samples_per_s']} "
           f"samples/s, {a.div} clocks per sample), n = {INTERP}, 4 um pitch")

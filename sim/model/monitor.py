@@ -36,6 +36,16 @@ t + 6 and t + 7, when the sample's fine phase is registered and the counter deci
                  cannot change its phase velocity by 1/8 of a period per sample within
                  one sample (that is 5e5 m/s^2 at 1 MS/s on a 4 um scale); noise is far
                  below (2 % noise: sigma(e) ~ 64 units).
+                 A sample held by the glitch test alone coasts: the line goes on through
+                 it (ph_a <- pred, pred <- 2 pred - ph_a) and the test stays armed, so a
+                 burst of interference or a channel on a rail (a broken line reads full
+                 scale, whatever the angle) is held for as long as it lasts, and the
+                 first good sample is tested against the line. Were the line re-anchored
+                 on the next samples, as after a loss, a rail read half a period away
+                 would be counted and counted back with a sign chosen by the wrap: a
+                 whole period lost (seen in the soak). After COAST_MAX (16) glitches in
+                 a row an unclipped sample re-anchors the line (held, chk <- 0): a line
+                 still that far off is the wrong line; clipped samples coast on.
   hold           loss or stuck or glitch, or a clipped code (at or near an ADC rail,
                  rtl/correct.v) with the radius over-range: the sample's phase is not
                  trusted. The counter keeps its count and its last phase (rtl/counter.v),
@@ -52,11 +62,12 @@ t + 6 and t + 7, when the sample's fine phase is registered and the counter deci
                  over-range (the amplitude really grew) is let in again, so the estimator
                  can follow it (its jump detector fires and it re-fits; the next hand-over
                  moves the nominal radius, and the flag clears).
-  accepted       not hold: ph_b, ph_a <- ph_a, phase; chk <- min(chk + 1, 2);
+  accepted       not hold: ph_b, ph_a <- ph_a, phase; chk <- min(chk + 1, 2); grun <- 0;
                  S += ((U << 5) - S) >>> 5 (u20.5 smoothed travel, wraps; the difference
                  is taken as s25; U as it was before this sample: the two sums run side
                  by side in the RTL), U += wrap13(phase - ph_a) (u20 unwrapped phase,
-                 wraps). Held: chk <- 0, nothing else moves.
+                 wraps). Coasting (above): the line moves on, grun <- min(grun + 1,
+                 COAST_MAX). Otherwise held: chk <- 0, grun <- 0, nothing else moves.
   over run       orun <- over ? min(orun + 1, OVER_PERSIST) : 0 (every sample).
 
 The estimator gates its updates by S (rtl/estimator.v): the travel smoothed over 32
@@ -69,6 +80,7 @@ from dataclasses import dataclass
 
 STUCK_SPAN = 2048        # s2.14: 1/8 of the calibrated radius
 OVER_PERSIST = 4095      # samples of over-range before it is let in to the estimator
+COAST_MAX = 16           # glitches coasted in a row before an unclipped sample re-anchors
 S_FRAC = 5               # fraction bits of the smoothed travel S (time constant 32)
 U_W = 20                 # unwrapped phase width (wraps)
 S_W = U_W + S_FRAC
@@ -104,6 +116,7 @@ class Monitor:
         self.ph_a = 0             # last accepted phase
         self.pred = 0             # u13 prediction of the next phase (2 ph_a - ph_b)
         self.chk = 0              # accepted samples in a row, 0..2
+        self.grun = 0             # glitches coasted in a row, 0..COAST_MAX
         self.u = 0                # u20 unwrapped phase of the accepted samples
         self.s = 0                # u20.5 smoothed travel
         self.orun = 0             # over-range samples in a row
@@ -139,7 +152,9 @@ class Monitor:
         e = wrap13(phase - self.pred)
         k = regs.glitch_k
         glitch = 0 < k < 12 and self.chk >= 2 and not (-(1 << k) <= e < (1 << k))
-        hold = loss or stuck or glitch or (bool(clip) and over)
+        early = loss or stuck or (bool(clip) and over)
+        hold = early or glitch
+        coast = glitch and not early and not (self.grun == COAST_MAX and not clip)
         excl = hold or bool(clip) or (over and self.orun < OVER_PERSIST)
         # registered at t + 7
         self.orun = min(self.orun + 1, OVER_PERSIST) if over else 0
@@ -153,6 +168,13 @@ class Monitor:
                 diff -= 1 << S_W
             self.s = (self.s + (diff >> S_FRAC)) & ((1 << S_W) - 1)
             self.u = (self.u + d) & ((1 << U_W) - 1)
+            self.grun = 0
+        elif coast:
+            v = (self.pred - self.ph_a) & 8191
+            self.ph_a = self.pred
+            self.pred = (self.pred + v) & 8191
+            self.grun = min(self.grun + 1, COAST_MAX)
         else:
             self.chk = 0
+            self.grun = 0
         return loss, over, stuck, glitch, hold, excl

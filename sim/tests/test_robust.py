@@ -93,3 +93,38 @@ def test_start_from_a_loaded_calibration(load):
         assert s["slips"] == 0 and s["ratio"] < 1.15, s
     else:
         assert s["ratio"] > 5, s          # the default circle is far from this ellipse
+
+
+@pytest.mark.parametrize("rail_ph", [np.pi, 0.75 * np.pi, 1.25 * np.pi])
+def test_channel_on_the_rail_half_a_period_away_loses_no_count(rail_ph):
+    """A broken line puts channel 1 on its positive rail while the true angle is near pi
+    (u1 near -A): the rail reads half a period away, the radius stays in range (u1c ~
+    1.2) and the clipped samples are counted. The first rail sample fails the glitch test;
+    the line must coast through the rest (the soak lost a whole period here when the line
+    re-anchored on the next samples and counted the rail, and counted back)."""
+    sig = siggen.Signal(A1=0.85, A2=0.8, m1=0.01, m2=-0.01, phi=0.05, noise=0.005)
+    c = core.Core(core.Config())
+    x1 = siggen.moves(FS, [("dwell", 0.002), ("move", 120e3, 20e6, 1e9, 1e11)])
+    u1, u2, _ = siggen.encode(x1, PITCH, sig, seed=31)
+    c.feed(u1, u2)
+    assert c.uncal == 0, "the move did not calibrate"
+    # a slow move (1.5 nm per sample) over 3 periods; the rail where the angle is rail_ph
+    n = 8000
+    x2 = x1[-1] + 1.5 * np.arange(1, n + 1)
+    u1, u2, a = siggen.encode(x2, PITCH, sig, seed=32)
+    ph = np.mod(a, 2 * np.pi)
+    at = int(np.argmax(np.abs(ph - rail_ph) < 0.01))
+    u1[at:at + 80] = 32767
+    r = c.feed(u1, u2)
+    fault = np.asarray(r["fault"])
+    assert ((fault[at:at + 80] >> core.FAULT_BITS["clip"]) & 1).all()
+    q = PITCH / (4 * N_INTERP)
+    e = np.asarray(r["count"]) * q - (x2 - x2[0])
+    e -= np.median(e[:at])
+    held = np.zeros(n, bool)
+    for b in ("loss", "stuck", "glitch"):
+        held |= ((fault >> core.FAULT_BITS[b]) & 1).astype(bool)
+    trusted = ~held
+    trusted[at:at + 80] = False
+    assert np.abs(e[trusted]).max() < PITCH / 8, np.abs(e[trusted]).max()
+    assert abs(e[-1]) < 50, e[-1]
