@@ -41,6 +41,11 @@ def test_json_holds_the_numbers(quick):
     assert r["tracking_improvement"] == pytest.approx(w / i)
     assert r["paper"]["tracking_rms_nm_without"] == 312.14
     assert r["paper"]["tracking_rms_nm_with"] == 121.53
+    # the plant sensitivity: another plant, the same encoder, a different improvement
+    (name, ps), = r["plant_sensitivity"].items()
+    assert "Coulomb" in name and 0 < ps["with"] < ps["without"]
+    assert ps["ratio"] == pytest.approx(ps["without"] / ps["with"])
+    assert ps["with"] != pytest.approx(i)
     v = r["validation"]["0.005"]
     for n in ("50", "100"):
         for design in ("default", "paper-literal", "printed"):
