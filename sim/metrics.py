@@ -78,11 +78,10 @@ def score(count, x_nm, var_a, pitch_nm, interp, start, mask=None, a=None):
     return out, err, keep
 
 
-def convergence_periods(err_nm, x_nm, pitch_nm, floor, event, window=1000, bound=2.0,
-                        end=None):
-    """Travel, in signal periods, from sample `event` to the start of the first window
-    after which every window of `window` samples up to `end` (default: the end of the
-    record) has an RMS error within `bound` x floor. None if it never settles."""
+def convergence_samples(err_nm, floor, event, window=1000, bound=2.0, end=None):
+    """Samples from sample `event` to the start of the first window after which every
+    window of `window` samples up to `end` (default: the end of the record) has an RMS
+    error within `bound` x floor. None if it never settles."""
     e = err_nm[event:end]
     nw = len(e) // window
     if nw == 0:
@@ -90,10 +89,17 @@ def convergence_periods(err_nm, x_nm, pitch_nm, floor, event, window=1000, bound
     rms = np.sqrt(np.mean(e[:nw * window].reshape(nw, window) ** 2, axis=1))
     bad = rms > bound * floor
     if not bad.any():
-        k = 0
-    elif bad[-1]:
+        return 0
+    if bad[-1]:
         return None
-    else:
-        k = (int(np.nonzero(bad)[0][-1]) + 1) * window
+    return (int(np.nonzero(bad)[0][-1]) + 1) * window
+
+
+def convergence_periods(err_nm, x_nm, pitch_nm, floor, event, window=1000, bound=2.0,
+                        end=None):
+    """convergence_samples() as travel, in signal periods. None if it never settles."""
+    k = convergence_samples(err_nm, floor, event, window, bound, end)
+    if k is None:
+        return None
     travel = np.sum(np.abs(np.diff(np.asarray(x_nm)[event:event + k + 1])))
     return float(travel / pitch_nm)

@@ -102,6 +102,10 @@ def test_score_and_convergence():
     assert keep.sum() == 15000 and s["slips"] == 0 and s["ratio"] < 1.05
     c = metrics.convergence_periods(err, x, pitch, s["floor_nm"], 0, window=500)
     assert c == pytest.approx(1.5)                # 3000 samples at 2000 per period
+    assert metrics.convergence_samples(err, s["floor_nm"], 0, window=500) == 3000
+    # a tighter bound: the start-up error must be gone, and a bound below the RMS of
+    # every window never settles (the bound is what decides, not a constant)
+    assert metrics.convergence_samples(err, s["floor_nm"], 0, window=500, bound=0.01) is None
     bad = count.copy()
     bad[12000:] += 150                             # 1.5 um: slips, never settles
     s2, err2, _ = metrics.score(bad, x, var_a, pitch, n, 5000, a=a)
