@@ -260,3 +260,31 @@ def test_paper_literal_rejects_bad_parameters():
                dict(reset_every=-5)):
         with pytest.raises(ValueError):
             baselines.paper_literal(u1, u2, 100, **kw)
+
+
+# ------------------------------------------------------------- the float twin (reference)
+
+def test_float_twin_follows_the_gateware_schedule_to_the_truth():
+    """reference.run_schedule on the bit-true model's schedule: the same updates, resets
+    and hand-overs in double precision. Its parameters end at the truth and its count is
+    at the floor; with an empty schedule it keeps the default bundle (a circle of radius
+    0.5 without offsets), far off on these signals."""
+    from sim import metrics, siggen
+    from sim.model import core
+    sig = siggen.Signal(A1=0.6, A2=0.5, m1=0.03, m2=-0.02, phi=0.1, noise=0.002)
+    x = siggen.moves(1e6, [("dwell", 0.002), ("move", 0.3e6, 20e6, 1e9, 1e11)])
+    u1, u2, a = siggen.encode(x, 4000.0, sig, seed=5)
+    r = core.run(u1, u2, core.Config())
+    assert any(first is not None for kind, _, _, first in r["sched"] if kind == "update")
+    f = reference.run_schedule(u1, u2, r["sched"], interp=100)
+    a1, rr, m1, m2, phi = f["params"][-1]
+    assert a1 == pytest.approx(0.6, abs=0.003) and rr == pytest.approx(1.2, abs=0.006)
+    assert m1 == pytest.approx(0.03, abs=0.002) and m2 == pytest.approx(-0.02, abs=0.002)
+    assert phi == pytest.approx(0.1, abs=0.005)
+    start = len(x) // 2
+    s, _, _ = metrics.score(f["count"], x, siggen.angle_var(a, sig), 4000.0, 100, start, a=a)
+    assert s["slips"] == 0 and s["ratio"] < 1.1, s
+    f0 = reference.run_schedule(u1, u2, [], interp=100)
+    s0, _, _ = metrics.score(f0["count"], x, siggen.angle_var(a, sig), 4000.0, 100, start,
+                             a=a)
+    assert s0["ratio"] > 3, s0

@@ -67,6 +67,9 @@ def test_angle_variance_is_methods_bound():
     expect = ((sig.noise * sig.A1) ** 2 + lsb ** 2 / 12) / (
         sig.A1 ** 2 * np.sin(a) ** 2 + sig.A2 ** 2 * np.cos(a - sig.phi) ** 2)
     assert np.allclose(siggen.angle_var(a, sig), expect)
+    # an 8-bit ADC without noise: the quantisation term alone (lsb^2 / 12)
+    sig8 = siggen.Signal(noise=0.0, adc_bits=8, A1=0.5, A2=0.5, phi=0.0)
+    assert np.allclose(siggen.angle_var(a, sig8), (2.0 / 256) ** 2 / 12 / 0.25)
     drop = siggen.Signal(dropout=((10, 20, 0.0),))
     v = siggen.angle_var(a, drop)
     assert np.all(np.isinf(v[10:20])) and np.all(np.isfinite(v[:10]))
