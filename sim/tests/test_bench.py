@@ -1,0 +1,39 @@
+"""scripts/bench_accuracy.py end to end on one scenario, bit-true model only (the RTL side
+is `make bench-accuracy`; RTL == model is checked in sim/tests/test_rtlsim.py)."""
+import json
+import pathlib
+import subprocess
+import sys
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+
+
+def bench(*args):
+    return subprocess.run([sys.executable, str(ROOT / "scripts" / "bench_accuracy.py"),
+                           *args], capture_output=True, text=True)
+
+
+def test_bench_scores_every_method_and_writes_the_tables(tmp_path):
+    p = bench("--no-rtl", "--only", "constant", "--build", str(tmp_path))
+    assert p.returncode == 0, p.stderr
+    r = json.loads((tmp_path / "accuracy.json").read_text())
+    (row,) = r["scenarios"]
+    assert row["scenario"] == "constant" and row["rtl_equals_model"] is None
+    for m in ("rtl", "float", "paper_table", "paper", "heydemann", "raw"):
+        s = row[m]
+        assert s["floor_nm"] == row["rtl"]["floor_nm"] and s["rms_nm"] > 0, m
+    assert row["rtl"]["ratio"] < 1.15 and row["rtl"]["slips"] == 0
+    assert row["rtl"]["convergence_samples"][0] is not None
+    # the paper's table counting the fine phase: its linearisation error, no lost counts;
+    # the method as printed: lost counts (illegal steps) at n = 100 with 0.5 % noise
+    assert 2 < row["paper_table"]["ratio"] < 6 and row["paper_table"]["slips"] == 0
+    assert row["paper_illegal_steps"] > 0 and row["paper"]["slips"] > 0
+    md = (tmp_path / "accuracy.md").read_text()
+    assert "| constant | " in md and "paper table, fine-phase count" in md
+
+
+def test_bench_rejects_bad_arguments(tmp_path):
+    p = bench("--no-rtl", "--only", "nosuch", "--build", str(tmp_path))
+    assert p.returncode == 2 and "nosuch" in p.stderr
+    p = bench("--interp", "600", "--build", str(tmp_path))
+    assert p.returncode == 2 and "--interp must be 1..511" in p.stderr
