@@ -19,8 +19,8 @@ The recording repeats a cycle of situations, each drawn from a seeded generator:
   drift      a move along which every signal parameter drifts
 
 The signal parameters (A1, A2, m1, m2, phi, harmonics, noise) carry over from one
-situation to the next, so over the run they wander (a random walk within bounds) as on a
-real scale. Faults are short enough that the stage moves less than a quarter of a period
+situation to the next, so over the run they wander (a random walk within the 1 Vpp
+interface's specification, with margin: Params) as on a real scale. Faults are short enough that the stage moves less than a quarter of a period
 while they last, so the count must be right when the signal is back.
 
 Scored (count in units of pitch / (4 n), truth in nm): the error of the counter against
@@ -63,40 +63,67 @@ FAULTS = ("loss", "stuck", "glitch", "rail", "over")
 
 
 class Params:
-    """The signal's parameters, carried from one situation to the next (a bounded walk)."""
+    """The signal's parameters, carried from one situation to the next (a bounded walk).
+
+    The walk covers the 1 Vpp interface's specification with margin, as a readhead's
+    signals wander along a scale and with temperature: the amplitude A1 from 0.3 to 0.85
+    of full scale (0.6 to 1.2 Vpp is 2:1; this is 2.8:1), the amplitude ratio A2 / A1
+    0.8..1.25, offsets up to 6.5 % of the amplitude, the phase error up to +-0.17 rad
+    (10 degrees), third harmonic up to 1 %, noise 0.2..2 % of the amplitude. (Walking A1,
+    A2 and the offsets independently over 0.15..0.85 and +-6 % of full scale reached
+    5:1 mismatches with offsets of 40 % of an amplitude and 10 % noise on one channel: a
+    broken readhead, which is the monitor's business, not a test of accuracy.)"""
+
+    LIM = dict(A1=(0.30, 0.85), ratio=(0.8, 1.25), mr1=(-0.065, 0.065),
+               mr2=(-0.065, 0.065), phi=(-0.17, 0.17), h3=(0.0, 0.01), noise=(0.002, 0.02))
+    STEP = dict(A1=0.03, ratio=0.02, mr1=0.006, mr2=0.006, phi=0.01, h3=0.002, noise=0.002)
 
     def __init__(self, rng):
         self.rng = rng
-        self.v = dict(A1=0.60, A2=0.54, m1=0.03, m2=-0.02, phi=0.08, h3=0.0, noise=0.005)
+        self.w = dict(A1=0.60, ratio=0.9, mr1=0.05, mr2=-0.037, phi=0.08, h3=0.0,
+                      noise=0.005)
+
+    @property
+    def v(self):
+        """The signal's parameters (A1, A2, m1, m2 in full-scale units)."""
+        w = self.w
+        a2 = w["A1"] * w["ratio"]
+        return dict(A1=w["A1"], A2=a2, m1=w["mr1"] * w["A1"], m2=w["mr2"] * a2,
+                    phi=w["phi"], h3=w["h3"], noise=w["noise"])
 
     def walk(self):
-        r, v = self.rng, self.v
-        lim = dict(A1=(0.15, 0.85), A2=(0.15, 0.85), m1=(-0.06, 0.06), m2=(-0.06, 0.06),
-                   phi=(-0.15, 0.15), h3=(0.0, 0.01), noise=(0.002, 0.02))
-        step = dict(A1=0.03, A2=0.03, m1=0.005, m2=0.005, phi=0.01, h3=0.002, noise=0.002)
-        for k in v:
-            v[k] = float(np.clip(v[k] + r.normal(0, step[k]), *lim[k]))
+        for k in self.w:
+            self.w[k] = float(np.clip(self.w[k] + self.rng.normal(0, self.STEP[k]),
+                                      *self.LIM[k]))
+
+    def jump(self):
+        """The jump situation's step (m1 +3 % of full scale, A2 -5 %, phi +0.05 rad),
+        folded back into the walk's bounds."""
+        w = self.w
+        w["mr1"] = float(np.clip(w["mr1"] + 0.03 / w["A1"], *self.LIM["mr1"]))
+        w["ratio"] = float(np.clip(w["ratio"] - 0.05 / w["A1"], *self.LIM["ratio"]))
+        w["phi"] = float(np.clip(w["phi"] + 0.05, *self.LIM["phi"]))
 
     def signal(self, n, jump_at=None, drift=False):
-        """siggen.Signal for n samples with the current values; a jump (m1 +3 % FS, A2
-        -5 % FS, phi +0.05 rad) at jump_at, or every value drifting to a new one."""
-        v = dict(self.v)
+        """siggen.Signal for n samples with the current values; a jump (m1, A2 and phi
+        step at once: Params.jump) at jump_at, or every value drifting to a new one."""
+        old = self.v
         arr = {}
         if drift:
-            old = dict(self.v)
             self.walk()
             self.walk()
+            new = self.v
             for k in ("A1", "A2", "m1", "m2", "phi"):
-                arr[k] = np.linspace(old[k], self.v[k], n)
-        if jump_at is not None:
-            for k, d in (("m1", 0.03), ("A2", -0.05), ("phi", 0.05)):
-                base = arr.get(k, np.full(n, v[k]))
-                arr[k] = siggen.jump(base, jump_at, d)
-                self.v[k] = float(base[-1] + d)
-        return siggen.Signal(A1=arr.get("A1", v["A1"]), A2=arr.get("A2", v["A2"]),
-                             m1=arr.get("m1", v["m1"]), m2=arr.get("m2", v["m2"]),
-                             phi=arr.get("phi", v["phi"]), h3=v["h3"], noise=v["noise"],
-                             adc_bits=16)
+                arr[k] = np.linspace(old[k], new[k], n)
+        elif jump_at is not None:
+            self.jump()
+            new = self.v
+            for k in ("m1", "A2", "phi"):
+                arr[k] = siggen.jump(np.full(n, old[k]), jump_at, new[k] - old[k])
+        return siggen.Signal(A1=arr.get("A1", old["A1"]), A2=arr.get("A2", old["A2"]),
+                             m1=arr.get("m1", old["m1"]), m2=arr.get("m2", old["m2"]),
+                             phi=arr.get("phi", old["phi"]), h3=old["h3"],
+                             noise=old["noise"], adc_bits=16)
 
 
 def situation(kind, rng, x0, params, seed):
