@@ -25,7 +25,12 @@
 // After WARMUP updates from power-up the gain is checked (a reset only if it changes);
 // then a reset every period_i updates (0: never) or when the jump detector fires.
 // Samples that arrive while the engine is busy are skipped by the estimator (they still
-// pass the fast path). When an UPDATE ends valid and at least `settle` updates have ended
+// pass the fast path). With OPT_EXT_ENGINE (an engine shared by several axes,
+// rtl/finequad_multi.v) a RESET or an UPDATE is decided only on an edge with tdm_ok_i
+// (the axis's window): a RESET on the arrival decision if that edge is in the window (the
+// reset stays pending otherwise), an UPDATE on the first edge in the window at or after
+// the check and the end of the running program (the candidate waits in the slot); the
+// EXTRACT follows its UPDATE at once. sim/model/core.py Config.tdm mirrors it. When an UPDATE ends valid and at least `settle` updates have ended
 // since the last reset, and the updates since the last commit and the last reset covered
 // all eight octants,
 // the bundle {g, m1, m2, c1, c12, c2} is committed atomically.
@@ -43,7 +48,12 @@ module estimator #(
     parameter PH_DELAY = 5,
     // lanes of the RLS engine (rtl/rls_engine.v LANES): 1, or 2 on devices with 4 DSP
     // blocks to spare (shorter programs: sim/model/estimator.py CYCLES_BY_LANES)
-    parameter ENGINE_LANES = 1
+    parameter ENGINE_LANES = 1,
+    // 0: the RLS engine inside (one axis: eng_cmd_o is 0, eng_rsp_i and tdm_ok_i are
+    // unused); 1: an engine outside, shared by several axes (rtl/finequad_multi.v), driven
+    // through eng_cmd_o / eng_rsp_i, and a RESET or UPDATE is decided only on an edge with
+    // tdm_ok_i (the axis's window; an EXTRACT follows its UPDATE as always)
+    parameter [0:0] OPT_EXT_ENGINE = 1'b0
 ) (
     input  wire               clk,
     input  wire               rst,
@@ -86,7 +96,17 @@ module estimator #(
     output wire               ref_o,       // the bundle is a calibration (not default)
     output reg  [31:0]        updates_o,   // updates run (wraps)
     output reg  [15:0]        jumps_o,     // jumps detected (wraps)
-    output wire               sat_o        // engine saturated a register (sticky)
+    output wire               sat_o,       // engine saturated a register (sticky)
+    // OPT_EXT_ENGINE = 1: the shared engine (rtl/rls_engine.v ports, the estimator's side)
+    input  wire               tdm_ok_i,    // a program may be decided on the coming edge
+    // {start_i, entry_i[7:0], x1_i (s1.15), x2_i (s1.15), lam_k_i[4:0], freeze_i,
+    //  kappa_i (u8.8), dg_i (s3)}: registered, the engine starts on the edge after the
+    // decision and latches the rest with start_i
+    output wire [65:0]        eng_cmd_o,
+    // {sat_o (this axis's sticky bit), done_o, valid_o, out_o[111:0]}: done_o only for
+    // this axis's programs; out_o is read only on this axis's done_o (the OUT registers a
+    // program reads are written by that program: sim/model/program.py)
+    input  wire [114:0]       eng_rsp_i
 );
 `include "rls_entries.vh"                  // ENTRY_RESET, _UPDATE, _EXTRACT (program.py)
     reg [1:0]  g_eng = G_INIT;
@@ -109,7 +129,9 @@ module estimator #(
     wire pend = reset_pend | req_reset_i;
     wire slot_empty = !slot_pend && !slot_rdy;
     reg  [3:0]  skip = 4'd0;
-    wire do_reset = smp_valid_i && !busy && slot_empty && pend;
+    // the engine may take a program decided on the coming edge (its window: OPT_EXT_ENGINE)
+    wire tdm_ok = !OPT_EXT_ENGINE || tdm_ok_i;
+    wire do_reset = smp_valid_i && !busy && slot_empty && pend && tdm_ok;
     wire do_cand = smp_valid_i && slot_empty && !pend && skip == 4'd0;
     wire do_skip = smp_valid_i && slot_empty && !pend && skip != 4'd0;
     reg  signed [15:0] cu1 = 0, cu2 = 0;  // the candidate
@@ -187,7 +209,7 @@ module estimator #(
     // the engine takes a new program now: not busy, or its program ends now and no
     // EXTRACT follows
     wire eng_free;
-    wire do_update = eng_free && (slot_rdy || pre_pass);
+    wire do_update = eng_free && (slot_rdy || pre_pass) && tdm_ok;
     wire [2:0]  u_oct = slot_rdy ? r_oct : pre_oct;
     wire [19:0] u_s = slot_rdy ? r_s : pre_s;
     wire [4:0] lam_k = (lam_k_i == 0) ? 5'd1 : (lam_k_i > 5'd23) ? 5'd23 : lam_k_i;
@@ -233,12 +255,23 @@ module estimator #(
     end
 
     wire [15:0] kappa = (kappa_i == 16'd0) ? 16'd1 : kappa_i;
-    rls_engine #(.TABLE_DIR(TABLE_DIR), .LANES(ENGINE_LANES)) u_engine (
-        .clk(clk), .rst(rst),
-        .start_i(start_q), .entry_i(entry_q), .x1_i(x1_q), .x2_i(x2_q),
-        .lam_k_i(lam_k), .freeze_i(freeze), .kappa_i(kappa), .dg_i(dg_q),
-        .busy_o(eng_busy), .done_o(done), .valid_o(valid), .out_o(outs), .sat_o(sat_o)
-    );
+    generate
+        if (OPT_EXT_ENGINE) begin : g_ext
+            assign eng_cmd_o = {start_q, entry_q, x1_q, x2_q, lam_k, freeze, kappa, dg_q};
+            assign {sat_o, done, valid, outs} = eng_rsp_i;
+            assign eng_busy = 1'b0;
+        end else begin : g_int
+            rls_engine #(.TABLE_DIR(TABLE_DIR), .LANES(ENGINE_LANES)) u_engine (
+                .clk(clk), .rst(rst),
+                .start_i(start_q), .entry_i(entry_q), .x1_i(x1_q), .x2_i(x2_q),
+                .lam_k_i(lam_k), .freeze_i(freeze), .kappa_i(kappa), .dg_i(dg_q),
+                .axis_i(1'b0), .busy_o(eng_busy), .done_o(done), .valid_o(valid),
+                .out_o(outs), .sat_o(sat_o)
+            );
+            assign eng_cmd_o = 66'd0;
+            wire unused_x = &{1'b0, tdm_ok_i, eng_rsp_i, 1'b0};
+        end
+    endgenerate
     wire unused = &{1'b0, eng_busy, kappa5[3:0], 1'b0};
     // trace bound: P's trace (OUT TR, s12.4, after a RESET or UPDATE) at or above its
     // value after a reset, 5 kappa, holds the forgetting off for the next update

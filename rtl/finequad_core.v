@@ -52,7 +52,11 @@ module finequad_core #(
     parameter [0:0] OPT_TUNABLE = 1'b1,
     // lanes of the estimator's RLS engine, 1 or 2 (2: four more DSP blocks, shorter
     // programs: rtl/rls_engine.v, sim/model/estimator.py CYCLES_BY_LANES)
-    parameter ENGINE_LANES = 1
+    parameter ENGINE_LANES = 1,
+    // 0: the RLS engine inside (tdm_ok_i, eng_rsp_i unused, eng_cmd_o 0); 1: the engine
+    // outside, shared by several axes, through eng_cmd_o / eng_rsp_i, a program decided
+    // only on edges with tdm_ok_i (rtl/finequad_multi.v, rtl/estimator.v)
+    parameter [0:0] OPT_EXT_ENGINE = 1'b0
 ) (
     input  wire                      clk,
     input  wire                      rst,
@@ -72,7 +76,11 @@ module finequad_core #(
     output wire [10:0]               m_fault,
     // A/B outputs (paced quadrature following m_count, or the Eq. 12 pulses)
     output wire                      m_a,
-    output wire                      m_b
+    output wire                      m_b,
+    // shared RLS engine (OPT_EXT_ENGINE = 1; formats: rtl/estimator.v eng_cmd_o, eng_rsp_i)
+    input  wire                      tdm_ok_i,
+    output wire [65:0]               eng_cmd_o,
+    input  wire [114:0]              eng_rsp_i
 );
     localparam LATENCY = 8;
     localparam CORR_AT = 2;       // magnitudes registered on edge t + CORR_AT
@@ -289,7 +297,7 @@ module finequad_core #(
 
     // ---- estimator: every sample on arrival, its fine phase 4 edges after (t+2 .. t+6) ------------
     estimator #(.TABLE_DIR(TABLE_DIR), .G_INIT(G_INIT), .PH_DELAY(PHASE_AT),
-                .ENGINE_LANES(ENGINE_LANES)) u_est (
+                .ENGINE_LANES(ENGINE_LANES), .OPT_EXT_ENGINE(OPT_EXT_ENGINE)) u_est (
         .clk(clk), .rst(rst),
         .smp_valid_i(c_v0), .u1_i(c_raw1), .u2_i(c_raw2), .amax_i(c_amax),
         .ph_valid_i(h_valid), .phase_i(h_phase), .excl_i(mon_excl),
@@ -301,7 +309,8 @@ module finequad_core #(
         .jump_on_i(!r_jump_off), .jump_min_i(r_jump_min), .jumps_o(e_jumps),
         .g_o(b_g), .m1_o(b_m1), .m2_o(b_m2), .c1_o(b_c1), .c12_o(b_c12), .c2_o(b_c2),
         .uncal_o(b_uncal), .hold_o(b_hold), .loaded_o(b_loaded), .ref_o(b_ref),
-        .updates_o(e_updates), .sat_o(e_sat)
+        .updates_o(e_updates), .sat_o(e_sat),
+        .tdm_ok_i(tdm_ok_i), .eng_cmd_o(eng_cmd_o), .eng_rsp_i(eng_rsp_i)
     );
 
     // ---- fault bits, carried with the sample -------------------------------------------------

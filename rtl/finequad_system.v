@@ -125,6 +125,7 @@ module finequad_system #(
     wire        m_valid, m_a, m_b;
     wire [31:0] m_count;
     wire [10:0] m_fault;         // finequad_core: 11 fault bits (0..3 faults, 4 uncalibrated)
+    wire [65:0] eng_cmd;                 // 0: the core's engine is inside
     finequad_core #(.TABLE_DIR(TABLE_DIR), .ADC_W(12), .OPT_NTH_DSP(OPT_NTH_DSP),
                     .OPT_HARMONIC(OPT_HARMONIC)) u_core (
         .clk(clk), .rst(rst),
@@ -138,8 +139,10 @@ module finequad_system #(
         .m_fault(m_fault),
         /* verilator lint_on UNDRIVEN */
         /* verilator lint_on WIDTH */
-        .m_valid(m_valid), .m_count(m_count), .m_a(m_a), .m_b(m_b)
+        .m_valid(m_valid), .m_count(m_count), .m_a(m_a), .m_b(m_b),
+        .tdm_ok_i(1'b1), .eng_cmd_o(eng_cmd), .eng_rsp_i(115'd0)   // the engine inside
     );
+    wire unused_eng = &{1'b0, eng_cmd, 1'b0};
 
     // ---- pins and status ----------------------------------------------------------------------
     reg cal_q = 1'b0, fault_q = 1'b0, adc_err_q = 1'b0, uart_err_q = 1'b0;

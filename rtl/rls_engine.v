@@ -31,6 +31,12 @@
 // 2: k + 7); it is forwarded (to A and B of every lane) from the round stage (slot k + 6)
 // and, with LANES = 1, the write stage (slot k + 7) of its lane, so slot k + 6 may use it
 // (program.HAZARD = 6).
+// Shared by AXES axes (rtl/finequad_multi.v, AXES > 1): every bank holds AXES register
+// files, addressed {axis, register} with the axis latched on start_i (axis_i), and sat_o
+// has a sticky bit per axis. A program touches no state of an earlier one but the
+// registers (the programs set dz before using it and clear the accumulator, and every
+// OUT register the estimator reads after a program is written by it), so interleaving
+// the axes' programs changes none of their results.
 // Special inputs (latched on start_i): X1, X2 (s2.30 from the s1.15 sample), ONEL
 // (s9.23, 1 + 2**-k, or 1 when freeze_i), KAPPA (s9.23), GS1, GS2 (s8.24, 2**-dg,
 // 2**-2dg). A may be a register, X1 or X2; B any register or special.
@@ -41,7 +47,11 @@ module rls_engine #(
     parameter ROM_AW = 8,
     // lanes, 1 or 2: multipliers (4 DSP blocks each) issuing in parallel; the ROM image
     // rls_program_<LANES>.hex is scheduled for it
-    parameter LANES = 1
+    parameter LANES = 1,
+    // axes sharing the engine (rtl/finequad_multi.v): each has its own register file (the
+    // axis index is the high part of the register address) and its own sticky sat_o bit;
+    // 1: one axis, axis_i unused
+    parameter AXES = 1
 ) (
     input  wire               clk,
     input  wire               rst,
@@ -54,11 +64,13 @@ module rls_engine #(
     input  wire               freeze_i,    // no forgetting (ONEL = 1)
     input  wire [15:0]        kappa_i,     // u8.8 covariance reset value
     input  wire signed [2:0]  dg_i,        // input gain change for the theta rescale, -3..3
+    // the axis whose register file the program uses (AXES > 1), latched on start_i
+    input  wire [((AXES > 1) ? $clog2(AXES) : 1)-1:0] axis_i,
     output reg                busy_o,
     output wire               done_o,      // the program ends on the coming edge
     output wire               valid_o,     // with done_o: no invalid flag was raised
     output reg  [16*7-1:0]    out_o,       // OUT registers {tr, e, c2, c12, c1, m2, m1}
-    output reg                sat_o        // sticky: a register write saturated
+    output reg  [AXES-1:0]    sat_o        // sticky: a register write saturated (per axis)
 );
     localparam OP_MAC = 3'd1, OP_NORMR = 3'd2, OP_NORMS = 3'd3,
                OP_SEEDR = 3'd4, OP_SEEDS = 3'd5, OP_CHK = 3'd6, OP_END = 3'd7;
@@ -68,6 +80,8 @@ module rls_engine #(
     localparam NP = 2 * LANES;                  // read ports: A and B of every lane
     localparam integer LCHI = 48 + LANES;
     localparam [7:0]   LCH = LCHI[7:0];         // "1" or "2" in the file names
+    localparam AXW = (AXES > 1) ? $clog2(AXES) : 1;   // axis index width
+    localparam RAW = (AXES > 1) ? BW + AXW : BW;      // register file address in a bank
 
     // ---- memories -----------------------------------------------------------------------
     reg [RW-1:0] rom [0:(1<<ROM_AW)-1];
@@ -84,6 +98,7 @@ module rls_engine #(
     reg signed [15:0] sp_x1 = 0, sp_x2 = 0;
     reg [15:0] sp_kappa = 0;
     reg [31:0] onel = 32'h00800000, gs1 = 32'h01000000, gs2 = 32'h01000000;
+    reg [AXW-1:0] axis_q = 0;                   // the axis of the program running
     wire signed [31:0] dgi = {{29{dg_i[2]}}, dg_i};
     wire signed [31:0] ki = {27'd0, lam_k_i};
     integer bi;
@@ -92,6 +107,7 @@ module rls_engine #(
             sp_x1    <= x1_i;
             sp_x2    <= x2_i;
             sp_kappa <= kappa_i;
+            axis_q   <= axis_i;
             for (bi = 0; bi < 32; bi = bi + 1) begin
                 onel[bi] <= (bi == 23) || (!freeze_i && ki == 23 - bi);
                 gs1[bi]  <= (dgi == 24 - bi);
@@ -203,24 +219,43 @@ module rls_engine #(
     wire [6*NP-1:0]     rd_addr;          // port p = 2 l + {0: A, 1: B} of lane l (fetch)
     wire [6*NP-1:0]     rd_addr1;         // the same, one stage later (read)
     wire [32*NP*LANES-1:0] rd_all;        // port p of bank b: [32 (NP b + p) +: 32]
-    genvar b, p;
+    genvar b, p, x;
     generate
         for (b = 0; b < LANES; b = b + 1) begin : g_bank
             localparam integer BCHI = 48 + b;
             localparam [7:0]   BCH = BCHI[7:0];
             for (p = 0; p < NP; p = p + 1) begin : g_port
-                reg [31:0] mem [0:(1<<BW)-1];
-                initial $readmemh({TABLE_DIR, "rls_regfile_", LCH, "_", BCH, ".hex"}, mem);
+                reg [31:0] mem [0:AXES*(1<<BW)-1];
+                // the write, read (block RAM) and operand-stage read (distributed RAM)
+                // addresses; with AXES > 1 the running program's axis above the register
+                wire [RAW-1:0] wa, ra, ra1;
+                if (AXES > 1) begin : g_axes
+                    assign wa  = {axis_q, wr_dst[6*b +: BW]};
+                    assign ra  = {axis_q, rd_addr[6*p +: BW]};
+                    assign ra1 = {axis_q, rd_addr1[6*p +: BW]};
+                    // every axis's register file starts from the same image
+                    for (x = 0; x < AXES; x = x + 1) begin : g_init
+                        initial $readmemh({TABLE_DIR, "rls_regfile_", LCH, "_", BCH, ".hex"},
+                                          mem, x << BW, ((x + 1) << BW) - 1);
+                    end
+                end else begin : g_one
+                    assign wa  = wr_dst[6*b +: BW];
+                    assign ra  = rd_addr[6*p +: BW];
+                    assign ra1 = rd_addr1[6*p +: BW];
+                    initial $readmemh({TABLE_DIR, "rls_regfile_", LCH, "_", BCH, ".hex"}, mem);
+                end
                 always @(posedge clk)
                     if (wr_en[b])
-                        mem[wr_dst[6*b +: BW]] <= wr_res[32*b +: 32];
+                        mem[wa] <= wr_res[32*b +: 32];
                 if (ASYNC_RF) begin : g_async
-                    assign rd_all[32*(NP*b + p) +: 32] = mem[rd_addr1[6*p +: BW]];
+                    assign rd_all[32*(NP*b + p) +: 32] = mem[ra1];
+                    wire unused_ra = &{1'b0, ra, 1'b0};
                 end else begin : g_sync
                     reg [31:0] rd_q = 0;
                     always @(posedge clk)
-                        rd_q <= mem[rd_addr[6*p +: BW]];
+                        rd_q <= mem[ra];
                     assign rd_all[32*(NP*b + p) +: 32] = rd_q;
+                    wire unused_ra = &{1'b0, ra1, 1'b0};
                 end
             end
         end
@@ -480,14 +515,14 @@ module rls_engine #(
         else if (|inval_l)
             inval_q <= 1'b1;
         if (|sat_l)
-            sat_o <= 1'b1;
+            sat_o[(AXES > 1) ? axis_q : {AXW{1'b0}}] <= 1'b1;
         if (start_i)
             busy_o <= 1'b1;
         else if (done_o)
             busy_o <= 1'b0;
         if (rst) begin
             busy_o <= 1'b0;
-            sat_o <= 1'b0;
+            sat_o <= {AXES{1'b0}};
         end
     end
     // END reaches the write stage (lane 0): the program ends on the coming edge. Every
@@ -495,7 +530,7 @@ module rls_engine #(
     assign done_o  = v6 && end6_l[0];
     assign valid_o = !inval_q;
     initial begin
-        busy_o = 1'b0; out_o = 0; sat_o = 1'b0;
+        busy_o = 1'b0; out_o = 0; sat_o = {AXES{1'b0}};
     end
     wire unused = &{1'b0, end1_l, end6_l, wr_dst, rd_addr, rd_addr1, wr5_l, wd5_l, 1'b0};
 endmodule

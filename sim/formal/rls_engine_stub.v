@@ -21,6 +21,7 @@ module rls_engine #(
     input  wire               freeze_i,
     input  wire [15:0]        kappa_i,
     input  wire signed [2:0]  dg_i,
+    input  wire               axis_i,      // (AXES = 1: unused)
     output reg                busy_o,
     output wire               done_o,
     output wire               valid_o,
@@ -53,7 +54,7 @@ module rls_engine #(
     initial begin
         busy_o = 1'b0; sat_o = 1'b0;
     end
-    wire unused = &{1'b0, TABLE_DIR != 0, LANES, entry_i, x1_i, x2_i, lam_k_i, freeze_i,
+    wire unused = &{1'b0, TABLE_DIR != 0, LANES, axis_i, entry_i, x1_i, x2_i, lam_k_i, freeze_i,
                    kappa_i, dg_i, 1'b0};
 endmodule
 `resetall

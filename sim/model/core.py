@@ -41,7 +41,19 @@ Clock-edge timing (the RTL implements exactly this; edges are numbered from 0):
                         change; then after every period-th update since the last reset
                         (period 0: never, the default).
   A program decided on edge D starts on D + 1 and ends (END retires) on D + 1 +
-  CYCLES[prog]; a RESET needs a sample strobed on or after that edge. At the end of an
+  CYCLES[prog]; a RESET needs a sample strobed on or after that edge.
+  Shared engine (Config.tdm = (axes, index, L, W), rtl/finequad_multi.v): the axes take
+  turns on one engine in fixed windows, so an axis's decisions depend on its own samples
+  and the edge number alone. Axis `index` may decide a RESET or an UPDATE only on an edge
+  e with index L <= e mod (axes L) < index L + W (edges counted from power-up or the last
+  rst, as the RTL's window counter): a RESET on the arrival decision t_k + 1 only if that
+  edge is in the window (else the sample passes, the reset stays pending), an UPDATE on
+  the first edge in the window at or after max(c, the running program's end) (the
+  candidate waits in the slot until then, and the slot is empty for samples strobed on or
+  after that edge); an EXTRACT is decided on its UPDATE's last edge as always. L >= W + 1 +
+  CYCLES[update] + CYCLES[extract] (tdm_period) ends every program an axis starts before
+  the next axis's window opens, so the engine is never contended. tdm None: every edge
+  (one axis, rtl/finequad_core.v). At the end of an
   UPDATE, if theta was valid, at least `settle` updates have ended since the last reset,
   and the updates since the last commit and the last reset covered all eight octants (so
   the fit is constrained all round, not by a short arc), an EXTRACT is decided on that
@@ -163,6 +175,9 @@ class Config:
     loads: list = field(default_factory=list)   # [(w, (g, m1, m2, c1, c12, c2))]: a
                              # LOAD (CTRL bit 1) written on edge w with that bundle staged
                              # in 0x0b..0x10; samples strobed on edges >= w + 2 use it
+    tdm: tuple = None        # (axes, index, L, W): this axis of rtl/finequad_multi.v, whose
+                             # engine programs start only in its window (module text);
+                             # None: the engine is the axis's own (every edge)
 
     def monitor_regs(self):
         return MonitorRegs(loss=self.loss, over=self.over, glitch_k=self.glitch_k,
@@ -196,6 +211,16 @@ def _front(u1r, u2r, bundle, lut):
     phase = lut.phase(j, base, neg)
     fr.update(j=j, base=base, neg=neg, phase=phase, bin=phase >> 7)
     return fr
+
+
+def tdm_period(w, lanes=1):
+    """The window spacing L (clocks) of rtl/finequad_multi.v for windows of W edges: the
+    latest UPDATE decided in a window (edge base + W - 1) and the EXTRACT chained to it
+    end on base + W + 1 + CYCLES[update] + CYCLES[extract] (a program decided on D ends on
+    D + START_DELAY + CYCLES), the first edge on which the next axis may decide."""
+    from .estimator import CYCLES_BY_LANES
+    c = CYCLES_BY_LANES[lanes]
+    return w + 2 * START_DELAY - 1 + c["update"] + c["extract"]
 
 
 def strobe_edges(n, div, t0=16):
@@ -249,6 +274,7 @@ class Core:
         self.s_last = 0               # the travel at the last update (estimator's gate)
         self.n_updates = 0
         self.sched = []               # the estimator's programs, for the float reference
+        self.decided = []             # (kind, edge on which each program was decided)
         self.jf = self.jl = 0         # jump detector: fast and slow mean |e|, u15.5
         self.armed = False            # a commit since power-up or the last jump
         self.freeze = 0               # trace bound: the next update does not forget
@@ -262,6 +288,24 @@ class Core:
         self.e_base = 0               # E before the samples in e_tail
         self.ill_count = 0            # illegal A/B steps
         self.ab = abgen.Follower(cfg.ab_sep, cfg.ab_bound, cfg.COUNT_W)
+        self.tdm = None
+        if cfg.tdm is not None:
+            axes, index, ln, w = (int(v) for v in cfg.tdm)
+            if not (axes >= 1 and 0 <= index < axes and 1 <= w and
+                    ln >= tdm_period(w, cfg.ENGINE_LANES)):
+                raise ValueError(f"tdm (axes, index, L, W) = {cfg.tdm!r}: need 0 <= index "
+                                 f"< axes, W >= 1, L >= tdm_period(W) = "
+                                 f"{tdm_period(max(w, 1), cfg.ENGINE_LANES)}")
+            if axes > 1:
+                self.tdm = (axes * ln, index * ln, w)   # period, window start, length
+
+    def _granted(self, e):
+        """The first edge >= e on which this axis may decide a program (Config.tdm)."""
+        if self.tdm is None:
+            return e
+        period, base, w = self.tdm
+        r = (e - base) % period
+        return e if r < w else e + period - r
 
     @staticmethod
     def _apply(state, delta):
@@ -474,11 +518,13 @@ class Core:
                 self._pend_reset(-1)   # pending for this sample's decision
             empty = self.slot is None and tk >= self.slot_free
             if self.reset_pend and tk >= self.reset_at:
-                if empty and tk >= self.eng_end:
+                if empty and tk >= self.eng_end and \
+                        self._granted(tk + RESET_STAGE) == tk + RESET_STAGE:
                     g_new = gsel(self.peak, self.g_eng)
                     self.est.run("reset", kappa=kappa, dg=g_new - self.g_eng)
                     self.freeze = int(self.est.out[6] >= (5 * kappa) >> 4)
                     self.sched.append(("reset", k0 + k, g_new, None))
+                    self.decided.append(("reset", tk + RESET_STAGE))
                     self.g_eng = g_new
                     self.peak = 0
                     self.reset_pend = False
@@ -513,8 +559,9 @@ class Core:
             return None
         if abs(((cand["s_prev"] - self.s_last + (1 << 19)) & 0xFFFFF) - (1 << 19)) < cfg.gate:
             return None               # too little travel since the last update
-        d = max(c, self.eng_end)      # the UPDATE is decided on d
+        d = self._granted(max(c, self.eng_end))   # the UPDATE is decided on d
         self.slot_free = d
+        self.decided.append(("update", d))
         self.s_last = cand["s_prev"]
         self.cover |= 1 << cand["oct"]
         self.skip, self.lfsr = self.lfsr & 15, lfsr_step(self.lfsr)
@@ -555,6 +602,7 @@ class Core:
             # EXTRACT, decided on the update's last edge; it hands the new bundle over on
             # its own last edge if theta is an ellipse
             okx = self.est.run("extract")
+            self.decided.append(("extract", done))
             xdone = done + START_DELAY + self.est.cycles["extract"]
             self.eng_end = xdone
             if okx:
