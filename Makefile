@@ -43,7 +43,7 @@ tables: deps     ## regenerate rtl/tables/*.hex from sim/model
 # Registers carry initial values on purpose (iCE40 and ECP5 honour them, formal needs
 # them: house style), so newer Verilators' PROCASSINIT notice is waived; everything else
 # of -Wall must be clean, with Debian's Verilator too where it is installed.
-lint: deps       ## verilator --lint-only -Wall on the core
+lint: deps       ## verilator --lint-only -Wall on the core, the system top and the multi-axis top
 	for p in "" "-GTABLE_EXACT=0" "-GOPT_NTH_DSP=0 -GOPT_HARMONIC=0 -GOPT_TUNABLE=0" \
 	    "-GENGINE_LANES=2"; do \
 	    $(VERILATOR) --lint-only -Wall -Wno-PROCASSINIT -Irtl -Irtl/tables $$p \
@@ -56,6 +56,12 @@ lint: deps       ## verilator --lint-only -Wall on the core
 	if command -v /usr/bin/verilator >/dev/null; then \
 	    /usr/bin/verilator --lint-only -Wall -Irtl -Irtl/tables --top-module finequad_system \
 	        $(SYS_RTL) $(RTL); fi
+	for p in "-GAXES=1" "-GAXES=2" "-GAXES=4" "-GAXES=3 -GENGINE_LANES=2"; do \
+	    $(VERILATOR) --lint-only -Wall -Wno-PROCASSINIT -Irtl -Irtl/tables $$p \
+	        --top-module finequad_multi rtl/finequad_multi.v $(RTL) || exit 1; \
+	    if command -v /usr/bin/verilator >/dev/null; then \
+	        /usr/bin/verilator --lint-only -Wall -Irtl -Irtl/tables $$p \
+	            --top-module finequad_multi rtl/finequad_multi.v $(RTL) || exit 1; fi; done
 
 $(HARNESS): $(RTL) sim/harness/harness.cpp $(wildcard rtl/tables/*.hex) | deps
 	@mkdir -p $(HDIR)
