@@ -25,7 +25,7 @@ HDIR    := $(BUILD)/rtlsim_$(TABLE)_adc$(ADC_W)$(if $(filter-out 1,$(LANES)),_la
 HARNESS := $(HDIR)/Vfinequad_core
 
 .PHONY: help deps demo rtlsim model test lint tables bitstream vcdcompare clean harnesses \
-        bench-accuracy limits formal reproduce report soak
+        bench-accuracy limits formal reproduce report report-multi soak
 
 help:            ## this list
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed 's/:.*## /\t/'
@@ -97,6 +97,10 @@ bitstream:       ## bitstream [BOARD=icebreaker|ulx3s]: synthesis, place and rou
 report: deps     ## performance (iCE40 UP5K, ECP5 25F): Fmax over nextpnr seeds, rates, latency, area, sim speed -> build/report.{json,md} [SEEDS=1,2,3,4,5]
 	$(PY) scripts/report.py --build $(BUILD)/report --json $(BUILD)/report.json --md $(BUILD)/report.md \
 	    --make-build $(BUILD) $(if $(SEEDS),--seeds $(SEEDS))
+
+AXES ?= 1,2,4
+report-multi: deps ## multi-axis resources: finequad_multi for AXES (1,2,4) axes on the iCE40 UP5K and ECP5 25F, one nextpnr seed -> build/report_multi/report_multi.{json,md}
+	$(PY) scripts/report_multi.py --build $(BUILD)/report_multi --axes $(AXES)
 
 test: deps lint harnesses ## all tests: lint, table check, formal proofs, model tests, cocotb (Icarus + Verilator)
 	$(PY) scripts/gen_tables.py --check

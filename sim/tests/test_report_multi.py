@@ -1,0 +1,53 @@
+"""scripts/report_multi.py (`make report-multi`): cell counting, the update rate and the
+table, on fixtures and the model (no synthesis: the flow is scripts/report.py's)."""
+import pathlib
+import sys
+
+import pytest
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "scripts"))
+import report_multi as rm  # noqa: E402
+from sim.model import core  # noqa: E402
+
+
+def test_cell_counts_of_the_flattened_top():
+    net = {"modules": {
+        "top_report_multi": {"attributes": {"top": "00000000000000000000000000000001"},
+                             "cells": {"a": {"type": "SB_LUT4"}, "b": {"type": "SB_LUT4"},
+                                       "c": {"type": "SB_DFFE"}, "d": {"type": "SB_MAC16"},
+                                       "e": {"type": "SB_RAM40_4K"},
+                                       "f": {"type": "SB_CARRY"}}}}}
+    assert rm.cell_counts(net, "ice40_up5k") == {"lut4": 2, "ff": 1, "dsp": 1, "bram": 1,
+                                                 "carry": 1}
+
+
+@pytest.mark.parametrize("axes", [1, 2, 4])
+def test_update_rate_is_one_per_window_round(axes):
+    r = rm.update_rate(axes, n=6000)
+    if axes == 1:
+        # back to back: an UPDATE every CYCLES[update] + 1 clocks
+        from sim.model.estimator import CYCLES
+        assert r == pytest.approx(1 / (CYCLES["update"] + 1))
+    else:
+        assert r == pytest.approx(1 / (axes * core.tdm_period(rm.TDM_W)))
+
+
+def test_markdown_rows():
+    rep = {"seed": 1, "tdm_l": 259, "updates_per_clock": {"1": 1 / 128, "2": 1 / 518},
+           "runs": [
+               {"device": "ice40_up5k", "axes": 1, "fits": False,
+                "util": {"luts": [7000, 5280], "ffs": [2600, 5280], "dsps": [8, 8],
+                         "brams": [27, 30]},
+                "synth_cells": {"lut4": 6000, "carry": 900, "ff": 2600, "dsp": 8, "bram": 27}},
+               {"device": "ecp5_25f", "axes": 2, "fits": True, "fmax_mhz": 70.0,
+                "util": {"luts": [11000, 24288], "ffs": [5000, 24288], "dsps": [14, 28],
+                         "brams": [18, 56]},
+                "synth_cells": {"lut4": 10000, "ff": 5000, "dsp": 14, "bram": 18}},
+               {"device": "ice40_up5k", "axes": 2, "pack_error": "ERROR: x", "fits": False,
+                "synth_cells": {"lut4": 12000}}]}
+    md = rm.markdown(rep).splitlines()
+    assert len(md) == 5
+    assert "7000 / 5280 (132.6 %)" in md[2] and "| no |" in md[2] and "| - |" in md[2]
+    assert "| 259 |" in md[3] and "| 70.0 |" in md[3] and "135.1 k (69.5 k)" in md[3]
+    assert "no (pack failed)" in md[4]
