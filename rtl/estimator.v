@@ -30,9 +30,9 @@
 // (the axis's window): a RESET on the arrival decision if that edge is in the window (the
 // reset stays pending otherwise), an UPDATE on the first edge in the window at or after
 // the check and the end of the running program (the candidate waits in the slot); the
-// EXTRACT follows its UPDATE at once. sim/model/core.py Config.tdm mirrors it. When an UPDATE ends valid and at least `settle` updates have ended
-// since the last reset, and the updates since the last commit and the last reset covered
-// all eight octants,
+// EXTRACT follows its UPDATE at once. sim/model/core.py Config.tdm mirrors it.
+// When an UPDATE ends valid and at least `settle` updates have ended since the last reset,
+// and the updates since the last commit and the last reset covered all eight octants,
 // the bundle {g, m1, m2, c1, c12, c2} is committed atomically.
 // load_i (a LOAD written through the registers on the edge before) replaces the bundle
 // with the staged one (ld_*) on this edge, unless a hand-over happens on the same edge
