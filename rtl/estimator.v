@@ -32,7 +32,11 @@
 // the check and the end of the running program (the candidate waits in the slot); the
 // EXTRACT follows its UPDATE at once. sim/model/core.py Config.tdm mirrors it.
 // When an UPDATE ends valid and at least `settle` updates have ended since the last reset,
-// and the updates since the last commit and the last reset covered all eight octants,
+// and the updates since the last commit and the last reset covered all eight octants
+// within one coverage window (an update that finds COVER_WIN updates counted since the
+// coverage restarted restarts it with its own octant: the octants must come within
+// COVER_WIN consecutive updates, about the RLS's memory, so a fit dominated by a short
+// arc, e.g. a servo dither, is never handed over; sim/model/core.py),
 // the bundle {g, m1, m2, c1, c12, c2} is committed atomically.
 // load_i (a LOAD written through the registers on the edge before) replaces the bundle
 // with the staged one (ld_*) on this edge, unless a hand-over happens on the same edge
@@ -64,7 +68,7 @@ module estimator #(
     input  wire [14:0]        amax_i,      // max(|u1|, |u2|) of this sample, saturated
     // the fine phase of the sample that arrived PH_DELAY edges earlier
     input  wire               ph_valid_i,
-    input  wire [12:0]        phase_i,     // u13 fine phase (uncorrected)
+    input  wire [12:0]        phase_i,     // u13 fine phase (unused: the coverage takes the raw sector)
     input  wire               excl_i,      // with ph_valid_i: the monitor excludes it
     input  wire [19:0]        travel_i,    // u20 smoothed travel after the sample before
     // a LOAD: the staged bundle replaces the one in use (see above)
@@ -161,11 +165,20 @@ module estimator #(
     endfunction
     wire [19:0] dtr = travel_i - s_last;      // s20 travel since the last update
     reg        pre_valid = 1'b0, pre_xsat = 1'b0, pre_gate = 1'b0, pre_bad = 1'b0;
-    reg [2:0]  pre_oct = 0;                // the candidate's octant (coverage)
+    // the candidate's octant for the coverage: the sector of its RAW codes around the
+    // origin, {u2 < 0, u1 < 0, |u1| < |u2|}, not of its fine phase. A loop of any ellipse
+    // that encloses the origin (offsets below the amplitudes) passes all eight sectors
+    // whatever the bundle in use; the fine phase's octants depend on the bundle, and a
+    // wrong one (a bad LOAD, a bad fit) let the phase visit three octants: no hand-over
+    // ever again (sim/model/core.py)
+    reg [2:0]  pre_oct = 0;
+    wire signed [16:0] cs1 = {cu1[15], cu1}, cs2 = {cu2[15], cu2};
+    wire [16:0] cm1 = cs1[16] ? -cs1 : cs1;      // u17 |u1|, |u2| (-32768 -> 32768)
+    wire [16:0] cm2 = cs2[16] ? -cs2 : cs2;
     reg [19:0] pre_s = 0;
     always @(posedge clk) begin
         pre_valid <= ph_cand;
-        pre_oct   <= phase_i[12:10];
+        pre_oct   <= {cu2[15], cu1[15], cm1 < cm2};
         pre_s     <= travel_i;
         pre_bad   <= excl_i;
         pre_xsat  <= ovf(cu1[15:12], g_eng) || ovf(cu2[15:12], g_eng);
@@ -201,6 +214,8 @@ module estimator #(
     // updates still spread over the whole circle
     reg [15:0] lfsr = 16'hACE1;           // Galois, x^16 + x^14 + x^13 + x^11 + 1
     reg [7:0]  oct_seen = 8'd0;              // octants of the updates since the last commit
+    reg [7:0]  cwin = 8'd0;                  // u8 updates since the coverage restarted
+    localparam [7:0] COVER_WIN = 8'd255;
     // the check: trusted, no saturation, enough travel
     wire pre_pass = pre_valid && !pre_bad && !pre_xsat && pre_gate;
     // a checked candidate waiting for the engine: its octant and travel
@@ -305,7 +320,7 @@ module estimator #(
         jthr    <= {1'b0, jl, 2'b00} + {7'd0, jump_min_i, 5'd0};
         trig_q  <= armed && jump_on_i && ({3'b000, jf_next} > jthr);
     end
-    wire        unused_j = &{1'b0, df[1:0], dl[5:0], phase_i[9:0], 1'b0};
+    wire        unused_j = &{1'b0, df[1:0], dl[5:0], phase_i, 1'b0};   // phase_i: timing only
 
     always @(posedge clk) begin
         // sample bookkeeping
@@ -322,9 +337,15 @@ module estimator #(
         // the octants covered: cleared by a reset (a hand-over needs all octants since the
         // reset, too), a jump and a hand-over; an update starting on the same edge adds
         // its own
+        // restarted too when an update finds the window full (COVER_WIN updates counted)
         oct_seen <= ((do_reset || (done && running_update && trig) ||
-                      (done && running_extract && valid)) ? 8'd0 : oct_seen) |
+                      (done && running_extract && valid) ||
+                      (do_update && cwin == COVER_WIN)) ? 8'd0 : oct_seen) |
                     (do_update ? (8'd1 << u_oct) : 8'd0);
+        cwin <= ((do_reset || (done && running_update && trig) ||
+                  (done && running_extract && valid) ||
+                  (do_update && cwin == COVER_WIN)) ? 8'd0 : cwin) +
+                {7'd0, do_update};
         // an update runs from its start decision to its END (a new one may start on the
         // END edge of the last)
         if (do_update)
@@ -406,6 +427,7 @@ module estimator #(
             skip <= 4'd0;
             lfsr <= 16'hACE1;
             oct_seen <= 8'd0;
+            cwin <= 8'd0;
             running_update <= 1'b0;
             running_extract <= 1'b0;
             freeze <= 1'b0;

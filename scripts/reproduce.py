@@ -369,7 +369,10 @@ def fig_interp(d, n, figno, path):
     plt = _plt()
     e = d[f"exact_{n}"]
     pos = (d["x"] - d["x"][0]) / 1e3
-    k = slice(0, 1000)                                     # half a signal period
+    # 12.5 periods of the n-th order sinusoid at every n (half a signal period at n = 25,
+    # an eighth at n = 100), so that its samples stay visible
+    span = 25000 // n
+    k = slice(0, span)
     sc = 1 << 9                                            # SIN_W = 10: sign + u0.9
     q = PITCH / (4 * n)
     fig, ax = plt.subplots(2, 1, figsize=(11, 6), sharex=True,
@@ -389,8 +392,8 @@ def fig_interp(d, n, figno, path):
     ax[1].set_ylabel(f"phase error (counts of {q:g} nm)")
     ax[1].set_xlabel("position (um)")
     ax[1].legend(loc="upper right", fontsize=7)
-    fig.suptitle(f"Fig. {figno}: interpolation for n = {n} (half a signal period, 0.5 % "
-                 f"noise; resolution pitch / 4n = {q:g} nm)")
+    fig.suptitle(f"Fig. {figno}: interpolation for n = {n} ({span / 2000:g} of a signal "
+                 f"period, 0.5 % noise; resolution pitch / 4n = {q:g} nm)")
     fig.tight_layout()
     fig.savefig(path)
     plt.close(fig)

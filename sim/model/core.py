@@ -56,8 +56,17 @@ Clock-edge timing (the RTL implements exactly this; edges are numbered from 0):
   (one axis, rtl/finequad_core.v). At the end of an
   UPDATE, if theta was valid, at least `settle` updates have ended since the last reset,
   and the updates since the last commit and the last reset covered all eight octants (so
-  the fit is constrained all round, not by a short arc), an EXTRACT is decided on that
-  edge, and the new bundle {g, m1, m2, c1, c12, c2} is committed on its end.
+  the fit is constrained all round, not by a short arc) within one coverage window, an
+  EXTRACT is decided on that edge, and the new bundle {g, m1, m2, c1, c12, c2} is
+  committed on its end. Coverage window: an update that finds COVER_WIN updates counted
+  since the coverage last restarted restarts it (the octants seen so far are dropped,
+  its own is kept, the count is 1). So the eight octants must come within COVER_WIN
+  consecutive updates, about the RLS's memory (1 / (1 - lambda) = 257 at k = 8): a
+  servo dither on a short arc, hours of it, adds a few octants per window and never
+  completes the set, and when a move begins after it the hand-over waits until the
+  move alone has covered the circle, instead of extracting a fit that the dither's arc
+  still dominates (the soak handed over m1 = 0.67 of full scale after 30 updates of a
+  move that followed 0.5 s of dither and had inherited the dither's octants).
   Jump detector, also at the end of an UPDATE: with |e| the update's a-priori residual
   (OUT E, s3.13, saturated to 15 bits; u15.5 below), jf a fast (1/4) and jl a slow (1/64)
   running mean of |e|: if armed (a commit since power-up or the last jump) and
@@ -110,6 +119,7 @@ PHASE_STAGE = PHASE_AT + 2   # an UPDATE is decided here (inputs registered one 
 START_DELAY = 1      # the engine starts on the edge after the decision (registered)
 LFSR_SEED = 0xACE1   # dither of the estimator's sample choice (see below)
 WARMUP = 64          # updates before the first automatic reset (picks the input gain)
+COVER_WIN = 255      # updates within which a hand-over needs all eight octants (estimator.v)
 G_MAX = 3            # input gain 2**g, g in 0..3 (amplitudes down to ~6 % of full scale)
 ID = 0x46510003      # register 0x1f: "FQ" and the version (0.3), rtl/finequad_core.v
 FAULT_BITS = {
@@ -259,6 +269,7 @@ class Core:
         self.reset_at = -1            # a pending reset acts on samples strobed on >= this
         self.skip = 0                 # samples the estimator still lets pass (dither)
         self.cover = 0                # octants of the updates since the last commit
+        self.cwin = 0                 # updates since the coverage last restarted
         self.lfsr = LFSR_SEED
         self.requests = set(cfg.resets)
         # bundle events: the edges on which the bundle registers change (sorted), what
@@ -531,6 +542,7 @@ class Core:
                     self.upd = 0
                     self.settle = 0
                     self.cover = 0    # a hand-over needs all octants since the reset, too
+                    self.cwin = 0
                     self.eng_end = tk + RESET_STAGE + START_DELAY + self.est.cycles["reset"]
                     continue
             elif empty:
@@ -539,7 +551,7 @@ class Core:
                 else:
                     self.slot = dict(k=k0 + k, c=tk + PHASE_STAGE, x1=r1l[k] << self.g_eng,
                                      x2=r2l[k] << self.g_eng, peak=self.peak, excl=excl,
-                                     s_prev=s_prev, oct=ph >> 10)
+                                     s_prev=s_prev, oct=raw_octant(r1l[k], r2l[k]))
             self.peak = max(self.peak, amax[k])
         out["travel"] = travel
         return out
@@ -563,7 +575,10 @@ class Core:
         self.slot_free = d
         self.decided.append(("update", d))
         self.s_last = cand["s_prev"]
+        if self.cwin >= COVER_WIN:    # the window is full: coverage restarts here
+            self.cover, self.cwin = 0, 0
         self.cover |= 1 << cand["oct"]
+        self.cwin += 1
         self.skip, self.lfsr = self.lfsr & 15, lfsr_step(self.lfsr)
         lam_k = min(max(cfg.lam_k, 1), 23)
         kappa = max(cfg.kappa, 1)
@@ -588,7 +603,7 @@ class Core:
         if trig:
             self._pend_reset(done)
             self.armed = False
-            self.cover = 0
+            self.cover = self.cwin = 0
             self.jf = self.jl
             self.jumps.append(cand["k"])
         else:
@@ -609,7 +624,7 @@ class Core:
                 self._event(xdone, ("commit", (self.g_eng, *self.est.out[:5])))
                 self.sched.append(("update", cand["k"], self.g_eng, xdone))
                 self.uncal = 0
-                self.cover = 0
+                self.cover = self.cwin = 0
                 self.armed = True
             else:
                 self._event(xdone, ("invalid",))
@@ -625,6 +640,15 @@ class Core:
             self.reset_pend, self.reset_at = True, edge
         else:
             self.reset_at = min(self.reset_at, edge)
+
+
+def raw_octant(u1, u2):
+    """The estimator's coverage octant of a sample: the sector of its raw codes around the
+    origin, (u2 < 0) << 2 | (u1 < 0) << 1 | (|u1| < |u2|). A loop of any ellipse that
+    encloses the origin passes all eight whatever the bundle in use (the fine phase's
+    octants depend on it: a wrong bundle, loaded or fitted, kept the phase in three
+    octants and the estimator never handed over again)."""
+    return (int(u2 < 0) << 2) | (int(u1 < 0) << 1) | int(abs(int(u1)) < abs(int(u2)))
 
 
 def run(u1_code, u2_code, cfg: Config = Config(), strobes=None, trace=False):

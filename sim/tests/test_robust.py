@@ -128,3 +128,65 @@ def test_channel_on_the_rail_half_a_period_away_loses_no_count(rail_ph):
     trusted[at:at + 80] = False
     assert np.abs(e[trusted]).max() < PITCH / 8, np.abs(e[trusted]).max()
     assert abs(e[-1]) < 50, e[-1]
+
+
+def test_a_wrong_loaded_calibration_is_replaced_by_the_estimator():
+    """A saved calibration that does not fit the signals (here the bundle the soak's bad
+    hand-over produced: offsets of 0.67 and -0.77 of full scale) is LOADed at power-up.
+    The estimator must still identify the ellipse and hand over within the move: its
+    coverage counts the sectors of the raw codes, which any loop of the signal passes
+    whatever the bundle (the fine phase's octants, used before, stayed within three
+    under this bundle, and the estimator never handed over: 11 348 updates, uncal for
+    good)."""
+    sig = siggen.Signal()
+    bad = (0, 22033, -25232, 3252, 2423, 4024)
+    c = core.Core(core.Config(loads=[(0, bad)]))
+    x = siggen.moves(FS, [("dwell", 0.002), ("move", 2000e3, 20e6, 1e9, 1e11)])
+    u1, u2, a = siggen.encode(x, PITCH, sig, seed=5)
+    r = c.feed(u1, u2)
+    commits = [s[3] for s in c.sched if s[0] == "update" and s[3] is not None]
+    assert c.uncal == 0 and commits, "never handed over"
+    # from a period after the first hand-over on, the count is at the floor
+    first = min(s[1] for s in c.sched if s[0] == "update" and s[3] is not None)
+    start = int(first + PITCH / np.abs(np.diff(x)).max())
+    s = score(r, x, a, sig, start)
+    assert s["slips"] == 0 and s["ratio"] < 1.15, s
+
+
+def test_a_hand_over_needs_the_eight_octants_within_one_window():
+    """A servo dither on a short arc after a calibration, for several coverage windows,
+    then a slow move. Sectors seen more than COVER_WIN updates ago no longer count (the
+    soak handed over, 30 updates into a move, a fit that a dither's arc dominated,
+    because the sectors had been collected over 19 721 updates: offsets of 0.67 of full
+    scale, the correction saturated for good); no hand-over during the dither; the first
+    one in the move has the eight sectors among its last COVER_WIN updates."""
+    sig = siggen.Signal(noise=0.01)
+    c = core.Core(core.Config())
+    x1 = siggen.moves(FS, [("dwell", 0.002), ("move", 120e3, 20e6, 1e9, 1e11)])
+    u1, u2, _ = siggen.encode(x1, PITCH, sig, seed=33)
+    c.feed(u1, u2)
+    assert c.uncal == 0
+    n0, kd = len(c.sched), len(x1)
+    t = np.arange(400_000) / FS
+    xd = x1[-1] + 700.0 * np.sin(2 * np.pi * 60 * t)           # +-0.7 um: 1/3 period
+    ud1, ud2, _ = siggen.encode(xd, PITCH, sig, seed=34)
+    c.feed(ud1, ud2)
+    dither = [s for s in c.sched[n0:] if s[0] == "update"]
+    assert len(dither) > 4 * core.COVER_WIN, len(dither)
+    assert all(s[3] is None for s in dither), "a hand-over during the dither"
+    do = [core.raw_octant(ud1[s[1] - kd], ud2[s[1] - kd]) for s in dither]
+    # the coverage holds only the sectors of the updates since its last restart
+    assert 0 < c.cwin <= core.COVER_WIN
+    since = {1 << o for o in do[len(do) - c.cwin:]}
+    assert c.cover == sum(since) and len(set(do)) < 8
+    km = kd + len(xd)
+    n1 = len(c.sched)
+    x2 = siggen.moves(FS, [("move", 12e3, 2e6, 1e9, 1e11)], xd[-1])   # 3 periods
+    um1, um2, _ = siggen.encode(x2, PITCH, sig, seed=35)
+    c.feed(um1, um2)
+    move = [s for s in c.sched[n1:] if s[0] == "update"]
+    commits = [i for i, s in enumerate(move) if s[3] is not None]
+    assert commits, "no hand-over in the move"
+    octs = do + [core.raw_octant(um1[s[1] - km], um2[s[1] - km]) for s in move]
+    j = len(dither) + commits[0]                  # the committing update, in octs
+    assert set(octs[max(0, j - core.COVER_WIN + 1):j + 1]) == set(range(8))
