@@ -29,12 +29,16 @@
 //                   the estimator does not take the sample)
 //   t + 7  loss_o, over_o, stuck_o, glitch_o (the sample's fault bits);
 //          orun <= over ? min(orun + 1, 4095) : 0; if accepted
-//          (not hold): ph_a <= phase, pred <= 2 phase - ph_a (mod 8192), chk <= min(chk +
-//          1, 2), S <= S + ((U << 5) - S) >>> 5, U <= U + wrap13(phase - ph_a), grun <= 0;
+//          (not hold), with d = wrap13(phase - ph_a): ph_a <= phase; while chk < 2 (the
+//          line re-anchors) v <= 8 d, pred <= phase + d; else pred <= phase + (v >>> 3)
+//          (v as before the sample) and, unless the sample before was coasted (grun > 0),
+//          v <= v + ((8 d - v) >>> 3) (s13.3, a running mean of the steps: one outlier
+//          under the threshold moves it by 1/8 of its error); chk <= min(chk + 1, 2),
+//          S <= S + ((U << 5) - S) >>> 5, U <= U + d, grun <= 0;
 //          coasting (held by the glitch test alone, and not the COAST_MAX-th glitch in a
-//          row of an unclipped sample): ph_a <= pred, pred <= 2 pred - ph_a (the line goes
-//          on), grun <= min(grun + 1, COAST_MAX), chk kept; otherwise held: chk <= 0,
-//          grun <= 0 (the next two samples re-anchor the line).
+//          row of an unclipped sample): pred <= pred + (v >>> 3) (the line goes on; ph_a
+//          and v stay), grun <= min(grun + 1, COAST_MAX), chk kept; otherwise held: chk
+//          <= 0, grun <= 0 (the next two samples re-anchor the line).
 //          travel_o = S[24:5] (u20 phase units, wraps; the estimator's gate).
 // Formats: U u20 (wraps), S u20.5 (wraps; the difference (U << 5) - S is taken as s25,
 // and |U - S| stays below 2^19 at any speed below half a period per sample: 32 x 4096),
@@ -195,9 +199,11 @@ module monitor (
     // a glitch alone coasts along the line (up to COAST_MAX in a row; a clipped sample, a
     // channel on a rail, coasts on for as long as it lasts)
     wire        coast = glitch && !early && !(grun == COAST_MAX && !clip6);
-    wire [12:0] v = pred - ph_a;                                // s13 the line's step
+    reg  signed [15:0] v = 0;                                   // s13.3 the line's velocity
+    wire signed [12:0] vi = v[15:3];                            // s13 its step (floor)
     assign excl_o = hold_o || (pvalid_i && (clip6 || (over && (orun != OVER_PERSIST))));
     wire [12:0] d = phase_i - ph_a;                             // s13 step
+    wire signed [16:0] dv = $signed({d, 3'b000}) - v;            // s14.3 8 d - v
     wire [24:0] sd = {u, 5'd0} - s;                             // s25
     always @(posedge clk) begin
         if (pvalid_i) begin
@@ -208,14 +214,20 @@ module monitor (
             orun <= !over ? 12'd0 : (orun == OVER_PERSIST) ? orun : orun + 1'b1;
             if (!hold_o) begin
                 ph_a <= phase_i;
-                pred <= phase_i + d;
+                if (!chk[1]) begin
+                    pred <= phase_i + d;
+                    v <= {d, 3'b000};
+                end else begin
+                    pred <= phase_i + vi;
+                    if (grun == 5'd0)
+                        v <= v + {{2{dv[16]}}, dv[16:3]};
+                end
                 chk <= chk[1] ? chk : chk + 1'b1;
                 s <= s + {{5{sd[24]}}, sd[24:5]};
                 u <= u + {{7{d[12]}}, d};
                 grun <= 5'd0;
             end else if (coast) begin
-                ph_a <= pred;
-                pred <= pred + v;
+                pred <= pred + vi;
                 grun <= (grun == COAST_MAX) ? grun : grun + 1'b1;
             end else begin
                 chk <= 2'd0;
@@ -225,11 +237,11 @@ module monitor (
         if (rst) begin
             loss_o <= 1'b0; over_o <= 1'b0; stuck_o <= 1'b0; glitch_o <= 1'b0;
             orun <= 0;
-            ph_a <= 0; pred <= 0; chk <= 0; s <= 0; u <= 0; grun <= 0;
+            ph_a <= 0; pred <= 0; chk <= 0; s <= 0; u <= 0; grun <= 0; v <= 0;
         end
     end
     assign travel_o = s[24:5];
-    wire unused = &{1'b0, mn3[1:0], sd[4:0], x1[10:0], x2[10:0], 1'b0};
+    wire unused = &{1'b0, mn3[1:0], sd[4:0], x1[10:0], x2[10:0], dv[2:0], 1'b0};
 
 `ifdef FORMAL
     // ---- formal properties (sim/formal/monitor.sby; every input free on every clock) --------
@@ -255,9 +267,12 @@ module monitor (
     //     4095)): so hold_o and excl_o only with pvalid_i, excl_o whenever hold_o.
     //  M4 a held sample moves neither U nor S (orun and the flags follow the sample); a
     //     coasting one (glitch alone, not the 16th in a row unless clipped) moves the line
-    //     on: ph_a <= pred, pred <= 2 pred - ph_a, chk kept, grun + 1 (saturating); any
-    //     other held one: ph_a, pred kept, chk <= 0, grun <= 0; an accepted one: ph_a <=
-    //     phase, pred <= 2 phase - ph_a, chk <= min(chk + 1, 2), U <= U + wrap13(phase -
+    //     on: pred <= pred + floor(v / 8), ph_a and v kept, chk kept, grun + 1
+    //     (saturating); any other held one: ph_a, pred, v kept, chk <= 0, grun <= 0; an
+    //     accepted one: ph_a <= phase; re-anchoring (chk < 2) pred <= 2 phase - ph_a, v <=
+    //     8 (phase - ph_a); else pred <= phase + floor(v / 8) and v <= v + floor((8 d - v)
+    //     / 8) (exact, d = wrap13(phase - ph_a)) unless grun > 0 (then v kept); v stays in
+    //     [-32768, 32760]; chk <= min(chk + 1, 2), U <= U + wrap13(phase -
     //     ph_a), grun <= 0. No pvalid_i: nothing in H moves, the fault bits hold.
     //  M5 saturating counters never wrap: run 0..255 (+1 while unchanged, 0 on a change),
     //     orun 0..4095 (+1 while over, 0 otherwise), chk 0..2, grun 0..16.
@@ -319,6 +334,10 @@ module monitor (
     wire signed [17:0] f_ew18 = f_ew;
     wire f_glitch = (glitch_k_i != 4'd0) && (chk == 2'd2)
                     && ((f_ew18 < -f_lim) || (f_ew18 > f_lim - 18'sd1));
+    // v's running mean in exact arithmetic (20 bits), and its range
+    wire signed [19:0] f_vn = $signed(v) + (($signed(f_dw) * 20'sd8 - $signed(v)) >>> 3);
+    always @(*)
+        assert (f_vn >= -20'sd32768 && f_vn <= 20'sd32767);
     wire f_coast = f_glitch && !(loss || stuck || (f_clip[5] && over))
                    && !(grun == 5'd16 && !f_clip[5]);
 
@@ -406,6 +425,7 @@ module monitor (
             // the stage H state
             if (!$past(pvalid_i)) begin
                 assert (ph_a == $past(ph_a) && pred == $past(pred) && chk == $past(chk));
+                assert (v == $past(v));
                 assert (grun == $past(grun));
                 assert (u == $past(u) && s == $past(s) && orun == $past(orun));
                 assert (loss_o == $past(loss_o) && over_o == $past(over_o));
@@ -426,17 +446,27 @@ module monitor (
                 if ($past(hold_o)) begin
                     assert (u == $past(u) && s == $past(s));
                     if ($past(f_coast)) begin
-                        assert (ph_a == $past(pred) && pred == $past(pred + pred - ph_a));
+                        assert (ph_a == $past(ph_a) && pred == $past(pred + vi));
+                        assert (v == $past(v));
                         assert (chk == $past(chk));
                         assert (grun == (($past(grun) == 5'd16) ? 5'd16 : $past(grun) + 1'b1));
                     end else begin
-                        assert (ph_a == $past(ph_a) && pred == $past(pred));
+                        assert (ph_a == $past(ph_a) && pred == $past(pred) && v == $past(v));
                         assert (chk == 2'd0 && grun == 5'd0);
                     end
                 end else begin
                     assert (grun == 5'd0);
                     assert (ph_a == $past(phase_i));
-                    assert (pred == $past(phase_i + phase_i - ph_a));
+                    if (!$past(chk[1])) begin
+                        assert (pred == $past(phase_i + phase_i - ph_a));
+                        assert (v == $past({phase_i - ph_a, 3'b000}));
+                    end else begin
+                        assert (pred == $past(phase_i + vi));
+                        if ($past(grun) == 5'd0)
+                            assert ($signed(v) == $past(f_vn));
+                        else
+                            assert (v == $past(v));
+                    end
                     assert (chk == (($past(chk) == 2'd2) ? 2'd2 : $past(chk) + 1'b1));
                     assert (u == $past(u + {{6{f_dw[13]}}, f_dw}));
                 end

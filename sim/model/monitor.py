@@ -28,8 +28,17 @@ t + 6 and t + 7, when the sample's fine phase is registered and the counter deci
                  calibration (`ref`: the estimator has handed over, or one was loaded
                  through the registers); before that the nominal radius is unknown.
                  loss = ref and r < LOSS;  over = ref and r > OVER.
-  glitch         the phase acceleration: e = wrap13(phase - pred), pred = 2 ph_a - ph_b
-                 the straight-line prediction from the last two accepted phases;
+  glitch         the phase off its line: e = wrap13(phase - pred), pred = ph_a + v the
+                 prediction from the last accepted phase and the line's velocity v
+                 (s13.3): the first difference while (re-)anchoring (chk < 2), then a
+                 running mean of the accepted steps, v += (8 d - v) >> 3 (not after a
+                 coast, where d spans several samples), taken before the sample (so
+                 pred is one add). A two-point line let one outlier under the threshold
+                 (23 degrees off) set the velocity: the next samples failed the test,
+                 the line coasted off at the outlier's speed and met the phase again only
+                 by wrapping round, with a new bogus velocity, for 137 825 samples of a
+                 soak run, until a rail came and was counted; with the running mean the
+                 outlier moves v by 1/8 of its error and the next sample passes.
                  glitch = 0 < K < 12, the last two samples accepted (chk >= 2) and e
                  outside [-2^K, 2^K - 1] (K = GLITCH_K, default 10: 1/8 of a period; a
                  power of two, so the RTL tests bits instead of comparing). A real stage
@@ -37,7 +46,7 @@ t + 6 and t + 7, when the sample's fine phase is registered and the counter deci
                  one sample (that is 5e5 m/s^2 at 1 MS/s on a 4 um scale); noise is far
                  below (2 % noise: sigma(e) ~ 64 units).
                  A sample held by the glitch test alone coasts: the line goes on through
-                 it (ph_a <- pred, pred <- 2 pred - ph_a) and the test stays armed, so a
+                 it (pred <- pred + v; ph_a and v stay) and the test stays armed, so a
                  burst of interference or a channel on a rail (a broken line reads full
                  scale, whatever the angle) is held for as long as it lasts, and the
                  first good sample is tested against the line. Were the line re-anchored
@@ -62,7 +71,8 @@ t + 6 and t + 7, when the sample's fine phase is registered and the counter deci
                  over-range (the amplitude really grew) is let in again, so the estimator
                  can follow it (its jump detector fires and it re-fits; the next hand-over
                  moves the nominal radius, and the flag clears).
-  accepted       not hold: ph_b, ph_a <- ph_a, phase; chk <- min(chk + 1, 2); grun <- 0;
+  accepted       not hold: ph_a <- phase, pred and v as above; chk <- min(chk + 1, 2);
+                 grun <- 0;
                  S += ((U << 5) - S) >>> 5 (u20.5 smoothed travel, wraps; the difference
                  is taken as s25; U as it was before this sample: the two sums run side
                  by side in the RTL), U += wrap13(phase - ph_a) (u20 unwrapped phase,
@@ -81,6 +91,8 @@ from dataclasses import dataclass
 STUCK_SPAN = 2048        # s2.14: 1/8 of the calibrated radius
 OVER_PERSIST = 4095      # samples of over-range before it is let in to the estimator
 COAST_MAX = 16           # glitches coasted in a row before an unclipped sample re-anchors
+V_FRAC = 3               # fraction bits of the line's velocity v (s13.3)
+V_SH = 3                 # v follows the phase step with a time constant of 2^V_SH samples
 S_FRAC = 5               # fraction bits of the smoothed travel S (time constant 32)
 U_W = 20                 # unwrapped phase width (wraps)
 S_W = U_W + S_FRAC
@@ -114,7 +126,8 @@ class Monitor:
         self.snap = [0, 0]        # s2.14: the other channel when this one last changed
         self.stk = [False, False]  # channel detected stuck (until its code changes)
         self.ph_a = 0             # last accepted phase
-        self.pred = 0             # u13 prediction of the next phase (2 ph_a - ph_b)
+        self.pred = 0             # u13 prediction of the next phase
+        self.v = 0                # s13.3 the line's velocity (smoothed phase step)
         self.chk = 0              # accepted samples in a row, 0..2
         self.grun = 0             # glitches coasted in a row, 0..COAST_MAX
         self.u = 0                # u20 unwrapped phase of the accepted samples
@@ -160,7 +173,14 @@ class Monitor:
         self.orun = min(self.orun + 1, OVER_PERSIST) if over else 0
         if not hold:
             d = wrap13(phase - self.ph_a)
-            self.pred = (phase + d) & 8191
+            if self.chk < 2:              # (re-)anchoring: the first difference
+                step = d
+                self.v = d << V_FRAC
+            else:                         # the smoothed velocity, before this sample
+                step = self.v >> V_FRAC
+                if self.grun == 0:        # (after a coast d spans several samples)
+                    self.v += ((d << V_FRAC) - self.v) >> V_SH
+            self.pred = (phase + step) & 8191
             self.ph_a = phase
             self.chk = min(self.chk + 1, 2)
             diff = ((self.u << S_FRAC) - self.s) & ((1 << S_W) - 1)
@@ -170,9 +190,7 @@ class Monitor:
             self.u = (self.u + d) & ((1 << U_W) - 1)
             self.grun = 0
         elif coast:
-            v = (self.pred - self.ph_a) & 8191
-            self.ph_a = self.pred
-            self.pred = (self.pred + v) & 8191
+            self.pred = (self.pred + (self.v >> V_FRAC)) & 8191
             self.grun = min(self.grun + 1, COAST_MAX)
         else:
             self.chk = 0
