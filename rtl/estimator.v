@@ -512,6 +512,8 @@ module estimator #(
     end
     always @(posedge clk) if (f_past_valid && !$past(rst)) begin
         assert (jf_next == $past(f_jfn[19:0]) && jl_next == $past(f_jln[19:0]));
+        // the threshold register holds the exact sum (a narrower jthr would fail here)
+        assert ({1'b0, jthr} == $past({2'b00, jl, 2'b00} + {8'd0, jump_min_i, 5'd0}));
         if (!$past(do_reset))                                            // E4
             assert (settle == $past(settle)
                     || (settle == $past(settle) + 1'b1 && $past(settle) != 10'h3ff));

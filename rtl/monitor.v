@@ -31,14 +31,17 @@
 //          orun <= over ? min(orun + 1, 4095) : 0; if accepted
 //          (not hold), with d = wrap13(phase - ph_a): ph_a <= phase; while chk < 2 (the
 //          line re-anchors) v <= 8 d, pred <= phase + d; else pred <= phase + (v >>> 3)
-//          (v as before the sample) and, unless the sample before was coasted (grun > 0),
+//          (v as before the sample) and, if the sample before was accepted too (acc),
 //          v <= v + ((8 d - v) >>> 3) (s13.3, a running mean of the steps: one outlier
 //          under the threshold moves it by 1/8 of its error); chk <= min(chk + 1, 2),
-//          S <= S + ((U << 5) - S) >>> 5, U <= U + d, grun <= 0;
-//          coasting (held by the glitch test alone, and not the COAST_MAX-th glitch in a
-//          row of an unclipped sample): pred <= pred + (v >>> 3) (the line goes on; ph_a
-//          and v stay), grun <= min(grun + 1, COAST_MAX), chk kept; otherwise held: chk
-//          <= 0, grun <= 0 (the next two samples re-anchor the line).
+//          S <= S + ((U << 5) - S) >>> 5, U <= U + d, grun <= 0 only if acc (an accept
+//          right after a coast keeps the count: a wrong line that meets the phase now
+//          and then, coasting in between, still reaches COAST_MAX), acc <= 1;
+//          coasting (held by the glitch test alone, unless grun == COAST_MAX and the
+//          sample is unclipped: 16 coast, the 17th re-anchors): pred <= pred + (v >>> 3)
+//          (the line goes on; ph_a and v stay), grun <= min(grun + 1, COAST_MAX), chk
+//          kept, acc <= 0; otherwise held: chk <= 0, grun <= 0, acc <= 0 (the next two
+//          samples re-anchor the line).
 //          travel_o = S[24:5] (u20 phase units, wraps; the estimator's gate).
 // Formats: U u20 (wraps), S u20.5 (wraps; the difference (U << 5) - S is taken as s25,
 // and |U - S| stays below 2^19 at any speed below half a period per sample: 32 x 4096),
@@ -182,7 +185,8 @@ module monitor (
     reg [19:0] u = 0;
     reg [24:0] s = 0;
     reg [11:0] orun = 0;
-    reg [4:0]  grun = 0;                                        // glitches coasted in a row
+    reg [4:0]  grun = 0;        // glitches coasted since two samples in a row were accepted
+    reg        acc = 1'b0;                                      // the sample before was accepted
     wire [12:0] e = phase_i - pred;                             // s13 acceleration
     // e outside [-2^K, 2^K - 1] <=> a bit of e[11:K] differs from the sign e[12]
     wire [11:0] e_off = e[11:0] ^ {12{e[12]}};
@@ -219,25 +223,29 @@ module monitor (
                     v <= {d, 3'b000};
                 end else begin
                     pred <= phase_i + vi;
-                    if (grun == 5'd0)
+                    if (acc)
                         v <= v + {{2{dv[16]}}, dv[16:3]};
                 end
                 chk <= chk[1] ? chk : chk + 1'b1;
                 s <= s + {{5{sd[24]}}, sd[24:5]};
                 u <= u + {{7{d[12]}}, d};
-                grun <= 5'd0;
+                if (acc)                       // two in a row: the line holds
+                    grun <= 5'd0;
+                acc <= 1'b1;
             end else if (coast) begin
                 pred <= pred + vi;
                 grun <= (grun == COAST_MAX) ? grun : grun + 1'b1;
+                acc <= 1'b0;
             end else begin
                 chk <= 2'd0;
                 grun <= 5'd0;
+                acc <= 1'b0;
             end
         end
         if (rst) begin
             loss_o <= 1'b0; over_o <= 1'b0; stuck_o <= 1'b0; glitch_o <= 1'b0;
             orun <= 0;
-            ph_a <= 0; pred <= 0; chk <= 0; s <= 0; u <= 0; grun <= 0; v <= 0;
+            ph_a <= 0; pred <= 0; chk <= 0; s <= 0; u <= 0; grun <= 0; v <= 0; acc <= 1'b0;
         end
     end
     assign travel_o = s[24:5];
@@ -270,12 +278,14 @@ module monitor (
     //     on: pred <= pred + floor(v / 8), ph_a and v kept, chk kept, grun + 1
     //     (saturating); any other held one: ph_a, pred, v kept, chk <= 0, grun <= 0; an
     //     accepted one: ph_a <= phase; re-anchoring (chk < 2) pred <= 2 phase - ph_a, v <=
-    //     8 (phase - ph_a); else pred <= phase + floor(v / 8) and v <= v + floor((8 d - v)
-    //     / 8) (exact, d = wrap13(phase - ph_a)) unless grun > 0 (then v kept); v stays in
-    //     [-32768, 32760]; chk <= min(chk + 1, 2), U <= U + wrap13(phase -
+    //     8 (phase - ph_a); else pred <= phase + floor(v / 8) and, if the sample before
+    //     was accepted (acc), v <= v + floor((8 d - v) / 8) (exact, d = wrap13(phase -
+    //     ph_a), in 20 bits it never leaves 16), else v kept; grun <= 0 only if acc (else
+    //     kept), acc <= 1; chk <= min(chk + 1, 2), U <= U + wrap13(phase -
     //     ph_a), grun <= 0. No pvalid_i: nothing in H moves, the fault bits hold.
     //  M5 saturating counters never wrap: run 0..255 (+1 while unchanged, 0 on a change),
-    //     orun 0..4095 (+1 while over, 0 otherwise), chk 0..2, grun 0..16.
+    //     orun 0..4095 (+1 while over, 0 otherwise), chk 0..2, grun 0..16 (+1 per coast,
+    //     0 on two accepted in a row or a re-anchor).
     //  M6 S: the difference (U << 5) - S (s25) stays within +-2^22 (|U - S| <= 32 x 4096
     //     in U units, at any phase steps: wrap13 bounds them), so S's step never sees a
     //     wrapped difference.
@@ -398,7 +408,7 @@ module monitor (
         if ($past(rst)) begin                                            // M7
             assert (!loss_o && !over_o && !stuck_o && !glitch_o);
             assert (orun == 12'd0 && chk == 2'd0 && u == 20'd0 && s == 25'd0);
-            assert (ph_a == 13'd0 && pred == 13'd0 && grun == 5'd0);
+            assert (ph_a == 13'd0 && pred == 13'd0 && grun == 5'd0 && !acc && v == 16'sd0);
             assert (run1 == 8'd0 && run2 == 8'd0 && prev1 == 0 && prev2 == 0);
             assert (!stk1 && !stk2 && snap1 == 0 && snap2 == 0 && !v1 && !v2 && !v3);
         end else begin
@@ -425,7 +435,7 @@ module monitor (
             // the stage H state
             if (!$past(pvalid_i)) begin
                 assert (ph_a == $past(ph_a) && pred == $past(pred) && chk == $past(chk));
-                assert (v == $past(v));
+                assert (v == $past(v) && acc == $past(acc) && grun == $past(grun));
                 assert (grun == $past(grun));
                 assert (u == $past(u) && s == $past(s) && orun == $past(orun));
                 assert (loss_o == $past(loss_o) && over_o == $past(over_o));
@@ -450,19 +460,21 @@ module monitor (
                         assert (v == $past(v));
                         assert (chk == $past(chk));
                         assert (grun == (($past(grun) == 5'd16) ? 5'd16 : $past(grun) + 1'b1));
+                        assert (!acc);
                     end else begin
                         assert (ph_a == $past(ph_a) && pred == $past(pred) && v == $past(v));
-                        assert (chk == 2'd0 && grun == 5'd0);
+                        assert (chk == 2'd0 && grun == 5'd0 && !acc);
                     end
                 end else begin
-                    assert (grun == 5'd0);
+                    // two accepted in a row clear the coast count; one after a coast keeps it
+                    assert (grun == ($past(acc) ? 5'd0 : $past(grun)) && acc);
                     assert (ph_a == $past(phase_i));
                     if (!$past(chk[1])) begin
                         assert (pred == $past(phase_i + phase_i - ph_a));
                         assert (v == $past({phase_i - ph_a, 3'b000}));
                     end else begin
                         assert (pred == $past(phase_i + vi));
-                        if ($past(grun) == 5'd0)
+                        if ($past(acc))
                             assert ($signed(v) == $past(f_vn));
                         else
                             assert (v == $past(v));
@@ -484,6 +496,7 @@ module monitor (
         cover (run1 == 8'd5 && stk2);
         cover ($past(hold_o) && $past(f_clip[5] && over && !loss && !stuck && !f_glitch));
         cover (grun == 5'd3);
+        cover ($past(pvalid_i && !hold_o && !acc) && grun == 5'd2);
     end
 `endif
 endmodule

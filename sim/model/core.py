@@ -61,7 +61,9 @@ Clock-edge timing (the RTL implements exactly this; edges are numbered from 0):
   committed on its end. Coverage window: an update that finds COVER_WIN updates counted
   since the coverage last restarted restarts it (the octants seen so far are dropped,
   its own is kept, the count is 1). So the eight octants must come within COVER_WIN
-  consecutive updates, about the RLS's memory (1 / (1 - lambda) = 257 at k = 8): a
+  consecutive updates, about the RLS's memory (1 / (1 - lambda) = 257 at the default
+  k = 8; the window is fixed, so at k >= 10 a longer memory can still hold an older arc,
+  and at k <= 5 the window is longer than the memory): a
   servo dither on a short arc, hours of it, adds a few octants per window and never
   completes the set, and when a move begins after it the hand-over waits until the
   move alone has covered the circle, instead of extracting a fit that the dither's arc

@@ -39,22 +39,28 @@ t + 6 and t + 7, when the sample's fine phase is registered and the counter deci
                  by wrapping round, with a new bogus velocity, for 137 825 samples of a
                  soak run, until a rail came and was counted; with the running mean the
                  outlier moves v by 1/8 of its error and the next sample passes.
-                 glitch = 0 < K < 12, the last two samples accepted (chk >= 2) and e
+                 glitch = 0 < K < 12, the line anchored (chk == 2: two samples accepted
+                 since the last re-anchoring hold; coasts keep it) and e
                  outside [-2^K, 2^K - 1] (K = GLITCH_K, default 10: 1/8 of a period; a
                  power of two, so the RTL tests bits instead of comparing). A real stage
                  cannot change its phase velocity by 1/8 of a period per sample within
                  one sample (that is 5e5 m/s^2 at 1 MS/s on a 4 um scale); noise is far
                  below (2 % noise: sigma(e) ~ 64 units).
                  A sample held by the glitch test alone coasts: the line goes on through
-                 it (pred <- pred + v; ph_a and v stay) and the test stays armed, so a
+                 it (pred <- pred + (v >> 3); ph_a and v stay) and the test stays armed,
+                 so a
                  burst of interference or a channel on a rail (a broken line reads full
                  scale, whatever the angle) is held for as long as it lasts, and the
                  first good sample is tested against the line. Were the line re-anchored
                  on the next samples, as after a loss, a rail read half a period away
                  would be counted and counted back with a sign chosen by the wrap: a
-                 whole period lost (seen in the soak). After COAST_MAX (16) glitches in
-                 a row an unclipped sample re-anchors the line (held, chk <- 0): a line
-                 still that far off is the wrong line; clipped samples coast on.
+                 whole period lost (seen in the soak). grun counts the coasts since two
+                 samples in a row were accepted (an accept right after a coast keeps it:
+                 a wrong line meets the phase now and then while it coasts, and a count
+                 cleared by every accept never reached its limit, found in review); at
+                 COAST_MAX (16) the next glitch of an unclipped sample re-anchors the
+                 line (held, chk <- 0): a line still that far off is the wrong line;
+                 clipped samples coast on.
   hold           loss or stuck or glitch, or a clipped code (at or near an ADC rail,
                  rtl/correct.v) with the radius over-range: the sample's phase is not
                  trusted. The counter keeps its count and its last phase (rtl/counter.v),
@@ -129,7 +135,8 @@ class Monitor:
         self.pred = 0             # u13 prediction of the next phase
         self.v = 0                # s13.3 the line's velocity (smoothed phase step)
         self.chk = 0              # accepted samples in a row, 0..2
-        self.grun = 0             # glitches coasted in a row, 0..COAST_MAX
+        self.grun = 0             # glitches coasted since two samples in a row were accepted
+        self.acc = False          # the sample before was accepted
         self.u = 0                # u20 unwrapped phase of the accepted samples
         self.s = 0                # u20.5 smoothed travel
         self.orun = 0             # over-range samples in a row
@@ -178,7 +185,7 @@ class Monitor:
                 self.v = d << V_FRAC
             else:                         # the smoothed velocity, before this sample
                 step = self.v >> V_FRAC
-                if self.grun == 0:        # (after a coast d spans several samples)
+                if self.acc:              # (after a coast d spans several samples)
                     self.v += ((d << V_FRAC) - self.v) >> V_SH
             self.pred = (phase + step) & 8191
             self.ph_a = phase
@@ -188,11 +195,15 @@ class Monitor:
                 diff -= 1 << S_W
             self.s = (self.s + (diff >> S_FRAC)) & ((1 << S_W) - 1)
             self.u = (self.u + d) & ((1 << U_W) - 1)
-            self.grun = 0
+            if self.acc:                  # two in a row: the line holds
+                self.grun = 0
+            self.acc = True
         elif coast:
             self.pred = (self.pred + (self.v >> V_FRAC)) & 8191
             self.grun = min(self.grun + 1, COAST_MAX)
+            self.acc = False
         else:
             self.chk = 0
             self.grun = 0
+            self.acc = False
         return loss, over, stuck, glitch, hold, excl
