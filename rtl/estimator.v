@@ -216,6 +216,9 @@ module estimator #(
     reg [7:0]  oct_seen = 8'd0;              // octants of the updates since the last commit
     reg [7:0]  cwin = 8'd0;                  // u8 updates since the coverage restarted
     localparam [7:0] COVER_WIN = 8'd255;
+    // the coverage restarts: a reset, a jump, a hand-over, or an update finding the
+    // window full (the update starting on that edge then adds its own octant)
+    wire cov_restart;
     // the check: trusted, no saturation, enough travel
     wire pre_pass = pre_valid && !pre_bad && !pre_xsat && pre_gate;
     // a checked candidate waiting for the engine: its octant and travel
@@ -321,6 +324,9 @@ module estimator #(
         trig_q  <= armed && jump_on_i && ({3'b000, jf_next} > jthr);
     end
     wire        unused_j = &{1'b0, df[1:0], dl[5:0], phase_i, 1'b0};   // phase_i: timing only
+    assign cov_restart = do_reset || (done && running_update && trig) ||
+                         (done && running_extract && valid) ||
+                         (do_update && cwin == COVER_WIN);
 
     always @(posedge clk) begin
         // sample bookkeeping
@@ -338,14 +344,8 @@ module estimator #(
         // reset, too), a jump and a hand-over; an update starting on the same edge adds
         // its own
         // restarted too when an update finds the window full (COVER_WIN updates counted)
-        oct_seen <= ((do_reset || (done && running_update && trig) ||
-                      (done && running_extract && valid) ||
-                      (do_update && cwin == COVER_WIN)) ? 8'd0 : oct_seen) |
-                    (do_update ? (8'd1 << u_oct) : 8'd0);
-        cwin <= ((do_reset || (done && running_update && trig) ||
-                  (done && running_extract && valid) ||
-                  (do_update && cwin == COVER_WIN)) ? 8'd0 : cwin) +
-                {7'd0, do_update};
+        oct_seen <= (cov_restart ? 8'd0 : oct_seen) | (do_update ? (8'd1 << u_oct) : 8'd0);
+        cwin <= (cov_restart ? 8'd0 : cwin) + {7'd0, do_update};
         // an update runs from its start decision to its END (a new one may start on the
         // END edge of the last)
         if (do_update)

@@ -187,7 +187,7 @@ module monitor (
     reg [11:0] orun = 0;
     reg [4:0]  grun = 0;        // glitches coasted since two samples in a row were accepted
     reg        acc = 1'b0;                                      // the sample before was accepted
-    wire [12:0] e = phase_i - pred;                             // s13 acceleration
+    wire [12:0] e = phase_i - pred;                             // s13 off the line
     // e outside [-2^K, 2^K - 1] <=> a bit of e[11:K] differs from the sign e[12]
     wire [11:0] e_off = e[11:0] ^ {12{e[12]}};
     reg         big;
@@ -200,8 +200,8 @@ module monitor (
     end
     wire        glitch = (glitch_k_i != 4'd0) && (glitch_k_i < 4'd12) && chk[1] && big;
     assign hold_o = pvalid_i && (early || glitch);
-    // a glitch alone coasts along the line (up to COAST_MAX in a row; a clipped sample, a
-    // channel on a rail, coasts on for as long as it lasts)
+    // a glitch alone coasts along the line (COAST_MAX coasts since two samples in a row
+    // were accepted; a clipped sample, a channel on a rail, coasts on for as long as it lasts)
     wire        coast = glitch && !early && !(grun == COAST_MAX && !clip6);
     reg  signed [15:0] v = 0;                                   // s13.3 the line's velocity
     wire signed [12:0] vi = v[15:3];                            // s13 its step (floor)

@@ -317,11 +317,17 @@ def main():
             if len(offs) > 20000:
                 offset = float(np.median(offs))
                 cal_seen = True
+        rec = dict(index=len(history), kind=kind, first_sample=st["samples"], samples=n,
+                   injected=[w for w, _, _ in inj],
+                   faults={k: int(((f >> b) & 1).sum()) for k, b in core.FAULT_BITS.items()
+                           if ((f >> b) & 1).any()})
         if offset is not None:
             e = err - offset
             scored = ok & ~uncal
             bad = scored & (np.abs(e) > PITCH_NM / 8)
-            st["slips"] += int(bad.sum())
+            rec.update(max_err_nm=round(float(np.abs(e[scored]).max()), 1) if scored.any()
+                       else None, slips=int(bad.sum()))
+            st["slips"] += rec["slips"]
             edges = np.diff(np.concatenate([[prev_slip], bad]).astype(int))
             st["slip_events"] += int((edges == 1).sum())
             prev_slip = bool(bad[-1]) if n else prev_slip
@@ -337,15 +343,6 @@ def main():
             pk["sq"] += float((e[scored] ** 2).sum())
             if scored.any():
                 pk["max_nm"] = max(pk["max_nm"], float(np.abs(e[scored]).max()))
-        rec = dict(index=len(history), kind=kind, first_sample=st["samples"], samples=n,
-                   injected=[w for w, _, _ in inj],
-                   faults={k: int(((f >> b) & 1).sum()) for k, b in core.FAULT_BITS.items()
-                           if ((f >> b) & 1).any()})
-        if offset is not None:
-            e = err - offset
-            scored = ok & ~uncal
-            rec.update(max_err_nm=round(float(np.abs(e[scored]).max()), 1) if scored.any()
-                       else None, slips=int((scored & (np.abs(e) > PITCH_NM / 8)).sum()))
         history.append(rec)
         if a.record_from is not None and rec["index"] >= a.record_from:
             np.savez_compressed(out / f"situation_{rec['index']}.npz", u1=u1, u2=u2, x=x,

@@ -118,9 +118,7 @@ def test_channel_on_the_rail_half_a_period_away_loses_no_count(rail_ph):
     r = c.feed(u1, u2)
     fault = np.asarray(r["fault"])
     assert ((fault[at:at + 80] >> core.FAULT_BITS["clip"]) & 1).all()
-    q = PITCH / (4 * N_INTERP)
-    e = np.asarray(r["count"]) * q - (x2 - x2[0])
-    e -= np.median(e[:at])
+    e = metrics.position_error_nm(r["count"], x2, N_INTERP, PITCH, np.arange(at))
     held = np.zeros(n, bool)
     for b in ("loss", "stuck", "glitch"):
         held |= ((fault >> core.FAULT_BITS[b]) & 1).astype(bool)
@@ -216,9 +214,7 @@ def test_an_outlier_under_the_glitch_threshold_does_not_derail_the_line():
     fault = np.asarray(r["fault"])
     glitch = (fault >> core.FAULT_BITS["glitch"]) & 1
     assert glitch.sum() <= 2, int(glitch.sum())
-    q = PITCH / (4 * N_INTERP)
-    e = np.asarray(r["count"]) * q - (x2 - x2[0])
-    e -= np.median(e[:k])
+    e = metrics.position_error_nm(r["count"], x2, N_INTERP, PITCH, np.arange(k))
     assert np.abs(np.delete(e, k)).max() < 60, np.abs(np.delete(e, k)).max()
 
 
