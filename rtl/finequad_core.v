@@ -87,7 +87,7 @@ module finequad_core #(
     localparam PHASE_AT = 6;      // fine phase registered on edge t + PHASE_AT
 
     // ---- registers ------------------------------------------------------------------------
-    localparam [31:0] ID = 32'h46510003;        // "FQ", version 0.3
+    localparam [31:0] ID = 32'h46510004;        // "FQ", version 0.4
     reg [8:0]  r_interp = 9'd100;               // n
     reg [15:0] r_eps = 16'd1638;                // u0.15 (0.05)
     reg [4:0]  r_lam_k = 5'd8;                  // lambda = 1/(1 + 2**-k)

@@ -123,7 +123,7 @@ LFSR_SEED = 0xACE1   # dither of the estimator's sample choice (see below)
 WARMUP = 64          # updates before the first automatic reset (picks the input gain)
 COVER_WIN = 255      # updates within which a hand-over needs all eight octants (estimator.v)
 G_MAX = 3            # input gain 2**g, g in 0..3 (amplitudes down to ~6 % of full scale)
-ID = 0x46510003      # register 0x1f: "FQ" and the version (0.3), rtl/finequad_core.v
+ID = 0x46510004      # register 0x1f: "FQ" and the version (0.4), rtl/finequad_core.v
 FAULT_BITS = {
     "clip": 0,       # an input code at or near an ADC rail (|u| >= CLIP): held
     "nsat": 1,       # u << g leaves s1.15 in the fast path
