@@ -82,6 +82,7 @@ module estimator #(
     input  wire               req_reset_i, // reset P before the next update
     input  wire [4:0]         lam_k_i,     // lambda = 1/(1 + 2**-k)
     input  wire [15:0]        kappa_i,     // u8.8 (0 is taken as 1/256)
+    input  wire [13:0]        kappa5_i,    // u10.4 5 max(kappa_i, 1/256) >> 4 (a register)
     input  wire [15:0]        period_i,    // updates between resets, 0 = never
     input  wire [9:0]         settle_i,    // updates after a reset before a commit
     input  wire [12:0]        gate_i,      // u13 phase progress between updates
@@ -215,6 +216,7 @@ module estimator #(
     reg [15:0] lfsr = 16'hACE1;           // Galois, x^16 + x^14 + x^13 + x^11 + 1
     reg [7:0]  oct_seen = 8'd0;              // octants of the updates since the last commit
     reg [7:0]  cwin = 8'd0;                  // u8 updates since the coverage restarted
+    wire [7:0] cwin_inc = cwin + 8'd1;
     localparam [7:0] COVER_WIN = 8'd255;
     // the coverage restarts: a reset, a jump, a hand-over, or an update finding the
     // window full (the update starting on that edge then adds its own octant)
@@ -290,12 +292,12 @@ module estimator #(
             wire unused_x = &{1'b0, tdm_ok_i, eng_rsp_i, 1'b0};
         end
     endgenerate
-    wire unused = &{1'b0, eng_busy, kappa5[3:0], 1'b0};
+    wire unused = &{1'b0, eng_busy, 1'b0};
     // trace bound: P's trace (OUT TR, s12.4, after a RESET or UPDATE) at or above its
-    // value after a reset, 5 kappa, holds the forgetting off for the next update
+    // value after a reset, 5 kappa (kappa5_i, formed where kappa is written), holds the
+    // forgetting off for the next update
     wire signed [15:0] tr_out = outs[111:96];
-    wire [17:0] kappa5 = {2'b00, kappa} + {kappa, 2'b00};             // 5 kappa, u10.8
-    wire        tr_hi = !tr_out[15] && ({3'b000, tr_out[14:0]} >= {4'd0, kappa5[17:4]});
+    wire        tr_hi = !tr_out[15] && ({3'b000, tr_out[14:0]} >= {4'd0, kappa5_i});
 
     // ---- jump detector (sim/model/core.py) -----------------------------------------------
     //   eabs  u15.5  |e| of the running update (OUT e, s3.13), saturated, 5 fraction bits
@@ -345,7 +347,8 @@ module estimator #(
         // its own
         // restarted too when an update finds the window full (COVER_WIN updates counted)
         oct_seen <= (cov_restart ? 8'd0 : oct_seen) | (do_update ? (8'd1 << u_oct) : 8'd0);
-        cwin <= (cov_restart ? 8'd0 : cwin) + {7'd0, do_update};
+        // (the increment formed from the register beside the decision, which only selects)
+        cwin <= cov_restart ? {7'd0, do_update} : do_update ? cwin_inc : cwin;
         // an update runs from its start decision to its END (a new one may start on the
         // END edge of the last)
         if (do_update)

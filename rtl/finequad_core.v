@@ -44,6 +44,12 @@ module finequad_core #(
     // 1: adaptive harmonic compensation of the fine phase (rtl/harmonic.v); 0: none
     // (rtl/phase.v; HARM reads 0: for devices too small for it)
     parameter [0:0] OPT_HARMONIC = 1'b1,
+    // 1: the harmonic table in distributed RAM, read from a registered address (ECP5 and
+    // the like: a shorter path behind the ratio multiply); 0: in block RAM (iCE40)
+    parameter [0:0] OPT_DISTRAM = 1'b0,
+    // 1: the exact phase table in 4096 rows addressed without a rounding add (rtl/lut.v;
+    // one more block RAM, a shorter path: for ~100 MHz); 0: 2048 rows (iCE40)
+    parameter [0:0] OPT_PHASE_4K = 1'b0,
     // 1: every setting is a register; 0: the tuning settings (EPS, LAMBDA_K, KAPPA,
     // PERIOD, SETTLE, GATE, HARM, JUMP, ABGEN, AB_BOUND, CLIP, RADIUS, MONITOR) keep their
     // reset values, which synthesis folds into the logic (writes are ignored, reads return
@@ -92,6 +98,9 @@ module finequad_core #(
     reg [15:0] r_eps = 16'd1638;                // u0.15 (0.05)
     reg [4:0]  r_lam_k = 5'd8;                  // lambda = 1/(1 + 2**-k)
     reg [15:0] r_kappa = 16'h4000;              // u8.8 (64)
+    // u10.4 5 max(kappa, 1/256) >> 4, the estimator's trace bound, formed with the write
+    // (rtl/estimator.v; a register, so no adder lies between kappa and the comparison)
+    reg [13:0] r_kappa5 = 14'd5120;
     reg [15:0] r_period = 16'd0;                // updates between resets (0: never)
     reg [9:0]  r_settle = 10'd32;               // updates after a reset before a commit
     reg [12:0] r_gate = 13'd64;                 // u13 phase progress between updates
@@ -111,6 +120,17 @@ module finequad_core #(
     reg [15:0] r_over = 16'd22118;              // RADIUS [31:16]: over-range (1.35)
     reg [3:0]  r_glitch = 4'd10;                // MONITOR [3:0]: max |phase accel.| 2^K
     reg [7:0]  r_stuckn = 8'd8;                 // MONITOR [23:16]: stuck after n samples
+    /* verilator lint_off UNUSEDSIGNAL */
+    function automatic [13:0] kappa5(input [15:0] k);
+        reg [15:0] kk;
+        reg [17:0] k5;
+        begin
+            kk = (k == 16'd0) ? 16'd1 : k;
+            k5 = {2'b00, kk} + {kk, 2'b00};
+            kappa5 = k5[17:4];
+        end
+    endfunction
+    /* verilator lint_on UNUSEDSIGNAL */
     // staged bundle (writes to 0x0b..0x10), handed to the fast path by a LOAD (CTRL 1)
     reg [1:0]  st_g = G_INIT;
     reg signed [15:0] st_m1 = 0, st_m2 = 0, st_c1 = 16'sd8192, st_c12 = 0, st_c2 = 16'sd8192;
@@ -144,7 +164,10 @@ module finequad_core #(
             case (reg_addr)
                 6'h02: r_eps <= reg_wdata[15:0];
                 6'h03: r_lam_k <= reg_wdata[4:0];
-                6'h04: r_kappa <= reg_wdata[15:0];
+                6'h04: begin
+                    r_kappa <= reg_wdata[15:0];
+                    r_kappa5 <= kappa5(reg_wdata[15:0]);
+                end
                 6'h05: r_period <= reg_wdata[15:0];
                 6'h06: r_settle <= reg_wdata[9:0];
                 6'h07: r_gate <= reg_wdata[12:0];
@@ -180,6 +203,7 @@ module finequad_core #(
                     | (m_valid ? m_fault : 11'd0);
         if (rst) begin
             r_interp <= 9'd100; r_eps <= 16'd1638; r_lam_k <= 5'd8; r_kappa <= 16'h4000;
+            r_kappa5 <= 14'd5120;
             r_period <= 16'd0; r_settle <= 10'd32; r_gate <= 13'd64;
             r_jump_off <= 1'b0; r_jump_min <= 11'd41;
             r_sticky <= 11'd0; req_reset <= 1'b0; req_load <= 1'b0; req_cap <= 1'b0;
@@ -204,23 +228,25 @@ module finequad_core #(
     wire c_v0, c_clip, c_nsat, c_dsat, c_valid, c_xn, c_yn, c_rsat;
     wire signed [15:0] c_raw1, c_raw2;
     wire [14:0] c_amax, c_ax, c_ay;
+    wire [3:0]  c_zl;
     correct #(.ADC_W(ADC_W)) u_correct (
         .clk(clk), .valid_i(s_valid && !rst), .u1_i(s_u1), .u2_i(s_u2), .clip_i(r_clip),
         .g_i(b_g), .m1_i(b_m1), .m2_i(b_m2), .c1_i(b_c1), .c12_i(b_c12), .c2_i(b_c2),
         .valid0_o(c_v0), .raw1_o(c_raw1), .raw2_o(c_raw2), .amax_o(c_amax),
         .clip_o(c_clip), .nsat_o(c_nsat), .dsat_o(c_dsat),
-        .valid_o(c_valid), .ax_o(c_ax), .ay_o(c_ay), .xn_o(c_xn), .yn_o(c_yn),
+        .valid_o(c_valid), .ax_o(c_ax), .ay_o(c_ay), .xn_o(c_xn), .yn_o(c_yn), .zl_o(c_zl),
         .rsat_o(c_rsat)
     );
     // ---- t+3 .. t+5: octant ---------------------------------------------------------------------
     wire o_valid, o_neg;
     wire [10:0] o_j;
-    wire [5:0] o_bin;
+    wire [11:0] o_t;
     wire [1:0] o_oct2;
     octant #(.TABLE_DIR(TABLE_DIR), .TABLE_EXACT(TABLE_EXACT))
     u_octant (
         .clk(clk), .valid_i(c_valid), .ax_i(c_ax), .ay_i(c_ay), .xn_i(c_xn), .yn_i(c_yn),
-        .valid_o(o_valid), .j_o(o_j), .bin_o(o_bin), .oct2_o(o_oct2), .neg_o(o_neg)
+        .zl_i(c_zl),
+        .valid_o(o_valid), .j_o(o_j), .t_o(o_t), .oct2_o(o_oct2), .neg_o(o_neg)
     );
     // ---- t+5 .. t+6: phase table and the harmonic table, fine phase --------------------------
     wire [11:0] l_ph;
@@ -228,8 +254,8 @@ module finequad_core #(
     wire [12:0] h_phase, h_phase_c;
     generate
         if (OPT_HARMONIC) begin : g_harm
-            harmonic u_harmonic (
-                .clk(clk), .valid_i(o_valid), .oct2_i(o_oct2), .neg_i(o_neg), .bin_i(o_bin),
+            harmonic #(.TABLE_EXACT(TABLE_EXACT), .OPT_DISTRAM(OPT_DISTRAM)) u_harmonic (
+                .clk(clk), .valid_i(o_valid), .oct2_i(o_oct2), .neg_i(o_neg), .t_i(o_t),
                 .ph_i(l_ph), .apply_i(r_happly), .learn_i(r_hlearn), .mu_i(r_hmu),
                 .clear_i(r_hclear), .valid_o(h_valid), .phase_o(h_phase),
                 .phase_c_o(h_phase_c)
@@ -239,7 +265,7 @@ module finequad_core #(
                 .clk(clk), .valid_i(o_valid), .oct2_i(o_oct2), .neg_i(o_neg), .ph_i(l_ph),
                 .valid_o(h_valid), .phase_o(h_phase), .phase_c_o(h_phase_c)
             );
-            wire unused_h = &{1'b0, o_bin, r_happly, r_hlearn, r_hmu, r_hclear, 1'b0};
+            wire unused_h = &{1'b0, r_happly, r_hlearn, r_hmu, r_hclear, 1'b0};
         end
     endgenerate
     // ---- signal monitor: faults, the counter's hold (stage t+6 .. t+7), the travel ------------
@@ -259,8 +285,8 @@ module finequad_core #(
     wire [12:0] l_pn;
     wire [SIN_W-2:0] l_cmag, l_smag;
     lut #(.TABLE_DIR(TABLE_DIR), .TABLE_EXACT(TABLE_EXACT), .SIN_W(SIN_W),
-          .OPT_NTH_DSP(OPT_NTH_DSP)) u_lut (
-        .clk(clk), .j_i(o_j), .ph_o(l_ph),
+          .OPT_NTH_DSP(OPT_NTH_DSP), .OPT_PHASE_4K(OPT_PHASE_4K)) u_lut (
+        .clk(clk), .j_i(o_j), .t_i(o_t), .ph_o(l_ph),
         .valid_i(h_valid), .phase_i(h_phase_c), .n_i(r_interp),
         .nth_valid_o(n_valid), .prod_o(n_prod),
         .valid_o(l_valid), .pn_o(l_pn), .cos_mag_o(l_cmag), .cos_neg_o(l_cneg),
@@ -305,6 +331,7 @@ module finequad_core #(
         .load_i(req_load), .ld_g_i(st_g), .ld_m1_i(st_m1), .ld_m2_i(st_m2), .ld_c1_i(st_c1),
         .ld_c12_i(st_c12), .ld_c2_i(st_c2),
         .req_reset_i(req_reset), .lam_k_i(r_lam_k), .kappa_i(r_kappa),
+        .kappa5_i(r_kappa5),
         .period_i(r_period), .settle_i(r_settle), .gate_i(r_gate),
         .jump_on_i(!r_jump_off), .jump_min_i(r_jump_min), .jumps_o(e_jumps),
         .g_o(b_g), .m1_o(b_m1), .m2_o(b_m2), .c1_o(b_c1), .c12_o(b_c12), .c2_o(b_c2),

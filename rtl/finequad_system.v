@@ -31,6 +31,10 @@ module finequad_system #(
     parameter [0:0] OPT_NTH_DSP = 1'b0,
     // the core's harmonic compensation (rtl/harmonic.v)
     parameter [0:0] OPT_HARMONIC = 1'b1,
+    // the core's harmonic table in distributed RAM, its exact phase table in 4096 rows
+    // (rtl/finequad_core.v; 1 on the ECP5, 0 on the iCE40)
+    parameter [0:0] OPT_DISTRAM = 1'b0,
+    parameter [0:0] OPT_PHASE_4K = 1'b0,
     // ADC front end: clocks per SCLK half period, CS_N to first SCLK falling, per sample
     parameter ADC_SCLK_HALF = 1,
     parameter ADC_CS_SETUP = 1,
@@ -127,7 +131,8 @@ module finequad_system #(
     wire [10:0] m_fault;         // finequad_core: 11 fault bits (0..3 faults, 4 uncalibrated)
     wire [65:0] eng_cmd;                 // 0: the core's engine is inside
     finequad_core #(.TABLE_DIR(TABLE_DIR), .ADC_W(12), .OPT_NTH_DSP(OPT_NTH_DSP),
-                    .OPT_HARMONIC(OPT_HARMONIC)) u_core (
+                    .OPT_HARMONIC(OPT_HARMONIC), .OPT_DISTRAM(OPT_DISTRAM),
+                    .OPT_PHASE_4K(OPT_PHASE_4K)) u_core (
         .clk(clk), .rst(rst),
         .s_valid(s_valid), .s_u1(s_u1), .s_u2(s_u2),
         .reg_we(reg_we), .reg_re(reg_re), .reg_addr(reg_addr), .reg_wdata(reg_wdata),

@@ -6,15 +6,15 @@
 // reasoning: sim/model/harmonic.py. No multiplier, one block RAM.
 //
 // Per sample, with ph = PH[j] (rtl/lut.v), phase = (2048 oct2 +- ph) mod 8192 (u13, - when
-// neg), b = phase >> 7 (64 bins of 128 units, from rtl/octant.v's bin_o before the phase
-// table is read), A the table (s8.8 units) and R = sum(A) - 8192 (s23):
+// neg), b = phase >> 7 (64 bins of 128 units), A the table (s8.8 units) and R = sum(A) -
+// 8192 (s23):
 //   corr    = (A[b] - (R >>> 6)) >>> 8          s10 units, round(A[b] - mean(A)); 0 for
 //                                               samples arriving during a clear
 //   phase_o   = phase                            (u13: the estimator's and the bins' phase)
 //   phase_c_o = apply ? phase - corr : phase     (u13, wraps: the counter's phase)
-//   corr is not formed on its own: phase - corr = floor((256 phase + ~A + R' + 256) / 256)
-//   with R' = R >>> 6, one three-input sum of 256 (ph ^ {neg}), ~A and a constant part
-//   registered beforehand (stage 3 below).
+//   corr is not formed on its own: phase - corr = phase + ((~A + R' + 256) >> 8) (mod
+//   2**13) with R' = R >>> 6; y = (~A + R' + 256) >> 8 (or 0) is registered with the
+//   phase, and phase_c_o is their sum after the register (stage 3 below).
 //   observer of pc = phase - corr (always, also while apply is off):
 //     E = wrap18(pc * 32 - P);  P += (V >>> 8) + (E >>> KA);  V += E * 2^(8 - KB)
 //     P u13.5 (wraps with the period), V s13.13 units/sample (wraps), E s13.5;
@@ -34,10 +34,24 @@
 //   Candidates are 8 or more samples apart, so at most one update is in flight and the
 //   learning view is the table itself.
 //
+// The bin, found from the octant address's scale t_i (rtl/octant.v t_o: j >= T <=> t >=
+// 2 T - 1) before the phase table is read, counts the thresholds of rtl/tables/hbin.vh
+// (sim/model/tables.py bin_buckets): in t's bucket bk = t >> 8 of 256, N[bk] below it and
+// c = (t & 255) >= T[bk] inside it, b = (16 oct2 + N + c) mod 64, or (16 oct2 - N - c)
+// mod 64 when neg. The two candidates b0 (c = 0) and b1 (c = 1) need only bk, so both
+// words are read and c selects one afterwards: the comparison is off the address path.
+//
 // Timing, a = the edge on which valid_i is high (the sample's arrival; t + 4 in the core):
 //   a      candidate decision; commit (RAM write and R) of the candidate k - 7
-//   a + 1  RAM read of A[bin_i] (sees the writes on edges <= a; bin_i is combinational
-//          before this edge); the phase sums' constant parts registered (apply_i sampled)
+//   a + 1  t_i registered (it is combinational before this edge, the ratio multiply's
+//          result); the phase sums' constant parts registered (apply_i sampled).
+//          OPT_DISTRAM = 0 (block RAM, e.g. iCE40): A[b0], A[b1] read on this edge, the
+//          candidates b0, b1 formed from t_i before it; OPT_DISTRAM = 1 (distributed RAM,
+//          e.g. ECP5): read asynchronously after it, the candidates formed from the
+//          registered t (their low bits address the RAM's banks, the octant's bits only
+//          select among them), so that the read is not behind the multiplier.
+//          Either way the read sees the writes on edges <= a (as if read on this edge: a
+//          commit on this edge is undone by lha below).
 //   a + 2  phase_o, phase_c_o, valid_o (ph_i is the phase table's output, valid after
 //          a + 1); a candidate's A[b] captured
 //   a + 3  observer: E, P, V, C
@@ -49,12 +63,19 @@
 // samples arriving on edges w .. w + 64 are not corrected and not learned from. The
 // observer and M keep running. No reset input: rst of the core leaves the table as it
 // is (like the estimator's theta); the registers return to learning and applying.
-module harmonic (
+module harmonic #(
+    // the thresholds of the bins (rtl/tables/hbin.vh): 1 exact table, 0 the paper's
+    parameter [0:0] TABLE_EXACT = 1'b1,
+    // 1: the table is read asynchronously from a registered address (distributed RAM:
+    // ECP5 and the like, a shorter path at high clock rates); 0: read on edge a + 1 from
+    // t_i directly (block RAM: iCE40). The results are the same.
+    parameter [0:0] OPT_DISTRAM = 1'b0
+) (
     input  wire        clk,
     input  wire        valid_i,     // the sample's arrival (edge a)
     input  wire [1:0]  oct2_i,      // with valid_i: base phase 2048 oct2 (rtl/octant.v)
     input  wire        neg_i,       // with valid_i: phase = base - ph
-    input  wire [5:0]  bin_i,       // combinational before edge a + 1: phase >> 7
+    input  wire [11:0] t_i,         // combinational before edge a + 1: u12 address scale
     input  wire [11:0] ph_i,        // u12 PH[j], valid after edge a + 1 (block RAM output)
     input  wire        apply_i,     // apply the correction to phase_c_o
     input  wire        learn_i,     // update the table
@@ -62,20 +83,59 @@ module harmonic (
     input  wire        clear_i,     // one-clock pulse: empty the table
     output reg         valid_o = 1'b0,
     output reg  [12:0] phase_o = 13'd0,     // u13 uncorrected fine phase (edge a + 2)
-    output reg  [12:0] phase_c_o = 13'd0    // u13 corrected fine phase (edge a + 2)
+    output wire [12:0] phase_c_o            // u13 corrected fine phase (edge a + 2; the
+                                            // sum of two registers)
 );
     localparam [22:0] R0 = -23'sd8192;
+`include "hbin.vh"
+    localparam [63:0]  HB_LO_N = TABLE_EXACT ? HB_LO_EXACT_N : HB_LO_PAPER_N;
+    localparam [143:0] HB_LO_T = TABLE_EXACT ? HB_LO_EXACT_T : HB_LO_PAPER_T;
+    localparam [63:0]  HB_HI_N = TABLE_EXACT ? HB_HI_EXACT_N : HB_HI_PAPER_N;
+    localparam [143:0] HB_HI_T = TABLE_EXACT ? HB_HI_EXACT_T : HB_HI_PAPER_T;
+    // b = (16 oct2 + cnt) mod 64, or (16 oct2 - cnt) mod 64 when neg, cnt = N + c <= 12:
+    // {oct2 - br, lo} with {br, lo} from these per bucket and c (no adder)
+    function [79:0] offsets(input [63:0] nt, input neg, input inc);
+        integer k;
+        reg [3:0] cn;
+        begin
+            for (k = 0; k < 16; k = k + 1) begin
+                cn = nt[4*k +: 4] + {3'd0, inc};
+                offsets[5*k +: 5] = neg ? {cn != 4'd0, 4'd0 - cn} : {1'b0, cn};
+            end
+        end
+    endfunction
+    localparam [79:0] OFF_LO0 = offsets(HB_LO_N, 1'b0, 1'b0);
+    localparam [79:0] OFF_LO1 = offsets(HB_LO_N, 1'b0, 1'b1);
+    localparam [79:0] OFF_HI0 = offsets(HB_HI_N, 1'b1, 1'b0);
+    localparam [79:0] OFF_HI1 = offsets(HB_HI_N, 1'b1, 1'b1);
+    // the offsets {o1, o0} of the candidates in direction neg and bucket bk, and the
+    // candidates {b1, b0} in octant oct2
+    function automatic [9:0] offs(input neg, input [3:0] bk);
+        offs = neg ? {OFF_HI1[5*bk +: 5], OFF_HI0[5*bk +: 5]}
+                   : {OFF_LO1[5*bk +: 5], OFF_LO0[5*bk +: 5]};
+    endfunction
+    function automatic [11:0] cands(input [1:0] oct2, input [9:0] o);
+        cands = {oct2 - {1'b0, o[9]}, o[8:5], oct2 - {1'b0, o[4]}, o[3:0]};
+    endfunction
 
     // ---- table RAM -------------------------------------------------------------------------
-    // A read and a write of the same word on one edge happen (one sample per clock); the
-    // block RAM's result is then undefined (iCE40), so the read is taken as the word before
-    // the write by construction (stage 2): no collision logic from synthesis.
+    // Two copies written alike, one per candidate's read (b0 from mem0, b1 from mem1): two
+    // block RAMs, or distributed RAM. (One memory with two read ports whose outputs are
+    // multiplexed would let synthesis merge them into one port with a multiplexed address,
+    // putting the comparison that selects back in front of the read.) A read and a write
+    // of the same word on one edge happen (one sample per clock); the block RAM's result is
+    // then undefined (iCE40), so the read is taken as the word before the write by
+    // construction (stage 3): no collision logic from synthesis.
     (* no_rw_check *)
-    reg [15:0] mem [0:63];
+    reg [15:0] mem0 [0:63];
+    (* no_rw_check *)
+    reg [15:0] mem1 [0:63];
     integer mi;
     initial
-        for (mi = 0; mi < 64; mi = mi + 1)
-            mem[mi] = 16'd0;
+        for (mi = 0; mi < 64; mi = mi + 1) begin
+            mem0[mi] = 16'd0;
+            mem1[mi] = 16'd0;
+        end
 
     // ---- stage 1 (edge a): candidates, commit, sweep ------------------------------------
     reg  [6:0]  swp = 7'd0;         // clear sweep: words left
@@ -112,82 +172,117 @@ module harmonic (
             r_sum <= r_sum + {{11{pd[11]}}, pd};
     end
 
-    // ---- stage 2 (edge a + 1): table read (sees the writes on edges <= a); the constant
-    // parts of the phase sums: 256 (base + neg) (+ R' + 256 where the correction is used) --
-    // A commit that writes the word being read on the same edge: the read is the word
-    // before the write, which is lha (the candidate's entry; nothing else writes that word
-    // while its update is pending). A sweep's write may hit the read too: the samples
-    // read during a sweep are not corrected and not learned from, their read is unused.
-    reg  [15:0] rd_raw = 16'd0;
+    // ---- stage 2 (edge a + 1): table reads; the constant parts of the phase sums: 256
+    // (base + neg) (+ R' + 256 where the correction is used) ----------------------------------
+    // a0, a1: A[b0], A[b1] as the writes on edges <= a left them (a commit writes on the
+    // arrival edge of sample k + 7, a sweep on the edges after a clear):
+    //   OPT_DISTRAM = 0: read on edge a + 1, when the commit of the next sample may write
+    //     the same word (the block RAM's result is then undefined): such a read is taken
+    //     as the word before the write, which is lha (the candidate's entry; nothing else
+    //     writes that word while its update is pending). A sweep's write may hit the read
+    //     too: the samples read during a sweep are not corrected and not learned from.
+    //   OPT_DISTRAM = 1: read after edge a + 1 from copies whose writes come one edge late
+    //     (registered), so that they hold the writes on edges <= a: no collision logic.
+    reg  [11:0] t2 = 12'd0;                     // t_i
+    reg  [1:0]  oct2q = 2'd0;                   // the octant of t2
     reg         cw2 = 1'b0;                     // a commit wrote lb on the read's edge
     wire [5:0]  swa = 6'd0 - swp[5:0];          // sweep address 0, 1, .., 63
     wire [5:0]  wa = sweeping ? swa : lb;       // (a named 6-bit wire: Icarus 11 indexes
-    always @(posedge clk) begin                 //  with a wider difference otherwise)
-`ifdef SYNTHESIS
-        rd_raw <= mem[bin_i];
-`else
-        // simulation: the undefined read of a word written on the same edge returns the
-        // word inverted, so that a result relying on it differs from the model
-        rd_raw <= ((sweeping || commit) && wa == bin_i) ? ~mem[bin_i] : mem[bin_i];
-`endif
+    wire        we = sweeping || commit;        //  with a wider difference otherwise)
+    wire [11:0] bc1 = cands(oct1, offs(neg1, t_i[11:8]));
+    reg         v2 = 1'b0, cand2 = 1'b0, blk2 = 1'b0, ok2 = 1'b0, neg2 = 1'b0;
+    wire [11:0] bc = cands(oct2q, offs(neg2, t2[11:8]));   // {b1, b0} of the sample read
+    wire [15:0] a0, a1;
+    always @(posedge clk) begin
+        t2 <= t_i;
+        oct2q <= oct1;
         cw2 <= commit && !sweeping;
-        if (sweeping || commit)
-            mem[wa] <= hp;
     end
+    generate
+        if (OPT_DISTRAM) begin : g_async
+            reg        we_q = 1'b0;
+            reg [5:0]  wa_q = 6'd0;
+            reg [15:0] hp_q = 16'd0;
+            always @(posedge clk) begin
+                we_q <= we;
+                wa_q <= wa;
+                hp_q <= hp;
+                if (we_q) begin
+                    mem0[wa_q] <= hp_q;
+                    mem1[wa_q] <= hp_q;
+                end
+            end
+            assign a0 = mem0[bc[5:0]];
+            assign a1 = mem1[bc[11:6]];
+            wire unused_a = &{1'b0, cw2, bc1, 1'b0};
+        end else begin : g_sync
+            reg [15:0] rd0_q = 16'd0, rd1_q = 16'd0;
+            always @(posedge clk) begin
+                if (we) begin
+                    mem0[wa] <= hp;
+                    mem1[wa] <= hp;
+                end
+`ifdef SYNTHESIS
+                rd0_q <= mem0[bc1[5:0]];
+                rd1_q <= mem1[bc1[11:6]];
+`else
+                // simulation: the undefined read of a word written on the same edge
+                // returns the word inverted, so that a result relying on it differs from
+                // the model
+                rd0_q <= (we && wa == bc1[5:0]) ? ~mem0[bc1[5:0]] : mem0[bc1[5:0]];
+                rd1_q <= (we && wa == bc1[11:6]) ? ~mem1[bc1[11:6]] : mem1[bc1[11:6]];
+`endif
+            end
+            assign a0 = (cw2 && lb == bc[5:0]) ? lha : rd0_q;
+            assign a1 = (cw2 && lb == bc[11:6]) ? lha : rd1_q;
+        end
+    endgenerate
     wire [12:0] base1 = {oct1, 11'd0} + {12'd0, neg1};
     wire        ublk = !blk1;                          // the correction is used (pc)
     wire        uapl = ublk && apply_i;                // and applied (phase_c_o)
     wire [20:0] rq = {{4{r_sum[22]}}, r_sum[22:6]} + 21'd256;   // R >>> 6, plus 256
-    reg         v2 = 1'b0, cand2 = 1'b0, blk2 = 1'b0, ok2 = 1'b0, neg2 = 1'b0;
     reg         ub2 = 1'b0, ua2 = 1'b0;
     reg  [12:0] k0 = 13'd0;
-    reg  [20:0] kb = 21'd0, ka = 21'd0;
-    reg  [5:0]  bin2 = 6'd0;
+    reg  [20:0] rq2 = 21'd0;
     always @(posedge clk) begin
         v2 <= v1;
         cand2 <= v1 && cand1;
         blk2 <= blk1;
         ok2 <= !blk1 && !clear_i;
         neg2 <= neg1;
-        bin2 <= bin_i;
         k0 <= base1;
-        kb <= {base1, 8'd0} + (ublk ? rq : 21'd0);
-        ka <= {base1, 8'd0} + (uapl ? rq : 21'd0);
+        rq2 <= rq;
         ub2 <= ublk;
         ua2 <= uapl;
     end
 
     // ---- stage 3 (edge a + 2): the phases; a candidate's entry ------------------------------
     // phase - corr = phase - floor((A - R') / 256), R' = R >>> 6, is
-    // floor((256 phase + ~A + R' + 256) / 256): bits [20:8] of one three-input sum (mod
-    // 2**21) of 256 phx, ~A (sign-extended) and 256 (base + neg) + R' + 256 (kb, ka),
-    // reduced by a carry-save step to one carry chain. Where the correction is not used,
-    // the last two are 0 and 256 (base + neg).
+    // floor((256 phase + ~A + R' + 256) / 256) = phase + y mod 2**13 with
+    // y = (~A + R' + 256) >> 8 (mod 2**13; the low 8 bits of 256 phase are 0). Where the
+    // correction is not used (pc) or not applied (phase_c_o), y is 0. y is formed from the
+    // table's word while the phase table is read and registered with the phase; the sums
+    // come after the registers (phase_c_o, pc3), so the phase table's output only meets
+    // one 13-bit carry chain and the table's word one 21-bit chain before a register.
     // (lb is the committed word's address until the next candidate's stage 3, at least
     // eight arrivals after the commit)
-    wire [15:0] rd_q = (cw2 && lb == bin2) ? lha : rd_raw;
+    wire [8:0]  bt = neg2 ? HB_HI_T[9*t2[11:8] +: 9] : HB_LO_T[9*t2[11:8] +: 9];
+    wire        c2 = ({1'b0, t2[7:0]} >= bt);           // the count inside the bucket
+    wire [5:0]  bin2 = c2 ? bc[11:6] : bc[5:0];
+    wire [15:0] rd_q = c2 ? a1 : a0;                     // A[b]
+    // ~A (sign-extended) + R' + 256 for both candidates; c2 selects the sum
+    wire [20:0] ys0 = ~{{5{a0[15]}}, a0} + rq2, ys1 = ~{{5{a1[15]}}, a1} + rq2;
+    wire [12:0] ysum = c2 ? ys1[20:8] : ys0[20:8];
     wire [12:0] phx = {1'b0, ph_i} ^ {13{neg2}};        // +ph, or -ph - 1 (neg)
-    wire [20:0] nax = ~{{5{rd_q[15]}}, rd_q};           // ~A, sign-extended
-    function automatic [20:0] sum3(input [20:0] x, input [20:0] y, input [20:0] z);
-        reg [20:0] s3, c3;
-        begin
-            s3 = x ^ y ^ z;
-            c3 = {(x[19:0] & y[19:0]) | (x[19:0] & z[19:0]) | (y[19:0] & z[19:0]), 1'b0};
-            sum3 = s3 + c3;
-        end
-    endfunction
-    wire [20:0] pcs = sum3({phx, 8'd0}, ub2 ? nax : 21'd0, kb);
-    wire [20:0] pas = sum3({phx, 8'd0}, ua2 ? nax : 21'd0, ka);
-    wire [12:0] pc = pcs[20:8];
-    reg  [12:0] pc3 = 13'd0;
+    reg  [12:0] ya = 13'd0, yb = 13'd0;                 // y applied (phase_c_o), used (pc)
     reg         v3 = 1'b0, cand3 = 1'b0, lok = 1'b0;
     always @(posedge clk) begin
         valid_o <= v2;
         phase_o <= k0 + phx;
-        phase_c_o <= pas[20:8];
+        ya <= ua2 ? ysum : 13'd0;
+        yb <= ub2 ? ysum : 13'd0;
         v3 <= v2;
         cand3 <= v2 && cand2;
-        pc3 <= pc;
         if (v2 && cand2) begin
             lb <= bin2;
             lha <= rd_q;
@@ -195,12 +290,17 @@ module harmonic (
         end else if (clear_i)
             lok <= 1'b0;
     end
+    assign phase_c_o = phase_o + ya;
 
     // ---- stage 4 (edge a + 3): observer -----------------------------------------------------
     reg  [17:0] p_st = 18'd0;                   // P, u13.5
     reg  [25:0] v_st = 26'd0;                   // V, s13.13
     reg  [10:0] c_st = 11'd0;                   // C, u11
-    wire [17:0] e_w = {pc3, 5'd0} - p_st;       // E, s13.5 (wraps)
+    // E = 32 (phase + y) - P: one carry-save step (-P = ~P + 1, the 1 in the carry's free
+    // bit 0), then one carry chain
+    wire [17:0] ex = {phase_o, 5'd0}, ey = {yb, 5'd0}, ez = ~p_st;
+    wire [17:0] e_w = (ex ^ ey ^ ez) + {(ex[16:0] & ey[16:0]) | (ex[16:0] & ez[16:0]) |
+                                        (ey[16:0] & ez[16:0]), 1'b1};   // E, s13.5 (wraps)
     wire        wide = (c_st < 11'd256);
     wire [15:0] de = wide ? e_w[17:2] : {{5{e_w[17]}}, e_w[17:7]};   // E >>> 2 or E >>> 7
     wire        lost = !((e_w[17:15] == 3'b000) || (e_w[17:15] == 3'b111));
@@ -264,6 +364,6 @@ module harmonic (
             end
         end
     end
-    wire unused = &{1'b0, av[16:0], y_w[1:0], r_sum[5:0], blk2, pcs[7:0], pas[7:0], 1'b0};
+    wire unused = &{1'b0, av[16:0], y_w[1:0], r_sum[5:0], blk2, ys0[7:0], ys1[7:0], 1'b0};
 endmodule
 `resetall

@@ -6,7 +6,9 @@
 // quarter-wave sine table that serves every n:
 //   phase table: ph = PH[j] (u12, phase_<table>.hex), read on the edge j_i is presented
 //     (j_i may be combinational: rtl/octant.v forms it with its last add); ph_o is the
-//     block RAM's output, valid after that edge. The fine phase itself,
+//     block RAM's output, valid after that edge. OPT_PHASE_4K (exact table): the table in
+//     4096 rows (phase_exact_4k.hex), read at the scale t_i instead (row t holds
+//     PH[min(2047, (t + 1) >> 1)]), so the address does not wait for j's rounding add. The fine phase itself,
 //     (2048 oct2 +- ph) mod 8192, is assembled with the harmonic correction in
 //     rtl/harmonic.v.
 //   n-th order: the full product P = n * phase (u22) of the (corrected) fine phase
@@ -25,11 +27,16 @@ module lut #(
     parameter SIN_W = 10,
     // 1: n * phase with the `*` operator (a DSP block where the device has one to
     // spare, e.g. ECP5); 0: shift-and-add in logic (iCE40 UP5K: its 8 DSP blocks are taken)
-    parameter [0:0] OPT_NTH_DSP = 1'b1
+    parameter [0:0] OPT_NTH_DSP = 1'b1,
+    // 1 (with TABLE_EXACT): the phase table in 4096 rows addressed by t_i, no rounding add
+    // before the block RAM (for clock rates near 100 MHz, e.g. ECP5: 3 block RAMs instead
+    // of 2); 0: 2048 rows addressed by j_i (iCE40: its block RAMs are counted)
+    parameter [0:0] OPT_PHASE_4K = 1'b0
 ) (
     input  wire              clk,
     // phase table
     input  wire [10:0]       j_i,          // u11 octant-local address
+    input  wire [11:0]       t_i,          // u12 its scale (OPT_PHASE_4K), with j_i
     output wire [11:0]       ph_o,         // u12 PH[j], one edge after j_i
     // n-th order
     input  wire              valid_i,      // with phase_i
@@ -45,11 +52,9 @@ module lut #(
     output reg               sin_neg_o
 );
     localparam PH_FILE = TABLE_EXACT ? "phase_exact.hex" : "phase_paper.hex";
-    reg [11:0]      ph_rom [0:2047];
+    localparam [0:0] PH4K = TABLE_EXACT && OPT_PHASE_4K;
     reg [SIN_W-1:0] sin_rom_c [0:2047];
     reg [SIN_W-1:0] sin_rom_s [0:2047];
-    initial
-        $readmemh({TABLE_DIR, PH_FILE}, ph_rom);
     // one branch per sine file: Icarus 11 turns a ?: between strings of different
     // lengths ("sine_8.hex" vs "sine_10.hex") into an empty string
     generate
@@ -78,8 +83,23 @@ module lut #(
 
     // ---- phase table ------------------------------------------------------------------------
     reg [11:0] ph_q = 0;
-    always @(posedge clk)
-        ph_q <= ph_rom[j_i];
+    generate
+        if (PH4K) begin : g_ph4k
+            reg [11:0] ph_rom [0:4095];
+            initial
+                $readmemh({TABLE_DIR, "phase_exact_4k.hex"}, ph_rom);
+            always @(posedge clk)
+                ph_q <= ph_rom[t_i];
+            wire unused_j = &{1'b0, j_i, 1'b0};
+        end else begin : g_ph2k
+            reg [11:0] ph_rom [0:2047];
+            initial
+                $readmemh({TABLE_DIR, PH_FILE}, ph_rom);
+            always @(posedge clk)
+                ph_q <= ph_rom[j_i];
+            wire unused_t = &{1'b0, t_i, 1'b0};
+        end
+    endgenerate
     assign ph_o = ph_q;
 
     // ---- n-th order phase: P = n * phase ----------------------------------------------------

@@ -41,6 +41,7 @@ def files() -> dict:
     out = {}
     for kind in tables.KINDS:
         out[f"phase_{kind}.hex"] = tables.hexlines(tables.phase_table(kind), tables.PHT_W)
+    out["phase_exact_4k.hex"] = tables.hexlines(tables.phase_table_4k(), tables.PHT_W)
     out["recip.hex"] = tables.hexlines(tables.recip_table(), tables.RCP_W)
     out["hbin.vh"] = hbin_header()
     for w in SIN_WIDTHS:

@@ -12,6 +12,8 @@ module top_report_multi #(
     parameter TDM_W = 64,
     parameter [0:0] OPT_NTH_DSP = 1'b1,
     parameter [0:0] OPT_HARMONIC = 1'b1,
+    parameter [0:0] OPT_DISTRAM = 1'b0,
+    parameter [0:0] OPT_PHASE_4K = 1'b0,
     parameter [0:0] OPT_TUNABLE = 1'b1,
     parameter ENGINE_LANES = 1
 ) (
@@ -39,6 +41,7 @@ module top_report_multi #(
     wire [AXES-1:0] m_valid, m_a, m_b;
     finequad_multi #(.AXES(AXES), .TDM_W(TDM_W), .OPT_NTH_DSP(OPT_NTH_DSP),
                      .OPT_HARMONIC(OPT_HARMONIC), .OPT_TUNABLE(OPT_TUNABLE),
+                     .OPT_DISTRAM(OPT_DISTRAM), .OPT_PHASE_4K(OPT_PHASE_4K),
                      .ENGINE_LANES(ENGINE_LANES)) u_multi (
         .clk(clk), .rst(rst), .s_valid(s_valid), .s_u1(s_u1), .s_u2(s_u2),
         .reg_we(reg_we), .reg_re(reg_re), .reg_axis(reg_axis), .reg_addr(reg_addr),

@@ -60,6 +60,7 @@ module top_ulx3s #(
     wire [3:0] status;
     finequad_system #(
         .TABLE_DIR(TABLE_DIR), .OPT_NTH_DSP(1'b1), .OPT_HARMONIC(1'b1),
+        .OPT_DISTRAM(1'b1), .OPT_PHASE_4K(1'b1),
         .ADC_SCLK_HALF(1), .ADC_CS_SETUP(1), .ADC_PERIOD(36), .BAUD_DIV(310),
         .UART_TIMEOUT(20'd283000)
     ) u_sys (

@@ -85,22 +85,25 @@ def lzc15(v):
     return z
 
 
-def ratio(small, large):
-    """Exact-table address j = min(2047, round(2048 small / large)) as rtl/octant.v forms
-    it (small <= large, both u15):
+def ratio_product(small, large):
+    """The ratio product of rtl/octant.v (small <= large, both u15):
 
       zl  = lzc15(large)
       ln  = large << zl          u15 in [2**14, 2**15) (0 for large = 0), m = ln / 2**14
       sn  = (small << zl) >> 1   u14: t = 2 sn / ln
       r   = RECIP[ln[13:5]]      u0.14, ~ 1/m (9-bit bin below the leading 1)
-      p   = sn * r = t * 2**27 (1 + O(2**-10))    u28
-      j   = min(2047, (p + 2**15) >> 16)           u11"""
+      p   = sn * r = t * 2**27 (1 + O(2**-10))    u28"""
     zl = lzc15(large)
     ln = (large << zl) & 0x7FFF
     sn = ((small << zl) & 0x7FFF) >> 1
     r = _RECIP[(ln >> 5) & ((1 << RCP_AW) - 1)]
-    p = sn * r + RATIO_ROUND
-    return np.minimum(p >> 16, (1 << ADDR_W) - 1)
+    return sn * r
+
+
+def ratio(small, large):
+    """Exact-table address j = min(2047, round(2048 small / large)) as rtl/octant.v forms
+    it: j = min(2047, (p + 2**15) >> 16) of the ratio product p (ratio_product)."""
+    return np.minimum((ratio_product(small, large) + RATIO_ROUND) >> 16, (1 << ADDR_W) - 1)
 
 
 def octant(ax, ay, xn, yn, kind="exact"):
@@ -123,6 +126,21 @@ def octant(ax, ay, xn, yn, kind="exact"):
     else:
         raise ValueError(f"table kind must be 'exact' or 'paper', got {kind!r}")
     return j.astype(I64), base.astype(I64), neg.astype(I64)
+
+
+def scale(ax, ay, kind="exact"):
+    """The address's scale t (rtl/octant.v t_o, u12) from which rtl/harmonic.v finds the
+    bin and which addresses the 4096-row exact phase table (tables.phase_table_4k): exact
+    min(4095, floor(p / 2**15)) of the ratio product (j = (t + 1) >> 1 clipped at 2047),
+    paper 2 j."""
+    ax, ay = np.asarray(ax, dtype=I64), np.asarray(ay, dtype=I64)
+    low = ay <= ax
+    small, large = np.where(low, ay, ax), np.where(low, ax, ay)
+    if kind == "paper":
+        return 2 * np.minimum((small + 4) >> 3, (1 << ADDR_W) - 1)
+    if kind == "exact":
+        return np.minimum(ratio_product(small, large) >> 15, 2 * (1 << ADDR_W) - 1)
+    raise ValueError(f"table kind must be 'exact' or 'paper', got {kind!r}")
 
 
 class Lut:

@@ -15,6 +15,10 @@ octant-local phase. What j means depends on the table kind (rtl/octant.v):
 * ``phase_table(kind)``: 2048 entries, PHT_W = 12 bits unsigned.
     - "exact": round(atan(j/2048) * 8192 / (2 pi))   (row 2048 would be 1024, one octant)
     - "paper": round(j / (2048 sin(pi/4)) * 1024)      (uniform angle per row, Table 2)
+* ``phase_table_4k()``: the exact table in 4096 rows, addressed by the scale t of the
+  ratio product (rtl/octant.v t_o = min(4095, floor(p / 2**15)), j = (t + 1) >> 1 clipped
+  at 2047): row t holds PH[min(2047, (t + 1) >> 1)], so the address needs no rounding add
+  (rtl/lut.v OPT_PHASE_4K, for fast devices).
 * ``recip_table()``: 512 entries, RCP_W = 14 bits unsigned (u0.14, 8196 .. 16368): the
   reciprocal of the normalised large magnitude m = |large| << z / 2**14 in [1, 2), for the
   bin i = floor((m - 1) * 512) the value that minimises the largest relative error over the
@@ -52,6 +56,11 @@ def phase_table(kind: str = "exact") -> list[int]:
     if kind == "paper":
         return [round(j / (ROWS * math.sin(math.pi / 4)) * OCT) for j in range(ROWS)]
     raise ValueError(f"table kind must be one of {KINDS}, got {kind!r}")
+
+
+def phase_table_4k() -> list[int]:
+    ph = phase_table("exact")
+    return [ph[min(ROWS - 1, (t + 1) >> 1)] for t in range(2 * ROWS)]
 
 
 def recip_table() -> list[int]:
