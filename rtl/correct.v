@@ -13,6 +13,8 @@
 //   t+2  v1 = p1, v2 = p12 + p2                               s6.27
 //        ax = min(32767, (v1 ^ s1) >> 13), xn = s1 = v1 < 0    u15 magnitude (s2.14
 //        ay, yn likewise from v2                              units: unit circle 16384)
+//        zl = lzc15(ax | ay)                                  u4 leading zeros of the larger
+//                                                             magnitude (for rtl/octant.v)
 // Flags (registered with the values they describe):
 //   clip_o (t)   a code is at or near an ADC rail: |u_r| >= clip_i (|-32768| = 32768)
 //   nsat_o (t)   x leaves s1.15: the input gain saturates (the estimator excludes the
@@ -48,6 +50,7 @@ module correct #(
     output reg  [14:0]             ay_o,    // u15 |u2c|
     output reg                     xn_o,    // u1c < 0
     output reg                     yn_o,    // u2c < 0
+    output reg  [3:0]              zl_o,    // lzc15(ax_o | ay_o): 0..14 (14 for 0 and 1)
     output reg                     rsat_o
 );
     // ---- t: align, gain, offsets ------------------------------------------------------------
@@ -73,6 +76,19 @@ module correct #(
     wire [15:0] ab2 = ua2[15] ? -ua2 : ua2;
     wire [14:0] am1 = ab1[15] ? 15'h7fff : ab1[14:0];
     wire [14:0] am2 = ab2[15] ? 15'h7fff : ab2[14:0];
+    // |u1| >= |u2| from the codes, beside the magnitudes (not behind their carry chains):
+    // by the signs, u1 >= u2 (both >= 0), u1 < u2 (both < 0), u1 + u2 >= 0 (u1 >= 0 > u2)
+    // or u1 + u2 < 0 (u1 < 0 <= u2)
+    wire signed [16:0] dif = {ua1[15], ua1} - {ua2[15], ua2};
+    wire signed [16:0] smu = {ua1[15], ua1} + {ua2[15], ua2};
+    // (ties pick either: the same magnitude)
+    wire        gt1 = ((ua1[15] == ua2[15]) ? dif[16] : smu[16]) ^ !ua1[15];
+    // |u| >= clip: u >= clip for u >= 0; -u >= clip <=> ~u >= clip - 1 for u < 0 (every
+    // u < 0 when clip = 0), so no negation lies in front of the comparison
+    wire [16:0] cm1 = {1'b0, clip_i} - 17'd1;
+    function automatic clipped(input [15:0] u, input [15:0] clip, input [16:0] cm);
+        clipped = u[15] ? (cm[16] || ({1'b0, ~u} >= cm)) : (u >= clip);
+    endfunction
     (* keep *) reg signed [15:0] d1 = 0, d2 = 0;
     reg signed [15:0] c1q = 0, c12q = 0, c2q = 0;
     always @(posedge clk) begin
@@ -81,8 +97,8 @@ module correct #(
         c1q <= c1_i; c12q <= c12_i; c2q <= c2_i;
         raw1_o <= ua1;
         raw2_o <= ua2;
-        amax_o <= (am1 > am2) ? am1 : am2;
-        clip_o <= (ab1 >= clip_i) || (ab2 >= clip_i);
+        amax_o <= gt1 ? am1 : am2;               // max(|u1|, |u2|), saturated
+        clip_o <= clipped(ua1, clip_i, cm1) || clipped(ua2, clip_i, cm1);
         nsat_o <= !(xf1 && xf2);
         dsat_o <= !(ef1 && ef2);
         valid0_o <= valid_i;
@@ -117,9 +133,37 @@ module correct #(
     wire [19:0] q1 = v1[32:13] ^ {20{n1}};                       // |u|, u20
     wire [19:0] q2 = v2h ^ {20{n2}};
     wire        sat1 = (q1[19:15] != 5'd0), sat2 = (q2[19:15] != 5'd0);
+    // leading zeros in 15 bits, 14 for 0 and 1: those of the 16 bits {v[14:1], 1, 1}, as
+    // a two-level tree (nibble priority beside the nibbles' own counts)
+    function automatic [1:0] lzc4(input [3:0] v);
+        casez (v)
+            4'b1???: lzc4 = 2'd0;
+            4'b01??: lzc4 = 2'd1;
+            4'b001?: lzc4 = 2'd2;
+            default: lzc4 = 2'd3;
+        endcase
+    endfunction
+    /* verilator lint_off UNUSEDSIGNAL */
+    function automatic [3:0] lzc15(input [14:0] v);     // v[0] does not matter
+        reg [15:0] w;
+        begin
+            w = {v[14:1], 2'b11};
+            casez ({|w[15:12], |w[11:8], |w[7:4]})
+                3'b1??:  lzc15 = {2'd0, lzc4(w[15:12])};
+                3'b01?:  lzc15 = {2'd1, lzc4(w[11:8])};
+                3'b001:  lzc15 = {2'd2, lzc4(w[7:4])};
+                default: lzc15 = {2'd3, lzc4(w[3:0])};
+            endcase
+        end
+    endfunction
+    /* verilator lint_on UNUSEDSIGNAL */
+
+    wire [14:0] axn = sat1 ? 15'h7fff : q1[14:0];
+    wire [14:0] ayn = sat2 ? 15'h7fff : q2[14:0];
     always @(posedge clk) begin
-        ax_o <= sat1 ? 15'h7fff : q1[14:0];
-        ay_o <= sat2 ? 15'h7fff : q2[14:0];
+        ax_o <= axn;
+        ay_o <= ayn;
+        zl_o <= lzc15(axn | ayn);
         xn_o <= n1;
         yn_o <= n2;
         rsat_o <= sat1 || sat2;                                   // |u| >= 2 (32768)
@@ -128,9 +172,9 @@ module correct #(
 
     initial begin
         valid0_o = 1'b0; raw1_o = 0; raw2_o = 0; amax_o = 0; clip_o = 1'b0; nsat_o = 1'b0;
-        dsat_o = 1'b0; valid_o = 1'b0; ax_o = 0; ay_o = 0; xn_o = 1'b0; yn_o = 1'b0;
+        dsat_o = 1'b0; valid_o = 1'b0; ax_o = 0; ay_o = 0; xn_o = 1'b0; yn_o = 1'b0; zl_o = 0;
         rsat_o = 1'b0;
     end
-    wire unused = &{1'b0, v1[12:0], lo2[12:0], hi21c[0], 1'b0};
+    wire unused = &{1'b0, v1[12:0], lo2[12:0], hi21c[0], dif[15:0], smu[15:0], 1'b0};
 endmodule
 `resetall
