@@ -21,7 +21,8 @@
 //   H = the clock from t + 6 to t + 7: phase_i (u13 fine phase, before the harmonic
 //          correction) registered on t + 6 with pvalid_i
 //          glitch = K > 0, chk == 2 and wrap13(phase - pred) outside [-2^K, 2^K - 1]
-//                   (K = glitch_k_i: a bit test, no compare chain)
+//                   (K = glitch_k_i sampled on t + 5, the edge before H: a bit test,
+//                   no compare chain)
 //          hold_o = pvalid and (loss or stuck or glitch or (clip and over))
 //                   (combinational in H: the counter keeps its count and last phase,
 //                   rtl/counter.v; a clipped code alone still counts)
@@ -188,17 +189,18 @@ module monitor (
     reg [4:0]  grun = 0;        // glitches coasted since two samples in a row were accepted
     reg        acc = 1'b0;                                      // the sample before was accepted
     wire [12:0] e = phase_i - pred;                             // s13 off the line
-    // e outside [-2^K, 2^K - 1] <=> a bit of e[11:K] differs from the sign e[12]
-    wire [11:0] e_off = e[11:0] ^ {12{e[12]}};
-    reg         big;
+    // e outside [-2^K, 2^K - 1] <=> a bit of e[11:K] differs from the sign e[12]; the
+    // bits K..11 as a mask (all clear for K = 0, off, or K >= 12), registered from K on the
+    // edge before (t + 5: K is sampled there); a set bit under the mask (e >= 0) and a
+    // clear one (e < 0) are looked for side by side, and the sign only selects
+    reg  [11:1] gmask = 11'd0;
     integer     kb;
-    always @* begin
-        big = 1'b0;
+    always @(posedge clk)
         for (kb = 1; kb < 12; kb = kb + 1)
-            if (kb >= glitch_k_i && e_off[kb])
-                big = 1'b1;
-    end
-    wire        glitch = (glitch_k_i != 4'd0) && (glitch_k_i < 4'd12) && chk[1] && big;
+            gmask[kb] <= (glitch_k_i != 4'd0) && (kb >= glitch_k_i);
+    wire        big_p = |(e[11:1] & gmask);
+    wire        big_n = |(~e[11:1] & gmask);
+    wire        glitch = chk[1] && (e[12] ? big_n : big_p);
     assign hold_o = pvalid_i && (early || glitch);
     // a glitch alone coasts along the line (COAST_MAX coasts since two samples in a row
     // were accepted; a clipped sample, a channel on a rail, coasts on for as long as it lasts)
@@ -249,7 +251,7 @@ module monitor (
         end
     end
     assign travel_o = s[24:5];
-    wire unused = &{1'b0, mn3[1:0], sd[4:0], x1[10:0], x2[10:0], dv[2:0], 1'b0};
+    wire unused = &{1'b0, mn3[1:0], sd[4:0], x1[10:0], x2[10:0], dv[2:0], e[0], 1'b0};
 
 `ifdef FORMAL
     // ---- formal properties (sim/formal/monitor.sby; every input free on every clock) --------
@@ -340,9 +342,12 @@ module monitor (
     wire signed [13:0] f_d  = $signed({1'b0, phase_i}) - $signed({1'b0, ph_a});
     wire signed [13:0] f_dw = (f_d >= 14'sd4096) ? f_d - 14'sd8192
                             : (f_d < -14'sd4096) ? f_d + 14'sd8192 : f_d;
-    wire signed [17:0] f_lim = $signed(18'd1 << glitch_k_i);     // 2^K
+    reg  [3:0] f_k = 4'd0;                                      // K of the edge before
+    always @(posedge clk)
+        f_k <= glitch_k_i;
+    wire signed [17:0] f_lim = $signed(18'd1 << f_k);           // 2^K
     wire signed [17:0] f_ew18 = f_ew;
-    wire f_glitch = (glitch_k_i != 4'd0) && (chk == 2'd2)
+    wire f_glitch = (f_k != 4'd0) && (chk == 2'd2)
                     && ((f_ew18 < -f_lim) || (f_ew18 > f_lim - 18'sd1));
     // v's running mean in exact arithmetic (20 bits), and its range
     wire signed [19:0] f_vn = $signed(v) + (($signed(f_dw) * 20'sd8 - $signed(v)) >>> 3);
@@ -491,7 +496,7 @@ module monitor (
         cover (loss_o);
         cover (over_o && !$past(hold_o) && $past(excl_o));
         cover (stuck_o && $past(pvalid_i) && $past(v3, 4));
-        cover (glitch_o && $past(glitch_k_i) == 4'd3);
+        cover (glitch_o && $past(f_k) == 4'd3);
         cover ($past(pvalid_i && !hold_o) && $past(pvalid_i && hold_o, 2) && chk == 2'd1);
         cover (run1 == 8'd5 && stk2);
         cover ($past(hold_o) && $past(f_clip[5] && over && !loss && !stuck && !f_glitch));
