@@ -63,12 +63,15 @@ lint: deps       ## verilator --lint-only -Wall on the core, the system top and 
 	        /usr/bin/verilator --lint-only -Wall -Irtl -Irtl/tables $$p \
 	            --top-module finequad_multi rtl/finequad_multi.v $(RTL) || exit 1; fi; done
 
+# OPT_FAST/OPT_GLOBAL: verilated.mk compiles the harness and the Verilator runtime with
+# -Os (its OPT_FAST and OPT_GLOBAL, placed after -CFLAGS for harness.cpp) and the model
+# with whatever -CFLAGS says; -O3 everywhere measured 3 to 6 % faster than that.
 $(HARNESS): $(RTL) sim/harness/harness.cpp $(wildcard rtl/tables/*.hex) | deps
 	@mkdir -p $(HDIR)
 	$(VERILATOR) --cc --exe --build -O3 --trace -Wno-fatal -j 2 -Irtl/tables \
 	    -GTABLE_DIR='"$(CURDIR)/rtl/tables/"' -GTABLE_EXACT=$(TABLE_EXACT) -GADC_W=$(ADC_W) \
-	    -GENGINE_LANES=$(LANES) \
-	    -CFLAGS -DADC_W=$(ADC_W) -CFLAGS -O2 --top-module finequad_core \
+	    -GENGINE_LANES=$(LANES) -CFLAGS -DADC_W=$(ADC_W) \
+	    -MAKEFLAGS OPT_FAST=-O3 -MAKEFLAGS OPT_GLOBAL=-O3 --top-module finequad_core \
 	    --Mdir $(HDIR) $(RTL) sim/harness/harness.cpp >/dev/null
 
 rtlsim: $(HARNESS) ## run the RTL (Verilator): IN=in.csv OUT=out.csv INTERP=n [TABLE=paper] [ADC_W=12..16] [DIV=clocks/sample] [COUNT_MODE=0|1] [AB_SEP=s AB_SRC=0|1 AB_BOUND=b] [LANES=1|2] [VCD=x.vcd]
