@@ -22,6 +22,10 @@
 //
 // Timing (the bit-true model uses the same): registers are written on edges 0..7, sample
 // k is strobed on edge T0 + k * div (T0 = 16); edge e is at time e * PERIOD_PS in the VCD.
+//
+// Two builds (Makefile): the harness of `make rtlsim` is built without --trace; given
+// --vcd it hands over to the traced build beside it, <its folder>_vcd/Vfinequad_core
+// (built by `make rtlsim VCD=...` and `make harnesses`).
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -32,6 +36,8 @@
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include <unistd.h>
 
 #include "Vfinequad_core.h"
 #include "verilated.h"
@@ -184,6 +190,22 @@ int main(int argc, char **argv) {
         die("--monitor must be the MONITOR register: bits 23..16 stuck samples, 3..0 glitch "
             "exponent K");
 
+#if !VM_TRACE
+    if (!vcd.empty()) {
+        // this build has no tracing: run the traced one beside it with the same arguments
+        char self[4096];
+        ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
+        std::string traced = n > 0 ? std::string(self, (size_t)n) : std::string(argv[0]);
+        size_t slash = traced.find_last_of('/');
+        traced = (slash == std::string::npos ? std::string(".") : traced.substr(0, slash)) +
+                 "_vcd/Vfinequad_core";
+        if (access(traced.c_str(), X_OK) != 0)
+            die("--vcd: this harness is built without tracing and its traced build " + traced +
+                " is missing (make rtlsim VCD=..., or make harnesses)");
+        execv(traced.c_str(), argv);
+        die("--vcd: cannot run " + traced + ": " + std::strerror(errno));
+    }
+#endif
     std::vector<int> u1, u2;
     Source src;
     src.raw = raw;
@@ -209,10 +231,9 @@ int main(int argc, char **argv) {
         tfp->open(vcd.c_str());
     }
 #else
-    // a harness built without --trace (the fast one): no VCD
+    // the fast build (no VCD here, see above)
     struct NoTrace { void dump(uint64_t) {} void close() {} };
     std::unique_ptr<NoTrace> tfp;
-    if (!vcd.empty()) die("--vcd: this harness was built without tracing (make rtlsim VCD=...)");
 #endif
     // CTRL (0) last: bit 3 the counter mode, bit 0 (covariance reset request) clear
     const long regs[][2] = {{1, interp}, {2, eps}, {3, lam_k}, {4, kappa},
