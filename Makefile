@@ -76,9 +76,15 @@ RTLSIM_VFLAGS = --cc --exe --build -O3 -Wno-fatal -j 2 -Irtl/tables \
 	-GTABLE_DIR='"$(CURDIR)/rtl/tables/"' -GTABLE_EXACT=$(TABLE_EXACT) -GADC_W=$(ADC_W) \
 	-GENGINE_LANES=$(LANES) -CFLAGS -DADC_W=$(ADC_W) \
 	-MAKEFLAGS OPT_FAST=-O3 -MAKEFLAGS OPT_GLOBAL=-O3 --top-module finequad_core
+# RTLSIM_SKIP_NEGEDGE: the fast harness clears the clock's trigger state instead of
+# evaluating the falling edge (harness.cpp), defined only if every event control of the
+# core is @(posedge clk) or @(*): then nothing can happen on a falling edge.
 $(HARNESS): $(RTL) sim/harness/harness.cpp $(wildcard rtl/tables/*.hex) | deps
 	@mkdir -p $(HDIR)
-	$(VERILATOR) $(RTLSIM_VFLAGS) --Mdir $(HDIR) $(RTL) sim/harness/harness.cpp >/dev/null
+	$(VERILATOR) $(RTLSIM_VFLAGS) \
+	    $$(grep -ohE '@[[:space:]]*\([^)]*\)' $(RTL) | tr -d ' \t' | \
+	       grep -qvxE '@\((posedgeclk|\*)\)' || echo -CFLAGS -DRTLSIM_SKIP_NEGEDGE) \
+	    --Mdir $(HDIR) $(RTL) sim/harness/harness.cpp >/dev/null
 
 $(HARNESS_VCD): $(RTL) sim/harness/harness.cpp $(wildcard rtl/tables/*.hex) | deps
 	@mkdir -p $(HDIR)_vcd

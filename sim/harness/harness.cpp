@@ -23,9 +23,10 @@
 // Timing (the bit-true model uses the same): registers are written on edges 0..7, sample
 // k is strobed on edge T0 + k * div (T0 = 16); edge e is at time e * PERIOD_PS in the VCD.
 //
-// Two builds (Makefile): the harness of `make rtlsim` is built without --trace; given
-// --vcd it hands over to the traced build beside it, <its folder>_vcd/Vfinequad_core
-// (built by `make rtlsim VCD=...` and `make harnesses`).
+// Two builds (Makefile): the harness of `make rtlsim` is built without --trace and runs
+// one scheduler pass per clock ("Fast clocking" below); given --vcd it hands over to the
+// traced build beside it, <its folder>_vcd/Vfinequad_core (built by `make rtlsim VCD=...`
+// and `make harnesses`), which calls eval() at both clock edges.
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -40,10 +41,38 @@
 #include <unistd.h>
 
 #include "Vfinequad_core.h"
+#include "Vfinequad_core___024root.h"
 #include "verilated.h"
 #if VM_TRACE
 #include "verilated_vcd_c.h"
 #endif
+
+// Fast clocking, for the harness built without --trace (nothing to dump between edges).
+// Profiled on the demo recording, outside the design's own logic the time went to
+// eval()'s bookkeeping (mutex operations in VlDeleter::deleteAll and in the message-queue
+// flush of Verilated::endOfEval, which serve dynamic objects and messages from other
+// threads: this design and harness have neither) and to the falling-edge eval (which only
+// re-runs the input-combinational logic and records clk = 0 for the next rising edge's
+// trigger: the core has no negedge logic). Both are skipped when the generated model has
+// what that needs, with the plain eval() as the fallback:
+// - Vfinequad_core___024root___eval: the generated scheduler (input-combinational,
+//   active and NBA regions) that eval_step() calls after its one-time initialisation;
+//   declared weak, so a Verilator that names it otherwise links to nullptr and eval().
+// - __Vtrigprevexpr___TOP__clk__0: the previous clk value the rising-edge trigger
+//   compares against; clearing it stands for the falling-edge eval. Only compiled in with
+//   RTLSIM_SKIP_NEGEDGE (the Makefile defines it when every event control of the RTL is
+//   @(posedge clk) or @(*)) and only if the member exists (else the falling edge is
+//   evaluated).
+// sim/tests/test_rtlsim.py (RTL == model, bit for bit) covers both paths' results.
+void Vfinequad_core___024root___eval(Vfinequad_core___024root *) __attribute__((weak));
+
+template <class R>
+static auto clear_prev_clk(R *r, int) -> decltype(r->__Vtrigprevexpr___TOP__clk__0 = 0, true) {
+    r->__Vtrigprevexpr___TOP__clk__0 = 0;
+    return true;
+}
+template <class R>
+static bool clear_prev_clk(R *, long) { return false; }
 
 #ifndef PERIOD_PS
 #define PERIOD_PS 27778  // 36 MHz
@@ -230,10 +259,24 @@ int main(int argc, char **argv) {
         top->trace(tfp.get(), 99);
         tfp->open(vcd.c_str());
     }
+    // the traced build: eval() at both edges (the VCD needs both)
+    auto rise = [&]() { top->eval(); };
+    auto fall = [&]() { top->eval(); };
 #else
     // the fast build (no VCD here, see above)
     struct NoTrace { void dump(uint64_t) {} void close() {} };
     std::unique_ptr<NoTrace> tfp;
+    Vfinequad_core___024root *const root = top->rootp;
+    auto rise = [&]() {
+        if (Vfinequad_core___024root___eval) Vfinequad_core___024root___eval(root);
+        else top->eval();
+    };
+    auto fall = [&]() {
+#ifdef RTLSIM_SKIP_NEGEDGE
+        if (clear_prev_clk(root, 0)) return;
+#endif
+        rise();
+    };
 #endif
     // CTRL (0) last: bit 3 the counter mode, bit 0 (covariance reset request) clear
     const long regs[][2] = {{1, interp}, {2, eps}, {3, lam_k}, {4, kappa},
@@ -250,12 +293,12 @@ int main(int argc, char **argv) {
     if (!have && !raw) die("no samples");
     top->clk = 0;
     top->rst = 0;
-    top->eval();
+    top->eval();                         // the first eval also initialises the model
     if (tfp) tfp->dump(0);
     auto edge = [&](long e) {
         // posedge at time e * PERIOD_PS, negedge half a period later
         top->clk = 1;
-        top->eval();
+        rise();
         if (tfp) tfp->dump((uint64_t)e * PERIOD_PS);
         if (top->m_valid) {
             if (raw) {
@@ -270,7 +313,7 @@ int main(int argc, char **argv) {
             written++;
         }
         top->clk = 0;
-        top->eval();
+        fall();
         if (tfp) tfp->dump((uint64_t)e * PERIOD_PS + PERIOD_PS / 2);
     };
     long e = 0;
