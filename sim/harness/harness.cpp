@@ -22,22 +22,58 @@
 //
 // Timing (the bit-true model uses the same): registers are written on edges 0..7, sample
 // k is strobed on edge T0 + k * div (T0 = 16); edge e is at time e * PERIOD_PS in the VCD.
+//
+// Two builds (Makefile): the harness of `make rtlsim` is built without --trace and runs
+// one scheduler pass per clock ("Fast clocking" below); given --vcd it hands over to the
+// traced build beside it, <its folder>_vcd/Vfinequad_core (built by `make rtlsim VCD=...`
+// and `make harnesses`), which calls eval() at both clock edges.
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <iostream>
+#include <iterator>
 #include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 #include "Vfinequad_core.h"
+#include "Vfinequad_core___024root.h"
 #include "verilated.h"
 #if VM_TRACE
 #include "verilated_vcd_c.h"
 #endif
+
+// Fast clocking, for the harness built without --trace (nothing to dump between edges).
+// Profiled on the demo recording, outside the design's own logic the time went to
+// eval()'s bookkeeping (mutex operations in VlDeleter::deleteAll and in the message-queue
+// flush of Verilated::endOfEval, which serve dynamic objects and messages from other
+// threads: this design and harness have neither) and to the falling-edge eval (which only
+// re-runs the input-combinational logic and records clk = 0 for the next rising edge's
+// trigger: the core has no negedge logic). Both are skipped when the generated model has
+// what that needs, with the plain eval() as the fallback:
+// - Vfinequad_core___024root___eval: the generated scheduler (input-combinational,
+//   active and NBA regions) that eval_step() calls after its one-time initialisation;
+//   declared weak, so a Verilator that names it otherwise links to nullptr and eval().
+// - __Vtrigprevexpr___TOP__clk__0: the previous clk value the rising-edge trigger
+//   compares against; clearing it stands for the falling-edge eval. Only compiled in with
+//   RTLSIM_SKIP_NEGEDGE (the Makefile defines it when every event control of the RTL is
+//   @(posedge clk) or @(*)) and only if the member exists (else the falling edge is
+//   evaluated).
+// sim/tests/test_rtlsim.py (RTL == model, bit for bit) covers both paths' results.
+void Vfinequad_core___024root___eval(Vfinequad_core___024root *) __attribute__((weak));
+
+template <class R>
+static auto clear_prev_clk(R *r, int) -> decltype(r->__Vtrigprevexpr___TOP__clk__0 = 0, true) {
+    r->__Vtrigprevexpr___TOP__clk__0 = 0;
+    return true;
+}
+template <class R>
+static bool clear_prev_clk(R *, long) { return false; }
 
 #ifndef PERIOD_PS
 #define PERIOD_PS 27778  // 36 MHz
@@ -58,35 +94,68 @@ static long parse_long(const std::string &s, const std::string &what) {
     return v;
 }
 
-static std::string trim(std::string s) {
-    while (!s.empty() && (s.back() == '\r' || s.back() == ' ' || s.back() == '\n')) s.pop_back();
-    size_t i = 0;
-    while (i < s.size() && s[i] == ' ') i++;
-    return s.substr(i);
+// The line rules of the CSV input (as trim() of std::string did): trailing '\r', ' ' and
+// '\n' and leading ' ' do not count.
+static void trim(const char *&p, const char *&q) {
+    while (q > p && (q[-1] == '\r' || q[-1] == ' ' || q[-1] == '\n')) q--;
+    while (p < q && *p == ' ') p++;
 }
 
+static long parse_field(const char *p, const char *q, const std::string &path, long ln,
+                        const char *name) {
+    trim(p, q);
+    char tmp[64];
+    if ((size_t)(q - p) < sizeof tmp) {
+        // the common case without a std::string: strtol on a NUL-terminated copy
+        std::memcpy(tmp, p, (size_t)(q - p));
+        tmp[q - p] = '\0';
+        errno = 0;
+        char *end = nullptr;
+        long v = std::strtol(tmp, &end, 10);
+        if (!errno && end != tmp && *end == '\0') return v;
+    }
+    // long fields and every error
+    return parse_long(std::string(p, q), path + ":" + std::to_string(ln) + ": " + name);
+}
+
+// The whole file is read at once and split into lines in place (std::getline and
+// std::string per line were about 2 % of a run); messages name the file and line.
 static void read_csv(const std::string &path, std::vector<int> &u1, std::vector<int> &u2) {
-    std::ifstream f(path);
+    std::ifstream f(path, std::ios::binary);
     if (!f) die("cannot open input '" + path + "'");
-    std::string line;
-    if (!std::getline(f, line)) die(path + ":1: empty file (expected header 'u1,u2')");
-    if (trim(line) != "u1,u2")
-        die(path + ":1: header is '" + trim(line) + "', expected 'u1,u2'");
+    std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    const char *s = text.data(), *const end = s + text.size();
+    auto next_line = [&](const char *&p, const char *&q) {
+        if (s >= end) return false;
+        p = s;
+        q = static_cast<const char *>(std::memchr(s, '\n', (size_t)(end - s)));
+        if (!q) q = end;
+        s = q < end ? q + 1 : end;
+        return true;
+    };
+    const char *p, *q;
+    if (!next_line(p, q)) die(path + ":1: empty file (expected header 'u1,u2')");
+    trim(p, q);
+    if (std::string(p, q) != "u1,u2")
+        die(path + ":1: header is '" + std::string(p, q) + "', expected 'u1,u2'");
     const long lo = -(1L << (ADC_W - 1)), hi = (1L << (ADC_W - 1)) - 1;
     long ln = 1;
-    while (std::getline(f, line)) {
+    u1.reserve(text.size() / 8);
+    u2.reserve(text.size() / 8);
+    while (next_line(p, q)) {
         ln++;
-        line = trim(line);
-        if (line.empty()) continue;
-        size_t c = line.find(',');
-        if (c == std::string::npos || line.find(',', c + 1) != std::string::npos)
-            die(path + ":" + std::to_string(ln) + ": expected two values 'u1,u2', got '" + line + "'");
-        std::string where = path + ":" + std::to_string(ln);
-        long a = parse_long(trim(line.substr(0, c)), where + ": u1");
-        long b = parse_long(trim(line.substr(c + 1)), where + ": u2");
+        trim(p, q);
+        if (p == q) continue;
+        const char *c = static_cast<const char *>(std::memchr(p, ',', (size_t)(q - p)));
+        if (!c || std::memchr(c + 1, ',', (size_t)(q - c - 1)))
+            die(path + ":" + std::to_string(ln) + ": expected two values 'u1,u2', got '" +
+                std::string(p, q) + "'");
+        long a = parse_field(p, c, path, ln, "u1");
+        long b = parse_field(c + 1, q, path, ln, "u2");
         if (a < lo || a > hi || b < lo || b > hi)
-            die(where + ": code out of the signed " + std::to_string(ADC_W) +
-                "-bit range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]: '" + line + "'");
+            die(path + ":" + std::to_string(ln) + ": code out of the signed " +
+                std::to_string(ADC_W) + "-bit range [" + std::to_string(lo) + ", " +
+                std::to_string(hi) + "]: '" + std::string(p, q) + "'");
         u1.push_back((int)a);
         u2.push_back((int)b);
     }
@@ -120,6 +189,37 @@ struct Source {
         }
         count++;
         return true;
+    }
+};
+
+// The output rows "count,a,b,fault\n" (decimal, as printf's %d would write them), formatted
+// into a buffer written in large blocks: fprintf per row was about 1 % of a run.
+struct CsvOut {
+    FILE *f = nullptr;
+    char buf[1 << 16];
+    size_t n = 0;
+    void flush() {
+        if (n && std::fwrite(buf, 1, n, f) != n) die("cannot write the output file");
+        n = 0;
+    }
+    void num(long v) {
+        char tmp[24];
+        int k = 0;
+        unsigned long u = v < 0 ? 0UL - (unsigned long)v : (unsigned long)v;
+        do tmp[k++] = (char)('0' + u % 10); while (u /= 10);
+        if (v < 0) buf[n++] = '-';
+        while (k) buf[n++] = tmp[--k];
+    }
+    void row(long count, long a, long b, long fault) {
+        if (n > sizeof buf - 96) flush();
+        num(count);
+        buf[n++] = ',';
+        num(a);
+        buf[n++] = ',';
+        num(b);
+        buf[n++] = ',';
+        num(fault);
+        buf[n++] = '\n';
     }
 };
 
@@ -184,6 +284,22 @@ int main(int argc, char **argv) {
         die("--monitor must be the MONITOR register: bits 23..16 stuck samples, 3..0 glitch "
             "exponent K");
 
+#if !VM_TRACE
+    if (!vcd.empty()) {
+        // this build has no tracing: run the traced one beside it with the same arguments
+        char self[4096];
+        ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
+        std::string traced = n > 0 ? std::string(self, (size_t)n) : std::string(argv[0]);
+        size_t slash = traced.find_last_of('/');
+        traced = (slash == std::string::npos ? std::string(".") : traced.substr(0, slash)) +
+                 "_vcd/Vfinequad_core";
+        if (access(traced.c_str(), X_OK) != 0)
+            die("--vcd: this harness is built without tracing and its traced build " + traced +
+                " is missing (make rtlsim VCD=..., or make harnesses)");
+        execv(traced.c_str(), argv);
+        die("--vcd: cannot run " + traced + ": " + std::strerror(errno));
+    }
+#endif
     std::vector<int> u1, u2;
     Source src;
     src.raw = raw;
@@ -208,11 +324,24 @@ int main(int argc, char **argv) {
         top->trace(tfp.get(), 99);
         tfp->open(vcd.c_str());
     }
+    // the traced build: eval() at both edges (the VCD needs both)
+    auto rise = [&]() { top->eval(); };
+    auto fall = [&]() { top->eval(); };
 #else
-    // a harness built without --trace (the fast one): no VCD
+    // the fast build (no VCD here, see above)
     struct NoTrace { void dump(uint64_t) {} void close() {} };
     std::unique_ptr<NoTrace> tfp;
-    if (!vcd.empty()) die("--vcd: this harness was built without tracing (make rtlsim VCD=...)");
+    Vfinequad_core___024root *const root = top->rootp;
+    auto rise = [&]() {
+        if (Vfinequad_core___024root___eval) Vfinequad_core___024root___eval(root);
+        else top->eval();
+    };
+    auto fall = [&]() {
+#ifdef RTLSIM_SKIP_NEGEDGE
+        if (clear_prev_clk(root, 0)) return;
+#endif
+        rise();
+    };
 #endif
     // CTRL (0) last: bit 3 the counter mode, bit 0 (covariance reset request) clear
     const long regs[][2] = {{1, interp}, {2, eps}, {3, lam_k}, {4, kappa},
@@ -229,12 +358,14 @@ int main(int argc, char **argv) {
     if (!have && !raw) die("no samples");
     top->clk = 0;
     top->rst = 0;
-    top->eval();
+    top->eval();                         // the first eval also initialises the model
     if (tfp) tfp->dump(0);
+    CsvOut csv;
+    if (!raw) csv.f = fo;
     auto edge = [&](long e) {
         // posedge at time e * PERIOD_PS, negedge half a period later
         top->clk = 1;
-        top->eval();
+        rise();
         if (tfp) tfp->dump((uint64_t)e * PERIOD_PS);
         if (top->m_valid) {
             if (raw) {
@@ -243,13 +374,12 @@ int main(int argc, char **argv) {
                     (uint8_t)top->m_b};
                 if (std::fwrite(&r, sizeof r, 1, fo) != 1) die("--raw: cannot write stdout");
             } else {
-                std::fprintf(fo, "%d,%d,%d,%d\n", (int)(int32_t)top->m_count, top->m_a,
-                             top->m_b, top->m_fault);
+                csv.row((int32_t)top->m_count, top->m_a, top->m_b, top->m_fault);
             }
             written++;
         }
         top->clk = 0;
-        top->eval();
+        fall();
         if (tfp) tfp->dump((uint64_t)e * PERIOD_PS + PERIOD_PS / 2);
     };
     long e = 0;
@@ -288,8 +418,12 @@ int main(int argc, char **argv) {
         }
         std::fprintf(stderr, "\n");
     }
-    if (fo != stdout) std::fclose(fo);
-    else std::fflush(fo);
+    csv.flush();
+    if (fo != stdout) {
+        if (std::fclose(fo) != 0) die("cannot write '" + out + "'");
+    } else {
+        std::fflush(fo);
+    }
     if (tfp) tfp->close();
     top->final();
     if (written != strobed)
