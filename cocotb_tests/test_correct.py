@@ -3,7 +3,7 @@ correct (bit for bit), for 16- and 12-bit ADC codes.
 
 Timing (rtl/correct.v; sim.model.core.CORR_AT): a sample with its coefficient bundle
 presented for edge e gives raw1_o, raw2_o, amax_o, clip_o, nsat_o, dsat_o, valid0_o after
-edge e, and ax_o, ay_o, xn_o, yn_o, rsat_o, valid_o after edge e + CORR_AT. Every output
+edge e, and ax_o, ay_o, xn_o, yn_o, rsat_o, zl_o, valid_o after edge e + CORR_AT. Every output
 of every sample is checked; the valid outputs must be high after exactly those edges.
 Samples are streamed back to back (one per clock) and with idle gaps (the data inputs
 carry garbage while valid_i is low).
@@ -16,7 +16,8 @@ of the low 13 bits of p12 + p2 into v2 >> 13 (exactly 2**13 and one short of it,
 zero, both signs), the truncation of (v ^ sign) >> 13 at multiples of 2**13 +-1 for both
 signs; then seeded random bundles, realistic (a calibration's range) and arbitrary.
 Model values: fastpath.align and fastpath.correct; amax_o is max(|raw1|, |raw2|) capped at
-32767, as sim.model.core computes the estimator's peak."""
+32767, as sim.model.core computes the estimator's peak; zl_o = fastpath.lzc15(ax | ay),
+the octant's normalising shift."""
 import random
 
 import pytest
@@ -143,7 +144,8 @@ def model(vec, adc_w):
     fr = fp.correct(r1, r2, g, m1, m2, c1, c12, c2)
     amax = np.minimum(np.maximum(np.abs(r1), np.abs(r2)), 32767)
     early = zip(r1, r2, amax, k1 | k2, fr["nsat"], fr["dsat"])
-    late = zip(fr["ax"], fr["ay"], fr["xn"], fr["yn"], fr["rsat"])
+    late = zip(fr["ax"], fr["ay"], fr["xn"], fr["yn"], fr["rsat"],
+               fp.lzc15(fr["ax"] | fr["ay"]))
     return ([tuple(int(x) for x in t) for t in early],
             [tuple(int(x) for x in t) for t in late])
 
@@ -187,9 +189,9 @@ async def stream(dut, vec, gaps, rng, adc_w):
             if e in at2:
                 i = at2[e]
                 got = (fqtb.uval(dut.ax_o), fqtb.uval(dut.ay_o), fqtb.uval(dut.xn_o),
-                       fqtb.uval(dut.yn_o), fqtb.uval(dut.rsat_o))
+                       fqtb.uval(dut.yn_o), fqtb.uval(dut.rsat_o), fqtb.uval(dut.zl_o))
                 if got != late[i]:
-                    bad.append(f"sample {i} {vec[i]} edge t+{CORR_AT}: (ax,ay,xn,yn,rsat)="
+                    bad.append(f"sample {i} {vec[i]} edge t+{CORR_AT}: (ax,ay,xn,yn,rsat,zl)="
                                f"{got}, model {late[i]}")
                 seen += 1
         nxt = e + 1

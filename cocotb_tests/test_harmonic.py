@@ -5,18 +5,22 @@ bit, every output, every sample.
 Block (test_harmonic). Timing, from rtl/harmonic.v's header, with the offsets that the
 core model has taken from sim.model.core (HARM_AT, ADDR_AT, PHASE_AT): a sample arrives on
 the edge a on which valid_i is high (t + HARM_AT in the core), with oct2_i and neg_i;
-bin_i is presented for edge a + BIN_AT (ADDR_AT - HARM_AT: the tables are read) and ph_i
+t_i (the octant address's scale, from which rtl/hbin.v finds the bin) is presented for
+edge a + BIN_AT (ADDR_AT - HARM_AT: the tables are read) and ph_i
 for edge a + OUT_AT (PHASE_AT - HARM_AT), after which phase_o, phase_c_o and valid_o hold
 the sample. apply_i is sampled on a + APPLY_AT (1), learn_i and mu_i on a + LEARN_AT (5)
 (the header's numbers: sim.model has no names for them); a clear_i pulse on edge w
 empties the table for the samples arriving on edges >= w and blocks (no correction, no
-learning) those arriving on w .. w + SWEEP (harmonic.sweep_flags). oct2_i, neg_i, bin_i
+learning) those arriving on w .. w + SWEEP (harmonic.sweep_flags). oct2_i, neg_i, t_i
 and ph_i carry a sample's values only on the edge they are read on and garbage on every
 other edge; apply_i, learn_i and mu_i are levels (the core's registers).
 The stimulus is a stream of angles (a moving stage with a periodic error and noise) made
 into corrected signals on a circle and put through sim.model.fastpath.octant and Lut
-(front()), so that oct2 (base / 2048), neg, ph = PH[j] and bin = phase >> 7 are what the
-core's octant and phase table give. Checked: phase_o equals the model's fine phase
+(front()), so that oct2 (base / 2048), neg, t (fastpath.scale), ph = PH[j] and the
+model's bin = phase >> 7 are what the core's octant and phase table give (hbin(t) = bin:
+cocotb_tests/test_hbin.py). Both table memories: block RAM (OPT_DISTRAM = 0, read on
+a + 1 with the same-edge collision undone) and distributed RAM (OPT_DISTRAM = 1, read after
+a + 1 from copies written one edge late). Checked: phase_o equals the model's fine phase
 (Lut.phase) and phase_c_o the output of sim.model.harmonic.Harmonic.run, for every
 sample; valid_o is high after exactly the edges a + OUT_AT; the model learns (more than
 one update per 40 samples).
@@ -97,7 +101,7 @@ from sim.model import tables
 # phase table and the harmonic table are read on t + ADDR_AT, the phases registered on
 # t + PHASE_AT (sim/model/core.py).
 ARRIVE_AT = core_model.HARM_AT
-BIN_AT = core_model.ADDR_AT - ARRIVE_AT       # bin_i read
+BIN_AT = core_model.ADDR_AT - ARRIVE_AT       # t_i read
 OUT_AT = core_model.PHASE_AT - ARRIVE_AT      # ph_i used; phase_o, phase_c_o, valid_o after
 # The block's register sampling, as rtl/harmonic.v's header states it (sim/model has no
 # names for them; core.Config's harm_* text uses the same offsets).
@@ -111,11 +115,14 @@ SAMPLES = {"icarus": {"gaps": 6000, "b2b": 10000},
            "verilator": {"gaps": 40000, "b2b": 60000}}
 
 
+@pytest.mark.parametrize("distram", [0, 1], ids=["BRAM", "DISTRAM"])
 @pytest.mark.parametrize("pattern", list(PATTERNS))
 @pytest.mark.parametrize("sim", fqtb.SIMULATORS)
-def test_harmonic(sim, pattern):
+def test_harmonic(sim, pattern, distram):
     n = SAMPLES[sim].get(pattern, 0)
-    fqtb.run_block(sim, "harmonic", fqtb.sources("harmonic"), "test_harmonic",
+    exact = int(PATTERNS[pattern] == "exact")
+    fqtb.run_block(sim, "harmonic", fqtb.sources("harmonic", "hbin"), "test_harmonic",
+                   parameters=dict(TABLE_EXACT=exact, OPT_DISTRAM=distram),
                    extra_env=dict(PATTERN=pattern, SAMPLES=n), testcase="harmonic_stream")
 
 
@@ -166,16 +173,18 @@ def front(x, kind, rng, spread):
     """What the core's octant and phase table give for a stream of angles x (float, phase
     units): corrected signals on a circle of radius 16384 (1 +- spread) (s2.14, rounded)
     through sim.model.fastpath.octant and Lut(kind). Returns int64 arrays oct2 (base
-    phase / 2048), neg, ph = PH[j], bin = phase >> 7 and phase (Lut.phase)."""
+    phase / 2048), neg, t = the address's scale (fastpath.scale), ph = PH[j], bin = phase
+    >> 7 and phase (Lut.phase)."""
     a = 2 * np.pi * np.asarray(x, dtype=float) / tables.PH_PERIOD
     r = 16384.0 * (1.0 + spread * (2.0 * rng.random(len(a)) - 1.0))
     u1 = np.rint(r * np.cos(a)).astype(np.int64)
     u2 = np.rint(r * np.sin(a)).astype(np.int64)
-    j, base, neg = fp.octant(np.minimum(np.abs(u1), 32767), np.minimum(np.abs(u2), 32767),
-                             u1 < 0, u2 < 0, kind)
+    ax, ay = np.minimum(np.abs(u1), 32767), np.minimum(np.abs(u2), 32767)
+    j, base, neg = fp.octant(ax, ay, u1 < 0, u2 < 0, kind)
     lut = fp.Lut(kind)
     phase = lut.phase(j, base, neg)
-    return dict(oct2=base // (tables.PH_PERIOD // 4), neg=neg, ph=lut.ph[j],
+    return dict(oct2=base // (tables.PH_PERIOD // 4), neg=neg, t=fp.scale(ax, ay, kind),
+                ph=lut.ph[j],
                 bin=phase >> hm.BIN_SHIFT, phase=phase)
 
 
@@ -673,7 +682,7 @@ async def harmonic_stream(dut):
 
     bench = fqtb.ClockedBench(dut)
     a0, l0, m0 = st.ctrl[0]
-    pin = _Pins(dut, valid_i=0, oct2_i=0, neg_i=0, bin_i=0, ph_i=0, apply_i=a0, learn_i=l0,
+    pin = _Pins(dut, valid_i=0, oct2_i=0, neg_i=0, t_i=0, ph_i=0, apply_i=a0, learn_i=l0,
                 mu_i=m0 - hm.MU_MIN, clear_i=0)
     await bench.start()
     vlog = []
@@ -692,7 +701,7 @@ async def harmonic_stream(dut):
         pin["oct2_i"] = f["oct2"][k] if k is not None else junk.randrange(4)
         pin["neg_i"] = f["neg"][k] if k is not None else junk.randrange(2)
         k = bins.get(nxt)
-        pin["bin_i"] = f["bin"][k] if k is not None else junk.randrange(64)
+        pin["t_i"] = f["t"][k] if k is not None else junk.randrange(4096)
         k = phs.get(nxt)
         pin["ph_i"] = f["ph"][k] if k is not None else junk.randrange(4096)
         if nxt in st.ctrl:
@@ -705,7 +714,8 @@ async def harmonic_stream(dut):
     bad = [k for k in range(n) if got[k] != want[k]]
     if bad:
         lines = [f"sample {k} (arrival edge {edges[k]}, oct2 {f['oct2'][k]}, neg "
-                 f"{f['neg'][k]}, ph {f['ph'][k]}, bin {f['bin'][k]}): rtl (phase, corrected)"
+                 f"{f['neg'][k]}, t {f['t'][k]}, ph {f['ph'][k]}, bin {f['bin'][k]}): rtl "
+                 f"(phase, corrected)"
                  f" {got[k]}, model {want[k]}" for k in bad[:12]]
         raise AssertionError(f"{len(bad)} of {n} samples differ, first:\n" + "\n".join(lines))
     assert h.learned > n // 40, f"only {h.learned} updates: the stimulus hardly learns"

@@ -5,14 +5,16 @@ product (DSP `*` and the carry-save rows in logic).
 
 Timing (rtl/lut.v header; sim.model.core ADDR_AT, PHASE_AT, NTH_AT, SIN_AT): an address
 j_i presented for edge A (= t + ADDR_AT in the core) gives ph_o = PH[j] after edge A (the
-block RAM's output register). A fine phase with n_i presented for edge E (valid_i; the
+block RAM's output register); with OPT_PHASE_4K the scale t_i instead (rtl/octant.v t_o,
+j = min(2047, (t + 1) >> 1)), PH of that j, and j_i carries garbage (t_i does without
+OPT_PHASE_4K). A fine phase with n_i presented for edge E (valid_i; the
 phase is registered on t + PHASE_AT, so E = t + PHASE_AT + 1) gives nth_valid_o and
 prod_o = n * phase (u22) after edge E + (NTH_AT - PHASE_AT - 1), and valid_o, pn_o =
 prod mod 8192 and the sines (magnitude, and sign from pn's quadrant: cos negative for
 (pn + 2048) mod 8192 >= 4096, sin for pn >= 4096; the signed values equal Lut.nth's)
 after edge E + (SIN_AT - PHASE_AT - 1).
 
-Vectors: the phase table at every address, then random addresses; the n-th order at
+Vectors: the phase table at every address (OPT_PHASE_4K: every t), then random ones; the n-th order at
 every n from 0 to 511 (with the phase extremes 0, 8191, around 4096 and a random one),
 every phase with n = 1 (every sine address in every quadrant, for the cosine and the
 sine: checked before the run), every phase of a stride with n = 511, walking ones and
@@ -25,17 +27,18 @@ import pytest
 
 import fqtb
 
-PARAMS = [(1, 10, 1), (0, 10, 0), (1, 8, 0), (1, 12, 1), (1, 16, 0)]   # EXACT, SIN_W, DSP
+# EXACT, SIN_W, DSP, PHASE_4K
+PARAMS = [(1, 10, 1, 0), (0, 10, 0, 0), (1, 8, 0, 0), (1, 12, 1, 1), (1, 16, 0, 0)]
 
 
-@pytest.mark.parametrize("exact,sin_w,dsp", PARAMS,
-                         ids=[f"EXACT{a}-SIN{b}-DSP{c}" for a, b, c in PARAMS])
+@pytest.mark.parametrize("exact,sin_w,dsp,ph4k", PARAMS,
+                         ids=[f"EXACT{a}-SIN{b}-DSP{c}-PH4K{d}" for a, b, c, d in PARAMS])
 @pytest.mark.parametrize("sim", fqtb.SIMULATORS)
-def test_lut(sim, exact, sin_w, dsp):
+def test_lut(sim, exact, sin_w, dsp, ph4k):
     fqtb.run_block(sim, "lut", fqtb.sources("lut"), "test_lut",
                    parameters=dict(TABLE_DIR=fqtb.qstr(fqtb.TABLE_DIR), TABLE_EXACT=exact,
-                                   SIN_W=sin_w, OPT_NTH_DSP=dsp),
-                   extra_env=dict(TABLE_EXACT=exact, SIN_W=sin_w))
+                                   SIN_W=sin_w, OPT_NTH_DSP=dsp, OPT_PHASE_4K=ph4k),
+                   extra_env=dict(TABLE_EXACT=exact, SIN_W=sin_w, PH4K=ph4k))
 
 
 # ---- cocotb side ------------------------------------------------------------------------
@@ -96,10 +99,12 @@ async def lut_all(dut):
     d_prod = core.NTH_AT - core.PHASE_AT - 1      # prod_o after edge E + d_prod
     d_sin = core.SIN_AT - core.PHASE_AT - 1       # sines after edge E + d_sin
 
-    # phase-table stream: every address, then random ones
-    js = list(range(2048)) + [rng.randint(0, 2047) for _ in range(2000)]
+    # phase-table stream: every address (every t with OPT_PHASE_4K), then random ones
+    ph4k = fqtb.env_int("PH4K")
+    n_a = 4096 if ph4k else 2048
+    js = list(range(n_a)) + [rng.randint(0, n_a - 1) for _ in range(2000)]
     nth = nth_vectors(rng)
-    ph_exp = [int(lut.ph[j]) for j in js]
+    ph_exp = [int(lut.ph[min(2047, (j + 1) >> 1) if ph4k else j]) for j in js]
     a = np.array(nth, dtype=np.int64)
     prod, pn, cosn, sinn = lut.nth(a[:, 0], a[:, 1])
     check_sine_coverage(pn.tolist())
@@ -126,7 +131,8 @@ async def lut_all(dut):
                 got = fqtb.uval(dut.ph_o)
                 checked[0] += 1
                 if got != ph_exp[i]:
-                    bad.append(f"j={js[i]}: ph_o={got}, model {ph_exp[i]}")
+                    bad.append(f"{'t' if ph4k else 'j'}={js[i]}: ph_o={got}, "
+                               f"model {ph_exp[i]}")
             nv, v = fqtb.uval(dut.nth_valid_o), fqtb.uval(dut.valid_o)
             if (nv == 1) != (e in p_out):
                 bad.append(f"nth_valid_o={nv} after edge {e}")
@@ -153,7 +159,9 @@ async def lut_all(dut):
                     bad.append(f"(phase,n)={nth[i]}: (pn,|cos|,cneg,|sin|,sneg)={got}, "
                                f"model {want} (cos, sin = {c}, {s})")
         nxt = e + 1
-        dut.j_i.value = js[j_at[nxt]] if nxt in j_at else rng.randint(0, 2047)
+        a_in = js[j_at[nxt]] if nxt in j_at else rng.randint(0, n_a - 1)
+        dut.j_i.value = rng.randint(0, 2047) if ph4k else a_in     # the other: garbage
+        dut.t_i.value = a_in if ph4k else rng.randint(0, 4095)
         if nxt in n_at:
             p, n = nth[n_at[nxt]]
             dut.valid_i.value = 1

@@ -1,14 +1,17 @@
-"""octant (Table 2 and the harmonic bin) against sim.model.fastpath.octant and Lut.phase,
+"""octant (Table 2 and the address's scale) against sim.model.fastpath.octant and scale,
 both table kinds, bit for bit: every output of every sample, and valid_o on every edge.
 
 Timing (rtl/octant.v header; sim.model.core CORR_AT, OCT_AT, ADDR_AT): the magnitudes and
 signs presented for edge E (= t + CORR_AT + 1 in the core, the edge after correct
-registers them) give valid_o, oct2_o and neg_o after edge E + (OCT_AT - CORR_AT - 1), and
-j_o and bin_o (combinational, read by the block RAMs on edge t + ADDR_AT) after edge
+registers them), with zl_i = lzc15(ax | ay) (rtl/correct.v forms it beside them), give
+valid_o, oct2_o and neg_o after edge E + (OCT_AT - CORR_AT - 1), and j_o and t_o
+(combinational, read by the block RAMs on edge t + ADDR_AT) after edge
 E + (ADDR_AT - CORR_AT - 2). Expected values: oct2_o = the model's base / 2048, neg_o its
 neg, j_o its j (exact: round(2048 |small| / |large|) through the reciprocal table and the
-multiply, clipped at 2047; paper: min(2047, (|small| + 4) >> 3)), bin_o = phase >> 7 of
-the phase the model's table gives (Lut.phase), the bin core.Core hands the harmonic block.
+multiply, clipped at 2047; paper: min(2047, (|small| + 4) >> 3)), t_o its scale
+(fastpath.scale: exact min(4095, floor(p / 2**15)) of the ratio product, so that j =
+(t + 1) >> 1 clipped; paper 2 j): the address of the 4096-row phase table and the input of
+the harmonic bin (rtl/hbin.v, tested exhaustively over t in test_hbin.py).
 
 Vectors (ax, ay, xn, yn), u15 magnitudes and signs as rtl/correct.v delivers them:
   - directed: every pair of special signed values (zero, +-1, the paper address's rounding
@@ -18,13 +21,14 @@ Vectors (ax, ay, xn, yn), u15 magnitudes and signs as rtl/correct.v delivers the
     their neighbours (ties take the low octant) in all quadrants; "negative zeros" (a
     zero magnitude with its sign bit set: correct gives |u| = 0, sign 1 for sums in
     [-8192, -1]) with every sign combination;
-  - every harmonic bin threshold T of both sets (floor for neg = 0, ceil for neg = 1):
+  - every harmonic bin threshold T of both sets (floor for neg = 0, ceil for neg = 1),
+    so that t_o is right on both sides of every threshold rtl/hbin.v compares it with:
     for |large| from 128 to 32767 (normalising shifts 0 to 7 at both ends of the
     reciprocal table, the unit circle, the rail, a few random; paper: three |large|) the
     last |small| with j < T and the first with j >= T (found with the model), each in two
     octants with neg = 0 and two with neg = 1; the test checks that j = T - 1 and j = T
     are both reached with both values of neg before it runs;
-  - a sweep of the bin logic's whole input scale (rtl/octant.v's t = floor(p / 2**15):
+  - a sweep of t_o's whole scale (rtl/octant.v's t = floor(p / 2**15):
     every t from 0 to 4095 and the clip, exact table; every j, paper table), once with
     neg = 0 and once with neg = 1, the octant drawn at random;
   - seeded random: any magnitudes and signs, on and around the unit circle (16384), near
@@ -130,7 +134,7 @@ def threshold_vectors(kind, rng):
 
 
 def sweep_vectors(exact, rng):
-    """Every value of the bin logic's scale t (rtl/octant.v: exact t = floor(p / 2**15),
+    """Every value of the address's scale t (rtl/octant.v: exact t = floor(p / 2**15),
     p = sn * RECIP[ln[13:5]], here with |large| = 32767: ln = 32767, sn = |small| >> 1;
     paper t = 2 j) and the exact table's clip, each once with neg = 0 and once with
     neg = 1 in a random octant. Returns (vectors, t of each)."""
@@ -218,10 +222,13 @@ async def octant_all(dut):
     js = j[len(head):len(head) + len(sweep)]
     assert js.tolist() == [min(2047, (t + 1) >> 1) if exact else t >> 1 for t in sweep_t]
     assert len(set(sweep_t)) == (4097 if exact else 2048)
+    t = fp.scale(a[:, 0], a[:, 1], kind)
+    # the sweep's t is the model's too
+    assert t[len(head):len(head) + len(sweep)].tolist() == [min(4095, x) for x in sweep_t]
     exp1 = list(zip((base >> 11).tolist(), neg.tolist()))
-    exp2 = list(zip(j.tolist(), (phase >> 7).tolist()))
+    exp2 = list(zip(j.tolist(), t.tolist()))
     d1 = core.OCT_AT - core.CORR_AT - 1          # valid, oct2, neg: after edge E + d1
-    d2 = core.ADDR_AT - core.CORR_AT - 2         # j, bin: after edge E + d2
+    d2 = core.ADDR_AT - core.CORR_AT - 2         # j, t: after edge E + d2
 
     # back to back, then a random subset with idle clocks in between
     order = list(range(len(vec))) + rng.sample(range(len(vec)), N_GAPPED)
@@ -250,10 +257,10 @@ async def octant_all(dut):
                     bad.append(f"(ax,ay,xn,yn)={vec[i]}: (oct2,neg)={got}, model {exp1[i]}")
             if e in at2:
                 i = at2[e]
-                got = (fqtb.uval(dut.j_o), fqtb.uval(dut.bin_o))
+                got = (fqtb.uval(dut.j_o), fqtb.uval(dut.t_o))
                 checked += 1
                 if got != exp2[i]:
-                    bad.append(f"(ax,ay,xn,yn)={vec[i]}: (j,bin)={got}, model {exp2[i]}")
+                    bad.append(f"(ax,ay,xn,yn)={vec[i]}: (j,t)={got}, model {exp2[i]}")
         if e + 1 in by_edge:
             x = vec[by_edge[e + 1]]
             dut.valid_i.value = 1
@@ -262,10 +269,12 @@ async def octant_all(dut):
                  rng.randint(0, 1))
             dut.valid_i.value = 0
         dut.ax_i.value, dut.ay_i.value, dut.xn_i.value, dut.yn_i.value = x
+        dut.zl_i.value = int(fp.lzc15(x[0] | x[1]))
         await bench.step()
         if len(bad) > 50:
             break
     assert not bad, f"{len(bad)} mismatches:\n" + "\n".join(bad[:20])
     assert checked == len(order)
-    dut._log.info("octant (%s table): %d samples (%d distinct) equal, %d distinct bins",
-                  kind, len(order), len(set(vec)), len(set(b for _, b in exp2)))
+    dut._log.info("octant (%s table): %d samples (%d distinct) equal, %d distinct t, "
+                  "%d distinct bins", kind, len(order), len(set(vec)),
+                  len(set(x for _, x in exp2)), len(set((phase >> 7).tolist())))

@@ -10,6 +10,7 @@ rtl/counter.v
 rtl/estimator.v
 rtl/rls_engine.v
 rtl/harmonic.v
+rtl/hbin.v
 rtl/phase.v
 rtl/monitor.v
 rtl/abgen.v

@@ -34,12 +34,9 @@
 //   Candidates are 8 or more samples apart, so at most one update is in flight and the
 //   learning view is the table itself.
 //
-// The bin, found from the octant address's scale t_i (rtl/octant.v t_o: j >= T <=> t >=
-// 2 T - 1) before the phase table is read, counts the thresholds of rtl/tables/hbin.vh
-// (sim/model/tables.py bin_buckets): in t's bucket bk = t >> 8 of 256, N[bk] below it and
-// c = (t & 255) >= T[bk] inside it, b = (16 oct2 + N + c) mod 64, or (16 oct2 - N - c)
-// mod 64 when neg. The two candidates b0 (c = 0) and b1 (c = 1) need only bk, so both
-// words are read and c selects one afterwards: the comparison is off the address path.
+// The bin is found from the octant address's scale t_i (rtl/octant.v t_o) before the
+// phase table is read (rtl/hbin.v): its two candidates b0, b1 need only t's bucket, so
+// both words are read and the comparison inside the bucket (c) selects one afterwards.
 //
 // Timing, a = the edge on which valid_i is high (the sample's arrival; t + 4 in the core):
 //   a      candidate decision; commit (RAM write and R) of the candidate k - 7
@@ -87,37 +84,6 @@ module harmonic #(
                                             // sum of two registers)
 );
     localparam [22:0] R0 = -23'sd8192;
-`include "hbin.vh"
-    localparam [63:0]  HB_LO_N = TABLE_EXACT ? HB_LO_EXACT_N : HB_LO_PAPER_N;
-    localparam [143:0] HB_LO_T = TABLE_EXACT ? HB_LO_EXACT_T : HB_LO_PAPER_T;
-    localparam [63:0]  HB_HI_N = TABLE_EXACT ? HB_HI_EXACT_N : HB_HI_PAPER_N;
-    localparam [143:0] HB_HI_T = TABLE_EXACT ? HB_HI_EXACT_T : HB_HI_PAPER_T;
-    // b = (16 oct2 + cnt) mod 64, or (16 oct2 - cnt) mod 64 when neg, cnt = N + c <= 12:
-    // {oct2 - br, lo} with {br, lo} from these per bucket and c (no adder)
-    function [79:0] offsets(input [63:0] nt, input neg, input inc);
-        integer k;
-        reg [3:0] cn;
-        begin
-            for (k = 0; k < 16; k = k + 1) begin
-                cn = nt[4*k +: 4] + {3'd0, inc};
-                offsets[5*k +: 5] = neg ? {cn != 4'd0, 4'd0 - cn} : {1'b0, cn};
-            end
-        end
-    endfunction
-    localparam [79:0] OFF_LO0 = offsets(HB_LO_N, 1'b0, 1'b0);
-    localparam [79:0] OFF_LO1 = offsets(HB_LO_N, 1'b0, 1'b1);
-    localparam [79:0] OFF_HI0 = offsets(HB_HI_N, 1'b1, 1'b0);
-    localparam [79:0] OFF_HI1 = offsets(HB_HI_N, 1'b1, 1'b1);
-    // the offsets {o1, o0} of the candidates in direction neg and bucket bk, and the
-    // candidates {b1, b0} in octant oct2
-    function automatic [9:0] offs(input neg, input [3:0] bk);
-        offs = neg ? {OFF_HI1[5*bk +: 5], OFF_HI0[5*bk +: 5]}
-                   : {OFF_LO1[5*bk +: 5], OFF_LO0[5*bk +: 5]};
-    endfunction
-    function automatic [11:0] cands(input [1:0] oct2, input [9:0] o);
-        cands = {oct2 - {1'b0, o[9]}, o[8:5], oct2 - {1'b0, o[4]}, o[3:0]};
-    endfunction
-
     // ---- table RAM -------------------------------------------------------------------------
     // Two copies written alike, one per candidate's read (b0 from mem0, b1 from mem1): two
     // block RAMs, or distributed RAM. (One memory with two read ports whose outputs are
@@ -189,9 +155,21 @@ module harmonic #(
     wire [5:0]  swa = 6'd0 - swp[5:0];          // sweep address 0, 1, .., 63
     wire [5:0]  wa = sweeping ? swa : lb;       // (a named 6-bit wire: Icarus 11 indexes
     wire        we = sweeping || commit;        //  with a wider difference otherwise)
-    wire [11:0] bc1 = cands(oct1, offs(neg1, t_i[11:8]));
+    wire [11:0] bc1;                            // {b1, b0} from t_i (block RAM's address)
+    wire        c1_unused;
+    wire [5:0]  bin1_unused;
+    hbin #(.TABLE_EXACT(TABLE_EXACT)) u_bin1 (
+        .oct2_i(oct1), .neg_i(neg1), .t_i(t_i), .b0_o(bc1[5:0]), .b1_o(bc1[11:6]),
+        .c_o(c1_unused), .bin_o(bin1_unused)
+    );
     reg         v2 = 1'b0, cand2 = 1'b0, blk2 = 1'b0, ok2 = 1'b0, neg2 = 1'b0;
-    wire [11:0] bc = cands(oct2q, offs(neg2, t2[11:8]));   // {b1, b0} of the sample read
+    wire [11:0] bc;                             // {b1, b0} of the sample read
+    wire        c2;                             // t reaches its bucket's threshold
+    wire [5:0]  bin2;                           // the bin: c2 ? b1 : b0
+    hbin #(.TABLE_EXACT(TABLE_EXACT)) u_bin2 (
+        .oct2_i(oct2q), .neg_i(neg2), .t_i(t2), .b0_o(bc[5:0]), .b1_o(bc[11:6]),
+        .c_o(c2), .bin_o(bin2)
+    );
     wire [15:0] a0, a1;
     always @(posedge clk) begin
         t2 <= t_i;
@@ -266,9 +244,6 @@ module harmonic #(
     // one 13-bit carry chain and the table's word one 21-bit chain before a register.
     // (lb is the committed word's address until the next candidate's stage 3, at least
     // eight arrivals after the commit)
-    wire [8:0]  bt = neg2 ? HB_HI_T[9*t2[11:8] +: 9] : HB_LO_T[9*t2[11:8] +: 9];
-    wire        c2 = ({1'b0, t2[7:0]} >= bt);           // the count inside the bucket
-    wire [5:0]  bin2 = c2 ? bc[11:6] : bc[5:0];
     wire [15:0] rd_q = c2 ? a1 : a0;                     // A[b]
     // ~A (sign-extended) + R' + 256 for both candidates; c2 selects the sum
     wire [20:0] ys0 = ~{{5{a0[15]}}, a0} + rq2, ys1 = ~{{5{a1[15]}}, a1} + rq2;
@@ -364,6 +339,7 @@ module harmonic #(
             end
         end
     end
-    wire unused = &{1'b0, av[16:0], y_w[1:0], r_sum[5:0], blk2, ys0[7:0], ys1[7:0], 1'b0};
+    wire unused = &{1'b0, av[16:0], y_w[1:0], r_sum[5:0], blk2, ys0[7:0], ys1[7:0], c1_unused,
+                    bin1_unused, 1'b0};
 endmodule
 `resetall

@@ -19,7 +19,7 @@ ROM_AW = 8   # rtl/rls_engine.v ROM_AW
 
 
 def hbin_header() -> str:
-    """localparams of rtl/octant.v: the harmonic bin thresholds (tables.bin_thresholds)
+    """localparams of rtl/hbin.v: the harmonic bin thresholds (tables.bin_thresholds)
     per bucket of 256 of the ratio scale t (tables.bin_buckets): for the set of a table
     kind and a sign (LO: neg = 0, floor; HI: neg = 1, ceil), bucket b's count in bits
     [4 b +: 4] of HB_<set>_<KIND>_N and its inside threshold in bits [9 b +: 9] of

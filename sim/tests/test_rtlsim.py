@@ -11,15 +11,22 @@ from sim.run_model import write_codes
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 
 
-@pytest.mark.parametrize("table,interp,seed,div,adc_w,count_mode",
-                         [("exact", 100, 1, 36, 16, 0), ("paper", 100, 2, 36, 16, 0),
-                          ("exact", 256, 3, 36, 16, 0), ("exact", 7, 4, 36, 16, 0),
-                          ("exact", 100, 5, 1, 16, 0), ("paper", 50, 6, 3, 16, 0),
-                          ("exact", 100, 8, 36, 12, 0), ("exact", 100, 9, 36, 16, 1)])
-def test_rtlsim_equals_model(tmp_path, table, interp, seed, div, adc_w, count_mode):
+ECP5 = dict(LANES=2, DISTRAM=1, PH4K=1)    # the ECP5 build's parameters (scripts/report.py)
+
+
+@pytest.mark.parametrize("table,interp,seed,div,adc_w,count_mode,build",
+                         [("exact", 100, 1, 36, 16, 0, {}), ("paper", 100, 2, 36, 16, 0, {}),
+                          ("exact", 256, 3, 36, 16, 0, {}), ("exact", 7, 4, 36, 16, 0, {}),
+                          ("exact", 100, 5, 1, 16, 0, {}), ("paper", 50, 6, 3, 16, 0, {}),
+                          ("exact", 100, 8, 36, 12, 0, {}), ("exact", 100, 9, 36, 16, 1, {}),
+                          ("exact", 100, 10, 1, 16, 0, ECP5), ("paper", 100, 11, 36, 16, 0, ECP5)],
+                         ids=lambda v: "ecp5" if v == ECP5 else None)
+def test_rtlsim_equals_model(tmp_path, table, interp, seed, div, adc_w, count_mode, build):
     """div = 1: a sample on every clock (the fast path's rate); every edge offset of the
     estimator's hand-over relative to the samples occurs. count_mode 1: the counter in
-    edge mode (CTRL bit 3, the paper's x4 decoder of A/B)."""
+    edge mode (CTRL bit 3, the paper's x4 decoder of A/B). build: the ECP5 build's RTL
+    (two engine lanes, the harmonic table in distributed RAM, the 4096-row phase table)
+    against the model with two lanes."""
     # long enough in clocks for the estimator to calibrate (a commit needs ~330 updates
     # of ~400 clocks) and to re-estimate many times afterwards
     n = max(40000, 240000 // div)
@@ -36,7 +43,8 @@ def test_rtlsim_equals_model(tmp_path, table, interp, seed, div, adc_w, count_mo
         out = tmp_path / f"{target}.csv"
         subprocess.run(["make", "-s", "-C", str(ROOT), target, f"IN={tmp_path / 'in.csv'}",
                         f"OUT={out}", f"INTERP={interp}", f"TABLE={table}", f"DIV={div}",
-                        f"ADC_W={adc_w}", f"COUNT_MODE={count_mode}"],
+                        f"ADC_W={adc_w}", f"COUNT_MODE={count_mode}"]
+                       + [f"{k}={v}" for k, v in build.items()],
                        check=True)
         outs[target] = np.loadtxt(out, delimiter=",", skiprows=1, dtype=np.int64)
     r, m = outs["rtlsim"], outs["model"]
