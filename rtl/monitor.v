@@ -345,6 +345,11 @@ module monitor (
     reg  [3:0] f_k = 4'd0;                                      // K of the edge before
     always @(posedge clk)
         f_k <= glitch_k_i;
+    // the registered mask is K's (an invariant for the induction)
+    integer fk;
+    always @(*)
+        for (fk = 1; fk < 12; fk = fk + 1)
+            assert (gmask[fk] == ((f_k != 4'd0) && (fk >= f_k)));
     wire signed [17:0] f_lim = $signed(18'd1 << f_k);           // 2^K
     wire signed [17:0] f_ew18 = f_ew;
     wire f_glitch = (f_k != 4'd0) && (chk == 2'd2)
