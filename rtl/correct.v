@@ -15,6 +15,10 @@
 //        ay, yn likewise from v2                              units: unit circle 16384)
 //        zl = lzc15(ax | ay)                                  u4 leading zeros of the larger
 //                                                             magnitude (for rtl/octant.v)
+// Every stage's registers take a sample only with its valid bit (a clock enable, as the
+// valid strobe of a fixed-rate sample chain): between samples they hold the last one's
+// values, which nothing reads, and simulation skips their logic (make rtlsim runs a
+// sample every 36 clocks).
 // Flags (registered with the values they describe):
 //   clip_o (t)   a code is at or near an ADC rail: |u_r| >= clip_i (|-32768| = 32768)
 //   nsat_o (t)   x leaves s1.15: the input gain saturates (the estimator excludes the
@@ -54,12 +58,11 @@ module correct #(
     output reg                     rsat_o
 );
     // ---- t: align, gain, offsets ------------------------------------------------------------
-    wire signed [15:0] ua1 = {u1_i, {(16-ADC_W){1'b0}}};
-    wire signed [15:0] ua2 = {u2_i, {(16-ADC_W){1'b0}}};
-    wire signed [18:0] x1 = $signed({{3{ua1[15]}}, ua1}) <<< g_i;       // s4.15
-    wire signed [18:0] x2 = $signed({{3{ua2[15]}}, ua2}) <<< g_i;
-    wire signed [19:0] e1 = {x1[18], x1} - {{4{m1_i[15]}}, m1_i};       // s5.15
-    wire signed [19:0] e2 = {x2[18], x2} - {{4{m2_i[15]}}, m2_i};
+    // (as functions evaluated in the clock enable's branch: the ports feed nothing else, so
+    // simulation computes this logic only when a sample arrives)
+    function automatic signed [15:0] align(input [ADC_W-1:0] u);       // s1.15
+        align = {u, {(16-ADC_W){1'b0}}};
+    endfunction
     // a value fits s1.15 when its bits above bit 15 are copies of bit 15
     function automatic fits16(input [19:0] v, input integer w);
         integer k;
@@ -70,47 +73,85 @@ module correct #(
                     fits16 = 1'b0;
         end
     endfunction
-    wire ef1 = fits16(e1, 20), ef2 = fits16(e2, 20);
-    wire xf1 = fits16({x1[18], x1}, 19), xf2 = fits16({x2[18], x2}, 19);
-    wire [15:0] ab1 = ua1[15] ? -ua1 : ua1;       // |-32768| = 32768: bit 15
-    wire [15:0] ab2 = ua2[15] ? -ua2 : ua2;
-    wire [14:0] am1 = ab1[15] ? 15'h7fff : ab1[14:0];
-    wire [14:0] am2 = ab2[15] ? 15'h7fff : ab2[14:0];
-    // |u1| >= |u2| from the codes, beside the magnitudes (not behind their carry chains):
-    // by the signs, u1 >= u2 (both >= 0), u1 < u2 (both < 0), u1 + u2 >= 0 (u1 >= 0 > u2)
-    // or u1 + u2 < 0 (u1 < 0 <= u2)
-    wire signed [16:0] dif = {ua1[15], ua1} - {ua2[15], ua2};
-    wire signed [16:0] smu = {ua1[15], ua1} + {ua2[15], ua2};
-    // (ties pick either: the same magnitude)
-    wire        gt1 = ((ua1[15] == ua2[15]) ? dif[16] : smu[16]) ^ !ua1[15];
+    // x = u << g (s4.15, exact) and e = x - m (s5.15)
+    function automatic signed [18:0] gain(input signed [15:0] ua, input [1:0] g);
+        gain = $signed({{3{ua[15]}}, ua}) <<< g;
+    endfunction
+    function automatic signed [19:0] offset(input signed [15:0] ua, input [1:0] g,
+                                            input signed [15:0] m);
+        reg signed [18:0] x;
+        begin
+            x = gain(ua, g);
+            offset = {x[18], x} - {{4{m[15]}}, m};
+        end
+    endfunction
+    // x fits s1.15 (the input gain does not saturate)
+    function automatic gfits(input signed [15:0] ua, input [1:0] g);
+        reg signed [18:0] x;
+        begin
+            x = gain(ua, g);
+            gfits = fits16({x[18], x}, 19);
+        end
+    endfunction
+    // d = sat16(e)
+    function automatic signed [15:0] sat16(input signed [19:0] e);
+        sat16 = fits16(e, 20) ? e[15:0] : (e[19] ? 16'sh8000 : 16'sh7fff);
+    endfunction
+    // max(|u1|, |u2|), saturated to 32767: |u1| >= |u2| from the codes, beside the
+    // magnitudes (not behind their carry chains): by the signs, u1 >= u2 (both >= 0),
+    // u1 < u2 (both < 0), u1 + u2 >= 0 (u1 >= 0 > u2) or u1 + u2 < 0 (u1 < 0 <= u2); ties
+    // pick either (the same magnitude)
+    /* verilator lint_off UNUSEDSIGNAL */
+    function automatic [14:0] amax(input signed [15:0] ua1, input signed [15:0] ua2);
+        reg [15:0] ab1, ab2;
+        reg signed [16:0] dif, smu;
+        reg        gt1;
+        begin
+            ab1 = ua1[15] ? -ua1 : ua1;           // |-32768| = 32768: bit 15
+            ab2 = ua2[15] ? -ua2 : ua2;
+            dif = {ua1[15], ua1} - {ua2[15], ua2};
+            smu = {ua1[15], ua1} + {ua2[15], ua2};
+            gt1 = ((ua1[15] == ua2[15]) ? dif[16] : smu[16]) ^ !ua1[15];
+            amax = gt1 ? (ab1[15] ? 15'h7fff : ab1[14:0]) : (ab2[15] ? 15'h7fff : ab2[14:0]);
+        end
+    endfunction
+    /* verilator lint_on UNUSEDSIGNAL */
     // |u| >= clip: u >= clip for u >= 0; -u >= clip <=> ~u >= clip - 1 for u < 0 (every
     // u < 0 when clip = 0), so no negation lies in front of the comparison
-    wire [16:0] cm1 = {1'b0, clip_i} - 17'd1;
-    function automatic clipped(input [15:0] u, input [15:0] clip, input [16:0] cm);
-        clipped = u[15] ? (cm[16] || ({1'b0, ~u} >= cm)) : (u >= clip);
+    function automatic clipped(input [15:0] u, input [15:0] clip);
+        reg [16:0] cm;
+        begin
+            cm = {1'b0, clip} - 17'd1;
+            clipped = u[15] ? (cm[16] || ({1'b0, ~u} >= cm)) : (u >= clip);
+        end
     endfunction
     (* keep *) reg signed [15:0] d1 = 0, d2 = 0;
     reg signed [15:0] c1q = 0, c12q = 0, c2q = 0;
     always @(posedge clk) begin
-        d1 <= ef1 ? e1[15:0] : (e1[19] ? -16'sd32768 : 16'sd32767);
-        d2 <= ef2 ? e2[15:0] : (e2[19] ? -16'sd32768 : 16'sd32767);
-        c1q <= c1_i; c12q <= c12_i; c2q <= c2_i;
-        raw1_o <= ua1;
-        raw2_o <= ua2;
-        amax_o <= gt1 ? am1 : am2;               // max(|u1|, |u2|), saturated
-        clip_o <= clipped(ua1, clip_i, cm1) || clipped(ua2, clip_i, cm1);
-        nsat_o <= !(xf1 && xf2);
-        dsat_o <= !(ef1 && ef2);
         valid0_o <= valid_i;
+        if (valid_i) begin
+            d1 <= sat16(offset(align(u1_i), g_i, m1_i));
+            d2 <= sat16(offset(align(u2_i), g_i, m2_i));
+            c1q <= c1_i; c12q <= c12_i; c2q <= c2_i;
+            raw1_o <= align(u1_i);
+            raw2_o <= align(u2_i);
+            amax_o <= amax(align(u1_i), align(u2_i));
+            clip_o <= clipped(align(u1_i), clip_i) || clipped(align(u2_i), clip_i);
+            nsat_o <= !(gfits(align(u1_i), g_i) && gfits(align(u2_i), g_i));
+            dsat_o <= !(fits16(offset(align(u1_i), g_i, m1_i), 20) &&
+                        fits16(offset(align(u2_i), g_i, m2_i), 20));
+        end
     end
 
     // ---- t+1: products (DSP blocks with input and output registers) ----------------------
     reg signed [31:0] p1 = 0, p12 = 0, p2 = 0;
     reg v1q = 1'b0;
     always @(posedge clk) begin
-        p1  <= d1 * c1q;
-        p12 <= d1 * c12q;
-        p2  <= d2 * c2q;
+        if (valid0_o) begin
+            p1  <= d1 * c1q;
+            p12 <= d1 * c12q;
+            p2  <= d2 * c2q;
+        end
         v1q <= valid0_o;
     end
 
@@ -122,17 +163,49 @@ module correct #(
     // The sum's bits [32:13] by carry select: both values of the upper 20 bits (carry in 0
     // and 1) beside the carry out of the low 13, chosen by AND-OR (a multiplexer would let
     // synthesis share the two adders again).
-    wire signed [32:0] v1 = {p1[31], p1};
-    wire [13:0] lo2  = {1'b0, p12[12:0]} + {1'b0, p2[12:0]};
-    wire [19:0] hi20 = {p12[31], p12[31:13]} + {p2[31], p2[31:13]};
-    wire [20:0] hi21c = {p12[31], p12[31:13], 1'b1} + {p2[31], p2[31:13], 1'b1};   // + 1
-    wire [19:0] hi21 = hi21c[20:1];
-    wire [19:0] csel = {20{lo2[13]}};
-    wire [19:0] v2h  = (hi21 & csel) | (hi20 & ~csel);           // (p12 + p2) >> 13
-    wire        n1 = v1[32], n2 = v2h[19];                       // v < 0
-    wire [19:0] q1 = v1[32:13] ^ {20{n1}};                       // |u|, u20
-    wire [19:0] q2 = v2h ^ {20{n2}};
-    wire        sat1 = (q1[19:15] != 5'd0), sat2 = (q2[19:15] != 5'd0);
+    // of vh = v >> 13 (s20): |u| = vh ^ sign (u20), saturated to 32767 (umag), and whether
+    // it saturates, |u| >= 2 (usat)
+    /* verilator lint_off UNUSEDSIGNAL */
+    function automatic usat(input [19:0] vh);
+        reg [19:0] q;
+        begin
+            q = vh ^ {20{vh[19]}};
+            usat = (q[19:15] != 5'd0);
+        end
+    endfunction
+    function automatic [14:0] umag(input [19:0] vh);
+        reg [19:0] q;
+        begin
+            q = vh ^ {20{vh[19]}};
+            umag = usat(vh) ? 15'h7fff : q[14:0];
+        end
+    endfunction
+    /* verilator lint_on UNUSEDSIGNAL */
+    // (p12 + p2) >> 13 by carry select: both values of the upper 20 bits (carry in 0 and
+    // 1) beside the carry out of the low 13, chosen by AND-OR (a multiplexer would let
+    // synthesis share the two adders again)
+    /* verilator lint_off UNUSEDSIGNAL */
+    function automatic [19:0] sum_hi(input [31:0] a, input [31:0] b);     // s20
+        reg [13:0] lo2;
+        reg [19:0] hi20, hi21, csel;
+        reg [20:0] hi21c;
+        begin
+            lo2   = {1'b0, a[12:0]} + {1'b0, b[12:0]};
+            hi20  = {a[31], a[31:13]} + {b[31], b[31:13]};
+            hi21c = {a[31], a[31:13], 1'b1} + {b[31], b[31:13], 1'b1};   // + 1
+            hi21  = hi21c[20:1];
+            csel  = {20{lo2[13]}};
+            sum_hi = (hi21 & csel) | (hi20 & ~csel);
+        end
+    endfunction
+    function automatic sum_neg(input [31:0] a, input [31:0] b);         // p12 + p2 < 0
+        reg [19:0] h;
+        begin
+            h = sum_hi(a, b);
+            sum_neg = h[19];
+        end
+    endfunction
+    /* verilator lint_on UNUSEDSIGNAL */
     // leading zeros in 15 bits, 14 for 0 and 1: those of the 16 bits {v[14:1], 1, 1}, as
     // a two-level tree (nibble priority beside the nibbles' own counts)
     function automatic [1:0] lzc4(input [3:0] v);
@@ -158,15 +231,18 @@ module correct #(
     endfunction
     /* verilator lint_on UNUSEDSIGNAL */
 
-    wire [14:0] axn = sat1 ? 15'h7fff : q1[14:0];
-    wire [14:0] ayn = sat2 ? 15'h7fff : q2[14:0];
+    // (evaluated in the clock enable's branch, as stage t's; v1 = p1, whose bits [32:13]
+    // are p1[31:13] sign-extended)
+    wire [19:0] v1h = {p1[31], p1[31:13]};
     always @(posedge clk) begin
-        ax_o <= axn;
-        ay_o <= ayn;
-        zl_o <= lzc15(axn | ayn);
-        xn_o <= n1;
-        yn_o <= n2;
-        rsat_o <= sat1 || sat2;                                   // |u| >= 2 (32768)
+        if (v1q) begin
+            ax_o <= umag(v1h);
+            ay_o <= umag(sum_hi(p12, p2));
+            zl_o <= lzc15(umag(v1h) | umag(sum_hi(p12, p2)));
+            xn_o <= p1[31];
+            yn_o <= sum_neg(p12, p2);
+            rsat_o <= usat(v1h) || usat(sum_hi(p12, p2));         // |u| >= 2 (32768)
+        end
         valid_o <= v1q;
     end
 
@@ -175,6 +251,6 @@ module correct #(
         dsat_o = 1'b0; valid_o = 1'b0; ax_o = 0; ay_o = 0; xn_o = 1'b0; yn_o = 1'b0; zl_o = 0;
         rsat_o = 1'b0;
     end
-    wire unused = &{1'b0, v1[12:0], lo2[12:0], hi21c[0], dif[15:0], smu[15:0], 1'b0};
+    wire unused = &{1'b0, p1[12:0], 1'b0};
 endmodule
 `resetall

@@ -55,6 +55,8 @@
 //   a + 4  Y, M
 //   a + 5  update (learn_i and mu_i sampled on this edge)
 //   a + 6  new entry H (pending until sample k + 7 arrives)
+// Every stage's registers take a sample only with its valid bit (a clock enable; between
+// samples they hold the last one's values).
 // clear_i high on edge w: R = -8192, a pending update is dropped and so are those of
 // candidates that arrived before w; the RAM is swept to zero on edges w + 1 .. w + 64;
 // samples arriving on edges w .. w + 64 are not corrected and not learned from. The
@@ -121,11 +123,11 @@ module harmonic #(
     reg  [1:0]  oct1 = 2'd0;
     always @(posedge clk) begin
         v1 <= valid_i;
-        oct1 <= oct2_i;
-        neg1 <= neg_i;
-        cand1 <= cand;
-        blk1 <= clear_i || sweeping;
         if (valid_i) begin
+            oct1 <= oct2_i;
+            neg1 <= neg_i;
+            cand1 <= cand;
+            blk1 <= clear_i || sweeping;
             skip <= cand ? 4'd7 + {1'b0, lfsr[2:0]} : skip - 1'b1;
             if (cand)
                 lfsr <= {1'b0, lfsr[7:1]} ^ (lfsr[0] ? 8'hB8 : 8'h00);
@@ -172,8 +174,10 @@ module harmonic #(
     );
     wire [15:0] a0, a1;
     always @(posedge clk) begin
-        t2 <= t_i;
-        oct2q <= oct1;
+        if (v1) begin
+            t2 <= t_i;
+            oct2q <= oct1;
+        end
         cw2 <= commit && !sweeping;
     end
     generate
@@ -200,16 +204,18 @@ module harmonic #(
                     mem0[wa] <= hp;
                     mem1[wa] <= hp;
                 end
+                if (v1) begin
 `ifdef SYNTHESIS
-                rd0_q <= mem0[bc1[5:0]];
-                rd1_q <= mem1[bc1[11:6]];
+                    rd0_q <= mem0[bc1[5:0]];
+                    rd1_q <= mem1[bc1[11:6]];
 `else
-                // simulation: the undefined read of a word written on the same edge
-                // returns the word inverted, so that a result relying on it differs from
-                // the model
-                rd0_q <= (we && wa == bc1[5:0]) ? ~mem0[bc1[5:0]] : mem0[bc1[5:0]];
-                rd1_q <= (we && wa == bc1[11:6]) ? ~mem1[bc1[11:6]] : mem1[bc1[11:6]];
+                    // simulation: the undefined read of a word written on the same edge
+                    // returns the word inverted, so that a result relying on it differs
+                    // from the model
+                    rd0_q <= (we && wa == bc1[5:0]) ? ~mem0[bc1[5:0]] : mem0[bc1[5:0]];
+                    rd1_q <= (we && wa == bc1[11:6]) ? ~mem1[bc1[11:6]] : mem1[bc1[11:6]];
 `endif
+                end
             end
             assign a0 = (cw2 && lb == bc[5:0]) ? lha : rd0_q;
             assign a1 = (cw2 && lb == bc[11:6]) ? lha : rd1_q;
@@ -225,13 +231,15 @@ module harmonic #(
     always @(posedge clk) begin
         v2 <= v1;
         cand2 <= v1 && cand1;
-        blk2 <= blk1;
-        ok2 <= !blk1 && !clear_i;
-        neg2 <= neg1;
-        k0 <= base1;
-        rq2 <= rq;
-        ub2 <= ublk;
-        ua2 <= uapl;
+        if (v1) begin
+            blk2 <= blk1;
+            ok2 <= !blk1 && !clear_i;
+            neg2 <= neg1;
+            k0 <= base1;
+            rq2 <= rq;
+            ub2 <= ublk;
+            ua2 <= uapl;
+        end
     end
 
     // ---- stage 3 (edge a + 2): the phases; a candidate's entry ------------------------------
@@ -253,9 +261,11 @@ module harmonic #(
     reg         v3 = 1'b0, cand3 = 1'b0, lok = 1'b0;
     always @(posedge clk) begin
         valid_o <= v2;
-        phase_o <= k0 + phx;
-        ya <= ua2 ? ysum : 13'd0;
-        yb <= ub2 ? ysum : 13'd0;
+        if (v2) begin
+            phase_o <= k0 + phx;
+            ya <= ua2 ? ysum : 13'd0;
+            yb <= ub2 ? ysum : 13'd0;
+        end
         v3 <= v2;
         cand3 <= v2 && cand2;
         if (v2 && cand2) begin
@@ -291,8 +301,10 @@ module harmonic #(
         end
         v4 <= v3;
         cand4 <= cand3;
-        win4 <= win;
-        e4 <= e_w;
+        if (v3) begin
+            win4 <= win;
+            e4 <= e_w;
+        end
     end
 
     // ---- stage 5 (edge a + 4): running mean of E, lock gate ---------------------------------
@@ -304,9 +316,11 @@ module harmonic #(
         if (v4)
             m_st <= m_st + {{9{y_w[20]}}, y_w[20:10]};
         cand5 <= cand4;
-        win5 <= win4;
-        lock5 <= (e4[17:13] == 5'b00000) || (e4[17:13] == 5'b11111);
-        y5 <= y_w[20:2];
+        if (v4) begin
+            win5 <= win4;
+            lock5 <= (e4[17:13] == 5'b00000) || (e4[17:13] == 5'b11111);
+            y5 <= y_w[20:2];
+        end
     end
 
     // ---- stage 6 (edge a + 5): the update ---------------------------------------------------
@@ -317,7 +331,8 @@ module harmonic #(
     reg  [11:0] d6 = 12'd0;
     reg         g6 = 1'b0, cand6 = 1'b0;
     always @(posedge clk) begin
-        d6 <= xc >>> mu_i;
+        if (cand5)
+            d6 <= xc >>> mu_i;
         g6 <= cand5 && learn_i && win5 && lock5;
         cand6 <= cand5;
     end

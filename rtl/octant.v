@@ -14,6 +14,8 @@
 // which addresses the exact phase table of 4096 rows (rtl/lut.v OPT_PHASE_4K) without
 // the rounding add.
 //
+// The stages' registers take a sample only with its valid bit (a clock enable; between
+// samples they hold the last one's values: j_o and t_o then too).
 // Timing: inputs registered on edge e (= t + 2 in the core); outputs:
 //   e    zl_i    u4    lzc15(|u1c| | |u2c|) = lzc15(large), formed by rtl/correct.v beside
 //                      the magnitudes: the leading one of the larger magnitude is that of
@@ -73,11 +75,13 @@ module octant #(
     reg  [1:0]  oct2_q = 0;
     reg         neg_q = 1'b0, v1 = 1'b0;
     always @(posedge clk) begin
-        rcp    <= rcp_rom[ln[13:5]];
-        sn     <= ns[14:1];
-        jp     <= (jq[15:11] != 5'd0) ? 11'd2047 : jq[10:0];
-        oct2_q <= low ? (xn_i ? 2'd2 : 2'd0) : (yn_i ? 2'd3 : 2'd1);
-        neg_q  <= low ? (xn_i ^ yn_i) : !(xn_i ^ yn_i);
+        if (valid_i) begin
+            rcp    <= rcp_rom[ln[13:5]];
+            sn     <= ns[14:1];
+            jp     <= (jq[15:11] != 5'd0) ? 11'd2047 : jq[10:0];
+            oct2_q <= low ? (xn_i ? 2'd2 : 2'd0) : (yn_i ? 2'd3 : 2'd1);
+            neg_q  <= low ? (xn_i ^ yn_i) : !(xn_i ^ yn_i);
+        end
         v1     <= valid_i;
     end
     // continuous assignments (an always @* of registers that keep their initial value
@@ -90,11 +94,12 @@ module octant #(
     reg [13:0] rcp_q = 0;
     reg [13:0] sn_q = 0;
     reg [10:0] jp_q = 0;
-    always @(posedge clk) begin
-        rcp_q   <= rcp;
-        sn_q    <= sn;
-        jp_q    <= jp;
-    end
+    always @(posedge clk)
+        if (v1) begin
+            rcp_q   <= rcp;
+            sn_q    <= sn;
+            jp_q    <= jp;
+        end
 
     // ---- e+3 (combinational): ratio (a DSP block), address, scale --------------------------
     wire [27:0] p = sn_q * rcp_q;
