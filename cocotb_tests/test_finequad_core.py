@@ -114,6 +114,13 @@ SCENARIOS = {
     "faults": dict(exact=1, n={"icarus": 6000, "verilator": 30000},
                    regs=dict(interp=100, clip=32000, loss=4000, over=21000, glitch_k=9,
                              stuck_n=6), load=True),
+    # the ECP5 build's RTL (scripts/report.py): two engine lanes (the model's
+    # ENGINE_LANES), the harmonic table in distributed RAM, the 4096-row phase table; the
+    # bursts of "gaps" (samples on consecutive clocks), Verilator only
+    "ecp5": dict(exact=1, n={"icarus": 0, "verilator": 30000},
+                 regs=dict(interp=256, eps=3000, lam_k=6, kappa=32 << 8, period=200,
+                           settle=16, gate=40, ab_sep=12, ab_bound=6, jump_min=60),
+                 build=dict(ENGINE_LANES=2, OPT_DISTRAM=1, OPT_PHASE_4K=1), like="gaps"),
 }
 # faults: (fraction of the recording where it starts, what, length in samples); the move
 # runs from 0.05 to 0.95 of the recording at about 1800 samples per signal period at any
@@ -207,9 +214,11 @@ def backlog_at(count, t, reads, cfg):
 def test_core(sim, scenario):
     sc = SCENARIOS[scenario]
     n = int(os.environ.get("FQ_CORE_SAMPLES", 0)) or sc["n"][sim]
+    if n == 0:
+        pytest.skip(f"{scenario}: not run on {sim}")
     fqtb.run_block(sim, "finequad_core", CORE_SOURCES, "test_finequad_core",
                    parameters=dict(TABLE_DIR=fqtb.qstr(fqtb.TABLE_DIR),
-                                   TABLE_EXACT=sc["exact"]),
+                                   TABLE_EXACT=sc["exact"], **sc.get("build", {})),
                    extra_env=dict(SCENARIO=scenario, SAMPLES=n), testcase="core_run")
 
 
@@ -234,6 +243,7 @@ def recording(scenario, n):
     import numpy as np
     from sim import siggen
 
+    scenario = SCENARIOS[scenario].get("like", scenario)      # another build, same signal
     fs, pitch = 1e6, PITCH
     T = n / fs
     sc = n / 20000          # distances scale with the length: the same speeds for any n
@@ -300,7 +310,7 @@ def _config(scenario, resets, n=None):
     from sim.model import core
     sc = SCENARIOS[scenario]
     cfg = core.Config(TABLE="exact" if sc["exact"] else "paper", resets=list(resets),
-                      **sc["regs"])
+                      ENGINE_LANES=sc.get("build", {}).get("ENGINE_LANES", 1), **sc["regs"])
     if sc.get("load") and n is not None:
         cfg.loads = [(load_edge(cfg), calibration(scenario, n))]
     return cfg
