@@ -173,6 +173,13 @@ module correct #(
             usat = (q[19:15] != 5'd0);
         end
     endfunction
+    function automatic [14:0] uraw(input [19:0] vh);             // |u| mod 2**15
+        reg [19:0] q;
+        begin
+            q = vh ^ {20{vh[19]}};
+            uraw = q[14:0];
+        end
+    endfunction
     function automatic [14:0] umag(input [19:0] vh);
         reg [19:0] q;
         begin
@@ -238,7 +245,10 @@ module correct #(
         if (v1q) begin
             ax_o <= umag(v1h);
             ay_o <= umag(sum_hi(p12, p2));
-            zl_o <= lzc15(umag(v1h) | umag(sum_hi(p12, p2)));
+            // (a saturated magnitude, 32767, has no leading zero: the count does not wait
+            // for the saturation's multiplexer)
+            zl_o <= (usat(v1h) || usat(sum_hi(p12, p2))) ? 4'd0
+                  : lzc15(uraw(v1h) | uraw(sum_hi(p12, p2)));
             xn_o <= p1[31];
             yn_o <= sum_neg(p12, p2);
             rsat_o <= usat(v1h) || usat(sum_hi(p12, p2));         // |u| >= 2 (32768)
