@@ -56,16 +56,40 @@ module octant #(
 );
 
     // ---- e+1: octant, normalisation, reciprocal ------------------------------------------
-    wire        low = (ay_i <= ax_i);
-    wire [14:0] sm = low ? ay_i : ax_i;         // small (the paper's address)
-    // one normalising shift for both magnitudes (zl_i); the comparison, side by side with
-    // it, then selects by AND-OR (with a multiplexer synthesis would share the shifters
-    // behind the comparison, a longer path)
-    wire [14:0] lx = ax_i << zl_i, ly = ay_i << zl_i;
-    wire [14:0] sel = {15{low}};
-    wire [14:0] ln = (lx & sel) | (ly & ~sel);   // large << zl (bit 15 is 0)
-    wire [14:0] ns = (ly & sel) | (lx & ~sel);   // small << zl
-    wire [15:0] jq = ({1'b0, sm} + 16'd4) >> 3;
+    // (as functions evaluated in the clock enable's branch: simulation computes this
+    // logic only for a sample)
+    // one normalising shift for both magnitudes (zl); the comparison low = |u2c| <= |u1c|,
+    // side by side with it, then selects by AND-OR (with a multiplexer synthesis would
+    // share the shifters behind the comparison, a longer path): large << zl (bit 15 is 0)
+    // or, with want_small, small << zl
+    function automatic [14:0] norm(input [14:0] ax, input [14:0] ay, input [3:0] zl,
+                                   input want_small);
+        reg [14:0] lx, ly, sel;
+        begin
+            lx = ax << zl;
+            ly = ay << zl;
+            sel = {15{(ay <= ax) ^ want_small}};
+            norm = (lx & sel) | (ly & ~sel);
+        end
+    endfunction
+    // sn = (small << zl) >> 1
+    /* verilator lint_off UNUSEDSIGNAL */
+    function automatic [13:0] snorm(input [14:0] ax, input [14:0] ay, input [3:0] zl);
+        reg [14:0] ns;
+        begin
+            ns = norm(ax, ay, zl, 1'b1);
+            snorm = ns[14:1];
+        end
+    endfunction
+    // the paper's address min(2047, (small + 4) >> 3)
+    function automatic [10:0] paddr(input [14:0] ax, input [14:0] ay);
+        reg [15:0] jq;
+        begin
+            jq = ({1'b0, (ay <= ax) ? ay : ax} + 16'd4) >> 3;
+            paddr = (jq[15:11] != 5'd0) ? 11'd2047 : jq[10:0];
+        end
+    endfunction
+    /* verilator lint_on UNUSEDSIGNAL */
     reg  [13:0] rcp_rom [0:511];
     initial
         $readmemh({TABLE_DIR, "recip.hex"}, rcp_rom);
@@ -74,11 +98,13 @@ module octant #(
     reg  [10:0] jp = 0;
     reg  [1:0]  oct2_q = 0;
     reg         neg_q = 1'b0, v1 = 1'b0;
+    wire [14:0] ln = norm(ax_i, ay_i, zl_i, 1'b0);   // the reciprocal's address (a RAM's)
+    wire        low = (ay_i <= ax_i);                // (only the octant below)
     always @(posedge clk) begin
         if (valid_i) begin
             rcp    <= rcp_rom[ln[13:5]];
-            sn     <= ns[14:1];
-            jp     <= (jq[15:11] != 5'd0) ? 11'd2047 : jq[10:0];
+            sn     <= snorm(ax_i, ay_i, zl_i);
+            jp     <= paddr(ax_i, ay_i);
             oct2_q <= low ? (xn_i ? 2'd2 : 2'd0) : (yn_i ? 2'd3 : 2'd1);
             neg_q  <= low ? (xn_i ^ yn_i) : !(xn_i ^ yn_i);
         end
@@ -108,6 +134,6 @@ module octant #(
     assign j_o = TABLE_EXACT ? jr : jp_q;
     assign t_o = TABLE_EXACT ? (p[27] ? 12'hfff : p[26:15]) : {jp_q, 1'b0};
 
-    wire unused = &{1'b0, psum[15:0], p[14:0], jq[2:0], ns[0], ln[14], ln[4:0], 1'b0};
+    wire unused = &{1'b0, psum[15:0], p[14:0], ln[14], ln[4:0], 1'b0};
 endmodule
 `resetall
