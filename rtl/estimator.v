@@ -57,7 +57,11 @@ module estimator #(
     // unused); 1: an engine outside, shared by several axes (rtl/finequad_multi.v), driven
     // through eng_cmd_o / eng_rsp_i, and a RESET or UPDATE is decided only on an edge with
     // tdm_ok_i (the axis's window; an EXTRACT follows its UPDATE as always)
-    parameter [0:0] OPT_EXT_ENGINE = 1'b0
+    parameter [0:0] OPT_EXT_ENGINE = 1'b0,
+    // 1: periodic covariance resets every period_i updates (0: never); 0: period_i is not
+    // used (taken as 0: a core with its tuning registers fixed, PERIOD = 0), and the
+    // update count only needs to reach WARMUP
+    parameter [0:0] OPT_PERIOD = 1'b1
 ) (
     input  wire               clk,
     input  wire               rst,
@@ -118,7 +122,9 @@ module estimator #(
     reg [14:0] peak = 0;
     reg        reset_pend = 1'b1;
     reg        first = 1'b1;
-    reg [15:0] upd = 0;
+    localparam UPD_W = OPT_PERIOD ? 16 : $clog2(WARMUP + 1);
+    reg [UPD_W-1:0] upd = 0;               // updates since the last reset (or rst)
+    wire [16:0] upd1 = {{(17-UPD_W){1'b0}}, upd} + 17'd1;
     reg [9:0]  settle = 0;
     reg [19:0] s_last = 0;                 // travel at the last update
     reg        running_update = 1'b0;
@@ -176,11 +182,15 @@ module estimator #(
     wire signed [16:0] cs1 = {cu1[15], cu1}, cs2 = {cu2[15], cu2};
     wire [16:0] cm1 = cs1[16] ? -cs1 : cs1;      // u17 |u1|, |u2| (-32768 -> 32768)
     wire [16:0] cm2 = cs2[16] ? -cs2 : cs2;
-    reg [19:0] pre_s = 0;
+    // the travel at the candidate's check; like the octant (a function of the candidate,
+    // which stays until the slot is empty again) it holds until the next candidate is
+    // checked, so it serves the check and the slot alike
+    reg [19:0] cand_s = 0;
     always @(posedge clk) begin
         pre_valid <= ph_cand;
         pre_oct   <= {cu2[15], cu1[15], cm1 < cm2};
-        pre_s     <= travel_i;
+        if (ph_cand)
+            cand_s <= travel_i;
         pre_bad   <= excl_i;
         pre_xsat  <= ovf(cu1[15:12], g_eng) || ovf(cu2[15:12], g_eng);
         // |dtr| >= gate  <=>  dtr >= gate or dtr <= -gate (two compares side by side)
@@ -223,15 +233,13 @@ module estimator #(
     wire cov_restart;
     // the check: trusted, no saturation, enough travel
     wire pre_pass = pre_valid && !pre_bad && !pre_xsat && pre_gate;
-    // a checked candidate waiting for the engine: its octant and travel
-    reg [2:0]  r_oct = 0;
-    reg [19:0] r_s = 0;
     // the engine takes a new program now: not busy, or its program ends now and no
     // EXTRACT follows
     wire eng_free;
     wire do_update = eng_free && (slot_rdy || pre_pass) && tdm_ok;
-    wire [2:0]  u_oct = slot_rdy ? r_oct : pre_oct;
-    wire [19:0] u_s = slot_rdy ? r_s : pre_s;
+    // the octant and travel of the sample an update takes (checked now or in the slot)
+    wire [2:0]  u_oct = pre_oct;
+    wire [19:0] u_s = cand_s;
     wire [4:0] lam_k = (lam_k_i == 0) ? 5'd1 : (lam_k_i > 5'd23) ? 5'd23 : lam_k_i;
     // an EXTRACT program follows an UPDATE that ends valid when a hand-over is due: at
     // least settle_i updates since the last reset, all octants covered since the last
@@ -242,13 +250,10 @@ module estimator #(
     assign eng_free = !busy || (done && !do_extract);
     reg        start_q = 1'b0;
     reg  [7:0] entry_q = 0;
-    reg signed [15:0] x1_q = 0, x2_q = 0;
     reg signed [2:0]  dg_q = 0;
     always @(posedge clk) begin
         start_q <= do_reset | do_update | do_extract;
         entry_q <= do_reset ? ENTRY_RESET : do_update ? ENTRY_UPDATE : ENTRY_EXTRACT;
-        x1_q    <= x1w;
-        x2_q    <= x2w;
         dg_q    <= $signed({1'b0, g_new}) - $signed({1'b0, g_eng});
         if (do_reset | do_update)
             busy <= 1'b1;
@@ -262,10 +267,6 @@ module estimator #(
             slot_rdy <= 1'b1;
         else if (do_update)
             slot_rdy <= 1'b0;
-        if (pre_valid) begin
-            r_oct <= pre_oct;
-            r_s <= pre_s;
-        end
         if (rst) begin
             start_q <= 1'b0;
             busy <= 1'b0;
@@ -277,13 +278,22 @@ module estimator #(
     wire [15:0] kappa = (kappa_i == 16'd0) ? 16'd1 : kappa_i;
     generate
         if (OPT_EXT_ENGINE) begin : g_ext
+            // the shared engine starts one edge after the command: the sample registered
+            reg signed [15:0] x1_q = 0, x2_q = 0;
+            always @(posedge clk) begin
+                x1_q <= x1w;
+                x2_q <= x2w;
+            end
             assign eng_cmd_o = {start_q, entry_q, x1_q, x2_q, lam_k, freeze, kappa, dg_q};
             assign {sat_o, done, valid, outs} = eng_rsp_i;
             assign eng_busy = 1'b0;
         end else begin : g_int
             rls_engine #(.TABLE_DIR(TABLE_DIR), .LANES(ENGINE_LANES)) u_engine (
                 .clk(clk), .rst(rst),
-                .start_i(start_q), .entry_i(entry_q), .x1_i(x1_q), .x2_i(x2_q),
+                // the sample: the engine latches it with start_q, on the edge after the
+                // decision; the candidate and g_eng do not change on the decision edge (the
+                // slot is not empty, no reset), so it is the decided sample
+                .start_i(start_q), .entry_i(entry_q), .x1_i(x1w), .x2_i(x2w),
                 .lam_k_i(lam_k), .freeze_i(freeze), .kappa_i(kappa), .dg_i(dg_q),
                 .axis_i(1'b0), .busy_o(eng_busy), .done_o(done), .valid_o(valid),
                 .out_o(outs), .sat_o(sat_o)
@@ -367,11 +377,11 @@ module estimator #(
             updates_o <= updates_o + 1'b1;
             // after WARMUP updates from power-up the gain is checked, and P reset only if
             // it changes (a reset throws the information away); then every period_i
-            if (first && upd + 1'b1 >= WARMUP) begin
+            if (first && upd1 >= WARMUP) begin
                 if (g_chk != g_eng)
                     reset_pend <= 1'b1;
                 first <= 1'b0;
-            end else if (!first && period_i != 0 && upd + 1'b1 >= period_i) begin
+            end else if (OPT_PERIOD && !first && period_i != 0 && upd1 >= {1'b0, period_i}) begin
                 reset_pend <= 1'b1;
             end
         end

@@ -323,7 +323,8 @@ module finequad_core #(
 
     // ---- estimator: every sample on arrival, its fine phase 4 edges after (t+2 .. t+6) ------------
     estimator #(.TABLE_DIR(TABLE_DIR), .G_INIT(G_INIT), .PH_DELAY(PHASE_AT),
-                .ENGINE_LANES(ENGINE_LANES), .OPT_EXT_ENGINE(OPT_EXT_ENGINE)) u_est (
+                .ENGINE_LANES(ENGINE_LANES), .OPT_EXT_ENGINE(OPT_EXT_ENGINE),
+                .OPT_PERIOD(OPT_TUNABLE)) u_est (
         .clk(clk), .rst(rst),
         .smp_valid_i(c_v0), .u1_i(c_raw1), .u2_i(c_raw2), .amax_i(c_amax),
         .ph_valid_i(h_valid), .phase_i(h_phase), .excl_i(mon_excl),
