@@ -22,7 +22,7 @@
 // rst (sync): pos = 0, A = B = 1, cnt = 255 (first step allowed on the next edge), backlog
 // 0, flags 0. The core resets the position counter (target) to 0 together with this block.
 // Latency 1: target_i on edge e can move pos_o after edge e.
-// Cost: one COUNT_W subtract (d), one COUNT_W increment/decrement (pos), a 16-bit compare
+// Cost: one COUNT_W subtract (d), one COUNT_W add of +-1 (pos), a 16-bit compare
 // carry chain (ovf), an 8-bit saturating timer and 8-bit compare. No multipliers.
 module abgen #(
     parameter COUNT_W = 32                 // >= 17
@@ -40,8 +40,7 @@ module abgen #(
     output reg                       ovf_sticky_o  // ovf seen since rst
 );
     // d = target - pos, s(COUNT_W).0 modular; whether it is zero comes from an equality
-    // tree beside the subtraction, and pos +- 1 from the register, so a step only waits
-    // for d's sign
+    // tree beside the subtraction
     wire signed [COUNT_W-1:0] d = target_i - pos_o;
     wire        neg = d[COUNT_W-1];
     wire        nz  = (target_i != pos_o);
@@ -51,9 +50,8 @@ module abgen #(
     wire        step = nz && (cnt >= sep_i);
 
     // next position and its A/B (quadrant q = pos mod 4)
-    wire [COUNT_W-1:0] pos_up = pos_o + 1'b1;
-    wire [COUNT_W-1:0] pos_dn = pos_o - 1'b1;
-    wire [COUNT_W-1:0] pos_n = neg ? pos_dn : pos_up;
+    // pos + 1 or pos - 1 in one carry chain (pos + {-1 or 0, 1}) behind d's sign
+    wire [COUNT_W-1:0] pos_n = pos_o + {{(COUNT_W-1){neg}}, 1'b1};
     wire [1:0]         q_n   = pos_n[1:0];
 
     // the flags come from d registered (one edge later: the subtraction and the

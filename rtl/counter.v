@@ -76,10 +76,8 @@ module counter #(
         if (valid_i && !hold_i) begin
             ph_prev <= phase_i;
             primed <= 1'b1;
-            if (back)
-                b_acc <= b_acc - n4;
-            else if (fwd)
-                b_acc <= b_acc + n4;
+            if (back || fwd)                     // one adder: B -+ 4n
+                b_acc <= b_acc + (back ? -n4 : n4);
         end
         if (rst) begin
             v1 <= 1'b0;
@@ -106,10 +104,8 @@ module counter #(
                 ill_count_o <= ill_count_o + 1'b1;
             end
         end
-        if (pv_i && dq == 2'd1)
-            e_acc <= e_acc + 1'b1;
-        else if (pv_i && dq == 2'd3)
-            e_acc <= e_acc - 1'b1;
+        if (pv_i && dq[0])                       // dq 1: +1, 3: -1 (one adder)
+            e_acc <= e_acc + {{(COUNT_W-1){dq[1]}}, 1'b1};
         if (rst) begin
             qd_prev <= 2'd0;
             eprimed <= 1'b0;
