@@ -22,8 +22,8 @@
 //                     from A << dz; NORM, CHK on A
 //   S+k+4  product    prod_q    <= {hh, ll} + (hl << 16) + (lh << 16) (carry save, one
 //                     carry chain); the seed table read
-//   S+k+5  accumulate acc       <= (clr ? 0 : acc) +- prod_q (carry select: 32-bit
-//                     halves), or the seed << 15; shift sh - dyn
+//   S+k+5  accumulate acc       <= (clr ? 0 : acc) +- prod_q (LANES = 2: carry select,
+//                     32-bit halves), or the seed << 15; shift sh - dyn
 //   S+k+6  shift      t_q       <= (acc << 1) >>> shift
 //   S+k+7  round      res_q     <= sat32((t_q + 1) >>> 1), and the 16-bit OUT value;
 //                     LANES = 1: rf[dst] <= the same value (block RAM write)
@@ -422,18 +422,24 @@ module rls_engine #(
                                  (dyn4 == 2'd2) ? {3'd0, dz4[4:1]} : 7'd0;
             wire signed [7:0] sh_raw = $signed({2'b00, i4[14:9]}) - $signed({1'b0, dyn_amt});
             wire [5:0]  sh_eff = sh_raw[7] ? 6'd0 : sh_raw[5:0];
-            // the 64-bit sum as a carry-select adder: the high half is added with and
-            // without the low half's carry, side by side, so the loop is one 33-bit carry
-            // chain and a multiplexer; a SEED clears the accumulator and the product (the
-            // sum is 0) and ORs the seed into bits 30..15
-            wire [63:0] acc_a = clr4 ? 64'd0 : acc;
-            wire [32:0] lo_sum = {1'b0, acc_a[31:0]} + {1'b0, prod_q[31:0]} + {32'd0, neg4};
-            wire [31:0] hi_sum0 = acc_a[63:32] + prod_q[63:32];
-            wire [31:0] hi_sum1 = acc_a[63:32] + prod_q[63:32] + 32'd1;
+            // a clear takes 0 instead of acc, a SEED (its product is 0) the seed << 15; LANES
+            // = 2 (devices with fast carry chains and area to spare, e.g. the ECP5) adds as a
+            // carry-select adder: the high half with and without the low half's carry, side
+            // by side, so the loop is one 33-bit carry chain and a multiplexer; LANES = 1
+            // (the iCE40 UP5K) in one 64-bit chain
+            wire [63:0] acc_a = clr4 ? {33'd0, seed4_q & {16{sd4}}, 15'd0} : acc;
+            wire [63:0] acc_n;
+            if (LANES == 2) begin : g_csel
+                wire [32:0] lo_sum = {1'b0, acc_a[31:0]} + {1'b0, prod_q[31:0]} + {32'd0, neg4};
+                wire [31:0] hi_sum0 = acc_a[63:32] + prod_q[63:32];
+                wire [31:0] hi_sum1 = acc_a[63:32] + prod_q[63:32] + 32'd1;
+                assign acc_n = {lo_sum[32] ? hi_sum1 : hi_sum0, lo_sum[31:0]};
+            end else begin : g_ripple
+                assign acc_n = acc_a + prod_q + {63'd0, neg4};
+            end
             always @(posedge clk) begin
                 if (en4)
-                    acc <= {lo_sum[32] ? hi_sum1 : hi_sum0,
-                            lo_sum[31:0] | {1'b0, seed4_q & {16{sd4}}, 15'd0}};
+                    acc <= acc_n;
                 sh_q <= sh_eff;
                 i5 <= i4;
             end
