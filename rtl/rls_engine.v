@@ -25,10 +25,9 @@
 //   S+k+5  accumulate acc       <= (clr ? 0 : acc) +- prod_q (LANES = 2: carry select,
 //                     32-bit halves), or the seed << 15; shift sh - dyn
 //   S+k+6  shift      t_q       <= (acc << 1) >>> shift
-//   S+k+7  round      res_q     <= sat32((t_q + 1) >>> 1), and the 16-bit OUT value;
-//                     LANES = 1: rf[dst] <= the same value (block RAM write)
-//   S+k+8  write      out[dst] <= res; LANES = 2: rf[dst] <= res; END (lane 0): the
-//                     program ends
+//   S+k+7  round      res_q     <= sat32((t_q + 1) >>> 1); out[dst] <= sat16(the same)
+//                     (an OUT write); LANES = 1: rf[dst] <= the same value (block RAM)
+//   S+k+8  write      LANES = 2: rf[dst] <= res; END (lane 0): the program ends
 // A register written in slot k is read from the register file from slot k + 7 on; it is
 // forwarded (to A and B of every lane) from the round stage (slot k + 6) of its lane, so
 // slot k + 6 may use it (program.HAZARD = 6).
@@ -162,7 +161,9 @@ module rls_engine #(
     // on its way into the read stage, the next one by v0.
     reg [ROM_AW-1:0] pc_q = 0;
     reg              run_q = 1'b0;
-    reg [RW-1:0]     word_q = 0;
+    // (no initial value on a block RAM's output register: yosys emulates one with logic;
+    // every use of word_q, rd_q, seed4_q and late_q is qualified by the valid bits)
+    reg [RW-1:0]     word_q;
     reg              v0 = 1'b0;           // word_q holds instructions to execute
     reg              v1 = 1'b0;
     wire [LANES-1:0] end1_l;              // the read stage holds END
@@ -256,7 +257,7 @@ module rls_engine #(
                     assign rd_all[32*(NP*b + p) +: 32] = mem[ra1];
                     wire unused_ra = &{1'b0, ra, 1'b0};
                 end else begin : g_sync
-                    reg [31:0] rd_q = 0;
+                    reg [31:0] rd_q;
                     always @(posedge clk)
                         rd_q <= mem[ra];
                     assign rd_all[32*(NP*b + p) +: 32] = rd_q;
@@ -390,7 +391,7 @@ module rls_engine #(
             wire       seed3 = (op3 == OP_SEEDR || op3 == OP_SEEDS);
             wire       neg3 = i3[4] && !seed3;
             reg signed [63:0] prod_q = 0;        // the product, or its complement when neg4
-            reg [15:0] seed4_q = 0;              // the seed (u1.15)
+            reg [15:0] seed4_q;              // the seed (u1.15)
             reg [IW-1:0] i4 = 0;
             reg        en4 = 1'b0, neg4 = 1'b0, clr4 = 1'b0, sd4 = 1'b0;
             reg [4:0]  dz4 = 0;
@@ -413,14 +414,39 @@ module rls_engine #(
                     en4 <= 1'b0;
             end
 
+            // ---- the write-back fields {dst, out, wb, sh, dyn} in the product stage: LANES = 1
+            // (the iCE40) through a 4-deep block RAM written with the read stage's
+            // instruction and read three edges later (its output register is the stage's),
+            // instead of three 16-bit pipeline registers; LANES = 2 from i4 -----------------
+            wire [15:0] late0 = {ins0[35:30], ins0[6:5], ins0[14:7]};
+            wire [15:0] late4;
+            if (LANES == 1) begin : g_late_ram
+                (* ram_style = "block", no_rw_check *) reg [15:0] late_mem [0:3];
+                reg [1:0]  late_wa = 2'd0;
+                wire [1:0] late_ra = late_wa + 2'd1;     // = wa - 3 (mod 4)
+                reg [15:0] late_q;
+                always @(posedge clk) begin
+                    late_mem[late_wa] <= late0;          // written on the read edge S+k+1
+                    late_q <= late_mem[late_ra];         // read on S+k+4
+                    late_wa <= late_ra;
+                end
+                assign late4 = late_q;
+            end else begin : g_late_ff
+                assign late4 = {i4[35:30], i4[6:5], i4[14:7]};
+                wire unused_l = &{1'b0, late0, 1'b0};
+            end
+            // the product stage's instruction with the write-back fields from late4
+            wire [IW-1:0] i4x = {late4[15:10], i4[29:15], late4[7:2], late4[1:0],
+                                 late4[9:8], i4[4:0]};
+
             // ---- accumulate; the write-back shift sh - dyn (clamped to 0..63) ----------------------
             reg signed [63:0] acc = 0;
             reg [5:0]  sh_q = 0;
             reg [IW-1:0] i5 = 0;
-            wire [1:0] dyn4 = i4[8:7];
+            wire [1:0] dyn4 = i4x[8:7];
             wire [6:0] dyn_amt = (dyn4 == 2'd1) ? {2'd0, dz4} :
                                  (dyn4 == 2'd2) ? {3'd0, dz4[4:1]} : 7'd0;
-            wire signed [7:0] sh_raw = $signed({2'b00, i4[14:9]}) - $signed({1'b0, dyn_amt});
+            wire signed [7:0] sh_raw = $signed({2'b00, i4x[14:9]}) - $signed({1'b0, dyn_amt});
             wire [5:0]  sh_eff = sh_raw[7] ? 6'd0 : sh_raw[5:0];
             // a clear takes 0 instead of acc, a SEED (its product is 0) the seed << 15; LANES
             // = 2 (devices with fast carry chains and area to spare, e.g. the ECP5) adds as a
@@ -441,7 +467,7 @@ module rls_engine #(
                 if (en4)
                     acc <= acc_n;
                 sh_q <= sh_eff;
-                i5 <= i4;
+                i5 <= i4x;
             end
 
             // ---- shift, then round and saturate -------------------------------------------------
@@ -482,16 +508,13 @@ module rls_engine #(
             wire fit32 = c32 ? (sg_q && hi_q) : up32;
             wire fit16 = c16 ? (sg_q && up17) : up17 && (t_q[16] == sg_q);
             reg  signed [31:0] res_q = 0;
-            reg  signed [15:0] res16 = 0;
-            reg         res16_sat = 1'b0;
             reg         fw6 = 1'b0;
             reg  [5:0]  fd6 = 0;
             reg  [IW-1:0] i6 = 0;
             wire [31:0] res_n = fit32 ? t_inc[32:1] : (sg_q ? 32'sh80000000 : 32'sh7fffffff);
+            wire [15:0] res16_n = fit16 ? t_inc[16:1] : (sg_q ? 16'sh8000 : 16'sh7fff);
             always @(posedge clk) begin
                 res_q <= res_n;
-                res16 <= fit16 ? t_inc[16:1] : (sg_q ? 16'sh8000 : 16'sh7fff);
-                res16_sat <= !fit16;
                 fw6 <= v5b && i5b[5] && !i5b[6];
                 fd6 <= i5b[35:30];
                 i6 <= i5b;
@@ -510,18 +533,20 @@ module rls_engine #(
             assign wr_en[l] = ASYNC_RF ? wb6 && !i6[6] : wr5_l[l];
             assign wr_dst[6*l +: 6] = ASYNC_RF ? i6[35:30] : i5b[35:30];
             assign wr_res[32*l +: 32] = ASYNC_RF ? res_q : res_n;
-            assign out_we[l] = wb6 && i6[6];
-            assign out_dst[3*l +: 3] = i6[32:30];
-            assign out_res[16*l +: 16] = res16;
+            // OUT registers: written on the round edge (the 16-bit value beside res_q)
+            wire wb5 = v5b && i5b[5];
+            assign out_we[l] = wb5 && i5b[6];
+            assign out_dst[3*l +: 3] = i5b[32:30];
+            assign out_res[16*l +: 16] = res16_n;
             assign inval_l[l] = (v2 && (op2 == OP_NORMR || op2 == OP_NORMS || op2 == OP_CHK) &&
-                                 !a_pos) || (wb6 && i6[6] && res16_sat);
+                                 !a_pos) || (wb5 && i5b[6] && !fit16);
             assign fw6_l[l] = fw6;
             assign fd6_l[6*l +: 6] = fd6;
             assign res6_l[32*l +: 32] = res_q;
             assign end6_l[l] = i6[2:0] == OP_END;
 
             wire unused = &{1'b0, i6[29:7], i6[4:0], i5b[29:7], i5b[4:0], i5[35:15], i5[6:0],
-                            i4[35:15], i4[6:0], i3[35:5], i2[35:16], i2[14:3], i1[35:30],
+                            i4[35:15], i4[14:7], i4[6:0], i3[35:5], i2[35:16], i2[14:3], i1[35:30],
                             i1[15:0], sh_raw[6], t_inc[0], b1[5:3],
                             a1[5:1], nz6[5], 1'b0};
         end
