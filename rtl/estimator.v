@@ -160,14 +160,15 @@ module estimator #(
     wire do_cand = smp_valid_i && slot_empty && !pend && skip == 4'd0;
     wire do_skip = smp_valid_i && slot_empty && !pend && skip != 4'd0;
     reg  signed [15:0] cu1 = 0, cu2 = 0;  // the candidate
-    reg  [14:0] cpeak = 0;                 // the peak before it (warm-up gain check)
+    // the gain the peak before it selects (warm-up gain check): g_eng does not change while
+    // a candidate is pending (a reset needs the slot empty), so it is the same at its update
+    reg  [1:0]  g_chk = G_INIT;
     reg  [PH_DELAY-1:0] cwait = 0;         // its fine phase arrives when the top bit is set
     always @(posedge clk) begin
         cwait <= {cwait[PH_DELAY-2:0], do_cand};
         if (do_cand) begin
             cu1 <= u1_i;
             cu2 <= u2_i;
-            cpeak <= peak;
         end
         if (rst)
             cwait <= 0;
@@ -230,7 +231,9 @@ module estimator #(
                (pk[14:13] == 2'd0) ? 2'd1 : 2'd0;   // < 8192
     endfunction
     wire [1:0] g_new = gsel(peak, g_eng);
-    wire [1:0] g_chk = gsel(cpeak, g_eng);  // the warm-up check: peak before the candidate
+    always @(posedge clk)
+        if (do_cand)
+            g_chk <= g_new;
 
     // normalised sample for the engine
     wire signed [15:0] x1w = cu1 <<< g_eng;
