@@ -25,9 +25,10 @@
 //   S+k+5  accumulate acc       <= (clr ? 0 : acc) +- prod_q (LANES = 2: carry select,
 //                     32-bit halves), or the seed << 15; shift sh - dyn
 //   S+k+6  shift      t_q       <= (acc << 1) >>> shift
-//   S+k+7  round      res_q     <= sat32((t_q + 1) >>> 1); out[dst] <= sat16(the same)
-//                     (an OUT write); LANES = 1: rf[dst] <= the same value (block RAM)
-//   S+k+8  write      LANES = 2: rf[dst] <= res; END (lane 0): the program ends
+//   S+k+7  round      res_q     <= sat32((t_q + 1) >>> 1), and the 16-bit OUT value;
+//                     LANES = 1: rf[dst] / out[dst] <= the same value (block RAM)
+//   S+k+8  write      LANES = 2: rf[dst] / out[dst] <= res; END (lane 0): the program
+//                     ends
 // A register written in slot k is read from the register file from slot k + 7 on; it is
 // forwarded (to A and B of every lane) from the round stage (slot k + 6) of its lane, so
 // slot k + 6 may use it (program.HAZARD = 6).
@@ -448,19 +449,23 @@ module rls_engine #(
                                  (dyn4 == 2'd2) ? {3'd0, dz4[4:1]} : 7'd0;
             wire signed [7:0] sh_raw = $signed({2'b00, i4x[14:9]}) - $signed({1'b0, dyn_amt});
             wire [5:0]  sh_eff = sh_raw[7] ? 6'd0 : sh_raw[5:0];
-            // a clear takes 0 instead of acc, a SEED (its product is 0) the seed << 15; LANES
-            // = 2 (devices with fast carry chains and area to spare, e.g. the ECP5) adds as a
-            // carry-select adder: the high half with and without the low half's carry, side
-            // by side, so the loop is one 33-bit carry chain and a multiplexer; LANES = 1
-            // (the iCE40 UP5K) in one 64-bit chain
-            wire [63:0] acc_a = clr4 ? {33'd0, seed4_q & {16{sd4}}, 15'd0} : acc;
+            // a clear takes 0 instead of acc; a SEED clears and adds its zero product, with
+            // the seed << 15 put into bits 30..15. LANES = 2 (devices with fast carry chains
+            // and area to spare, e.g. the ECP5) adds as a carry-select adder: the high half
+            // with and without the low half's carry, side by side, so the loop is one 33-bit
+            // carry chain and a multiplexer, and the seed (a block RAM's slow output) is ORed
+            // in behind it; LANES = 1 (the iCE40 UP5K) adds in one 64-bit chain, the seed
+            // entering through the clear's gate (no OR behind the adder)
             wire [63:0] acc_n;
             if (LANES == 2) begin : g_csel
+                wire [63:0] acc_a = clr4 ? 64'd0 : acc;
                 wire [32:0] lo_sum = {1'b0, acc_a[31:0]} + {1'b0, prod_q[31:0]} + {32'd0, neg4};
                 wire [31:0] hi_sum0 = acc_a[63:32] + prod_q[63:32];
                 wire [31:0] hi_sum1 = acc_a[63:32] + prod_q[63:32] + 32'd1;
-                assign acc_n = {lo_sum[32] ? hi_sum1 : hi_sum0, lo_sum[31:0]};
+                assign acc_n = {lo_sum[32] ? hi_sum1 : hi_sum0,
+                                lo_sum[31:0] | {1'b0, seed4_q & {16{sd4}}, 15'd0}};
             end else begin : g_ripple
+                wire [63:0] acc_a = clr4 ? {33'd0, seed4_q & {16{sd4}}, 15'd0} : acc;
                 assign acc_n = acc_a + prod_q + {63'd0, neg4};
             end
             always @(posedge clk) begin
@@ -533,13 +538,31 @@ module rls_engine #(
             assign wr_en[l] = ASYNC_RF ? wb6 && !i6[6] : wr5_l[l];
             assign wr_dst[6*l +: 6] = ASYNC_RF ? i6[35:30] : i5b[35:30];
             assign wr_res[32*l +: 32] = ASYNC_RF ? res_q : res_n;
-            // OUT registers: written on the round edge (the 16-bit value beside res_q)
+            // OUT registers: LANES = 1 written on the round edge (the 16-bit value beside
+            // res_q); LANES = 2 (the ECP5) from a register of it on the write edge (a shorter
+            // path behind the round stage's tests)
             wire wb5 = v5b && i5b[5];
-            assign out_we[l] = wb5 && i5b[6];
-            assign out_dst[3*l +: 3] = i5b[32:30];
-            assign out_res[16*l +: 16] = res16_n;
+            wire inv16;                          // an OUT value saturated (write or round)
+            if (LANES == 1) begin : g_out5
+                assign out_we[l] = wb5 && i5b[6];
+                assign out_dst[3*l +: 3] = i5b[32:30];
+                assign out_res[16*l +: 16] = res16_n;
+                assign inv16 = wb5 && i5b[6] && !fit16;
+            end else begin : g_out6
+                reg  [15:0] res16 = 0;
+                reg         res16_sat = 1'b0;
+                always @(posedge clk) begin
+                    res16 <= res16_n;
+                    res16_sat <= !fit16;
+                end
+                assign out_we[l] = wb6 && i6[6];
+                assign out_dst[3*l +: 3] = i6[32:30];
+                assign out_res[16*l +: 16] = res16;
+                assign inv16 = wb6 && i6[6] && res16_sat;
+                wire unused_w = &{1'b0, wb5, 1'b0};
+            end
             assign inval_l[l] = (v2 && (op2 == OP_NORMR || op2 == OP_NORMS || op2 == OP_CHK) &&
-                                 !a_pos) || (wb5 && i5b[6] && !fit16);
+                                 !a_pos) || inv16;
             assign fw6_l[l] = fw6;
             assign fd6_l[6*l +: 6] = fd6;
             assign res6_l[32*l +: 32] = res_q;
