@@ -22,10 +22,13 @@
 // rst (sync): pos = 0, A = B = 1, cnt = 255 (first step allowed on the next edge), backlog
 // 0, flags 0. The core resets the position counter (target) to 0 together with this block.
 // Latency 1: target_i on edge e can move pos_o after edge e.
-// Cost: one COUNT_W subtract (d), one COUNT_W increment/decrement (pos), a 16-bit compare
+// Cost: one COUNT_W subtract (d), one COUNT_W add of +-1 (pos), a 16-bit compare
 // carry chain (ovf), an 8-bit saturating timer and 8-bit compare. No multipliers.
 module abgen #(
-    parameter COUNT_W = 32                 // >= 17
+    parameter COUNT_W = 32,                // >= 17
+    // 1: sep_i, bound_i are registers; 0: constants (rtl/finequad_core.v OPT_TUNABLE = 0):
+    // compared bit by bit, which synthesis folds into a few LUTs
+    parameter [0:0] OPT_TUNABLE = 1'b1
 ) (
     input  wire                      clk,
     input  wire                      rst,          // sync, active high
@@ -39,21 +42,32 @@ module abgen #(
     output reg                       ovf_o,        // |target - pos| > bound (registered)
     output reg                       ovf_sticky_o  // ovf seen since rst
 );
+    // a >= b (unsigned, up to 32 bits), bit by bit from the LSB: with b constant it folds
+    // to an AND/OR chain that synthesis maps to a few LUTs (yosys maps a comparison with a
+    // constant to a whole carry chain)
+    function automatic geu(input [31:0] a, input [31:0] b);
+        integer i;
+        reg r;
+        begin
+            r = 1'b1;
+            for (i = 0; i < 32; i = i + 1)
+                r = (a[i] & ~b[i]) | (~(a[i] ^ b[i]) & r);
+            geu = r;
+        end
+    endfunction
     // d = target - pos, s(COUNT_W).0 modular; whether it is zero comes from an equality
-    // tree beside the subtraction, and pos +- 1 from the register, so a step only waits
-    // for d's sign
+    // tree beside the subtraction
     wire signed [COUNT_W-1:0] d = target_i - pos_o;
     wire        neg = d[COUNT_W-1];
     wire        nz  = (target_i != pos_o);
 
     // timer: u8 clocks since the last edge, 1..255 (saturating)
     reg  [7:0]  cnt = 8'hFF;
-    wire        step = nz && (cnt >= sep_i);
+    wire        step = nz && (OPT_TUNABLE ? cnt >= sep_i : geu({24'd0, cnt}, {24'd0, sep_i}));
 
     // next position and its A/B (quadrant q = pos mod 4)
-    wire [COUNT_W-1:0] pos_up = pos_o + 1'b1;
-    wire [COUNT_W-1:0] pos_dn = pos_o - 1'b1;
-    wire [COUNT_W-1:0] pos_n = neg ? pos_dn : pos_up;
+    // pos + 1 or pos - 1 in one carry chain (pos + {-1 or 0, 1}) behind d's sign
+    wire [COUNT_W-1:0] pos_n = pos_o + {{(COUNT_W-1){neg}}, 1'b1};
     wire [1:0]         q_n   = pos_n[1:0];
 
     // the flags come from d registered (one edge later: the subtraction and the
@@ -68,7 +82,12 @@ module abgen #(
     /* verilator lint_off UNUSEDSIGNAL */
     wire [16:0]        cmp = {1'b0, m[15:0]} + {1'b0, ~bound_q} + {16'd0, neg_q};
     /* verilator lint_on UNUSEDSIGNAL */
-    wire               ovf_n = (|m[COUNT_W-1:16]) | cmp[16];  // only the carry is used
+    // (constant bound: m >= bound + 1 when d >= 0, m >= bound when d < 0, bit by bit)
+    wire [16:0]        bnd1 = {1'b0, bound_q} + 17'd1;
+    wire               ovf_n = (|m[COUNT_W-1:16]) |
+                               (OPT_TUNABLE ? cmp[16]           // only the carry is used
+                                : neg_q ? geu({16'd0, m[15:0]}, {16'd0, bound_q})
+                                        : geu({16'd0, m[15:0]}, {15'd0, bnd1}));
 
     // backlog: d saturated to s16
     wire        fits = (m[COUNT_W-1:15] == {(COUNT_W-15){1'b0}});

@@ -58,6 +58,19 @@ module counter #(
     output reg                       ill_o,      // an illegal A/B step (pulse, edge p + 1)
     output reg  [15:0]               ill_count_o // u16 illegal A/B steps since rst, wraps
 );
+    // a >= b (unsigned, up to 32 bits), bit by bit from the LSB: with b constant it folds
+    // to an AND/OR chain that synthesis maps to a few LUTs (yosys maps a comparison with a
+    // constant to a whole carry chain)
+    function automatic geu(input [31:0] a, input [31:0] b);
+        integer i;
+        reg r;
+        begin
+            r = 1'b1;
+            for (i = 0; i < 32; i = i + 1)
+                r = (a[i] & ~b[i]) | (~(a[i] ^ b[i]) & r);
+            geu = r;
+        end
+    endfunction
     // ---- e + 1: wrap, B ------------------------------------------------------------------
     reg  [12:0] ph_prev = 13'd0;
     reg         primed = 1'b0;
@@ -66,7 +79,7 @@ module counter #(
     wire        back = (raw[13:12] == 2'b01);   // raw >= 4096: wrapped backwards
     wire        fwd  = (raw[13:12] == 2'b10);   // raw < -4096: wrapped forwards
     wire [12:0] dph = raw[12:0];                 // wrap13, as u13
-    wire        ovs = (dph >= 13'd3072) && (dph <= 13'd5120);   // |wrap13| >= 3072
+    wire        ovs = geu({19'd0, dph}, 32'd3072) && geu(32'd5120, {19'd0, dph});   // |wrap13| >= 3072
     wire signed [COUNT_W-1:0] n4 = {{(COUNT_W-11){1'b0}}, n_i, 2'b00};
     reg         v1 = 1'b0, ovs1 = 1'b0, hold1 = 1'b0;
     always @(posedge clk) begin
@@ -76,10 +89,8 @@ module counter #(
         if (valid_i && !hold_i) begin
             ph_prev <= phase_i;
             primed <= 1'b1;
-            if (back)
-                b_acc <= b_acc - n4;
-            else if (fwd)
-                b_acc <= b_acc + n4;
+            if (back || fwd)                     // one adder: B -+ 4n
+                b_acc <= b_acc + (back ? -n4 : n4);
         end
         if (rst) begin
             v1 <= 1'b0;
@@ -106,10 +117,8 @@ module counter #(
                 ill_count_o <= ill_count_o + 1'b1;
             end
         end
-        if (pv_i && dq == 2'd1)
-            e_acc <= e_acc + 1'b1;
-        else if (pv_i && dq == 2'd3)
-            e_acc <= e_acc - 1'b1;
+        if (pv_i && dq[0])                       // dq 1: +1, 3: -1 (one adder)
+            e_acc <= e_acc + {{(COUNT_W-1){dq[1]}}, 1'b1};
         if (rst) begin
             qd_prev <= 2'd0;
             eprimed <= 1'b0;

@@ -57,7 +57,13 @@ module estimator #(
     // unused); 1: an engine outside, shared by several axes (rtl/finequad_multi.v), driven
     // through eng_cmd_o / eng_rsp_i, and a RESET or UPDATE is decided only on an edge with
     // tdm_ok_i (the axis's window; an EXTRACT follows its UPDATE as always)
-    parameter [0:0] OPT_EXT_ENGINE = 1'b0
+    parameter [0:0] OPT_EXT_ENGINE = 1'b0,
+    // 1: the tuning inputs (period_i, settle_i, gate_i, kappa5_i, ...) are registers;
+    // 0: they are constants (rtl/finequad_core.v OPT_TUNABLE = 0): the comparisons with
+    // them are written bit by bit, which synthesis folds into a few LUTs (yosys maps a
+    // comparison with a constant to a whole carry chain), and period_i is not used (its
+    // fixed value is 0: no periodic resets), so the update count only needs to reach WARMUP
+    parameter [0:0] OPT_TUNABLE = 1'b1
 ) (
     input  wire               clk,
     input  wire               rst,
@@ -114,11 +120,25 @@ module estimator #(
     input  wire [114:0]       eng_rsp_i
 );
 `include "rls_entries.vh"                  // ENTRY_RESET, _UPDATE, _EXTRACT (program.py)
+    // a >= b (unsigned, up to 32 bits), bit by bit from the LSB: with b constant it folds
+    // to an AND/OR chain that synthesis maps to a few LUTs
+    function automatic geu(input [31:0] a, input [31:0] b);
+        integer i;
+        reg r;
+        begin
+            r = 1'b1;
+            for (i = 0; i < 32; i = i + 1)
+                r = (a[i] & ~b[i]) | (~(a[i] ^ b[i]) & r);
+            geu = r;
+        end
+    endfunction
     reg [1:0]  g_eng = G_INIT;
     reg [14:0] peak = 0;
     reg        reset_pend = 1'b1;
     reg        first = 1'b1;
-    reg [15:0] upd = 0;
+    localparam UPD_W = OPT_TUNABLE ? 16 : $clog2(WARMUP + 1);
+    reg [UPD_W-1:0] upd = 0;               // updates since the last reset (or rst)
+    wire [16:0] upd1 = {{(17-UPD_W){1'b0}}, upd} + 17'd1;
     reg [9:0]  settle = 0;
     reg [19:0] s_last = 0;                 // travel at the last update
     reg        running_update = 1'b0;
@@ -140,14 +160,15 @@ module estimator #(
     wire do_cand = smp_valid_i && slot_empty && !pend && skip == 4'd0;
     wire do_skip = smp_valid_i && slot_empty && !pend && skip != 4'd0;
     reg  signed [15:0] cu1 = 0, cu2 = 0;  // the candidate
-    reg  [14:0] cpeak = 0;                 // the peak before it (warm-up gain check)
+    // the gain the peak before it selects (warm-up gain check): g_eng does not change while
+    // a candidate is pending (a reset needs the slot empty), so it is the same at its update
+    reg  [1:0]  g_chk = G_INIT;
     reg  [PH_DELAY-1:0] cwait = 0;         // its fine phase arrives when the top bit is set
     always @(posedge clk) begin
         cwait <= {cwait[PH_DELAY-2:0], do_cand};
         if (do_cand) begin
             cu1 <= u1_i;
             cu2 <= u2_i;
-            cpeak <= peak;
         end
         if (rst)
             cwait <= 0;
@@ -165,6 +186,14 @@ module estimator #(
         endcase
     endfunction
     wire [19:0] dtr = travel_i - s_last;      // s20 travel since the last update
+    // |dtr| >= gate  <=>  dtr >= gate or dtr <= -gate (two compares side by side; with a
+    // constant gate on offset-binary values, bit by bit)
+    wire [19:0] gate20 = {7'd0, gate_i};
+    wire [19:0] ngate20 = -gate20;
+    wire gate_ok = OPT_TUNABLE ? ($signed(dtr) >= $signed(gate20)) ||
+                                 ($signed(dtr) <= -$signed(gate20))
+                               : geu({12'd0, dtr ^ 20'h80000}, {12'd0, gate20 ^ 20'h80000}) ||
+                                 geu({12'd0, ngate20 ^ 20'h80000}, {12'd0, dtr ^ 20'h80000});
     reg        pre_valid = 1'b0, pre_xsat = 1'b0, pre_gate = 1'b0, pre_bad = 1'b0;
     // the candidate's octant for the coverage: the sector of its RAW codes around the
     // origin, {u2 < 0, u1 < 0, |u1| < |u2|}, not of its fine phase. A loop of any ellipse
@@ -176,16 +205,18 @@ module estimator #(
     wire signed [16:0] cs1 = {cu1[15], cu1}, cs2 = {cu2[15], cu2};
     wire [16:0] cm1 = cs1[16] ? -cs1 : cs1;      // u17 |u1|, |u2| (-32768 -> 32768)
     wire [16:0] cm2 = cs2[16] ? -cs2 : cs2;
-    reg [19:0] pre_s = 0;
+    // the travel at the candidate's check; like the octant (a function of the candidate,
+    // which stays until the slot is empty again) it holds until the next candidate is
+    // checked, so it serves the check and the slot alike
+    reg [19:0] cand_s = 0;
     always @(posedge clk) begin
         pre_valid <= ph_cand;
         pre_oct   <= {cu2[15], cu1[15], cm1 < cm2};
-        pre_s     <= travel_i;
+        if (ph_cand)
+            cand_s <= travel_i;
         pre_bad   <= excl_i;
         pre_xsat  <= ovf(cu1[15:12], g_eng) || ovf(cu2[15:12], g_eng);
-        // |dtr| >= gate  <=>  dtr >= gate or dtr <= -gate (two compares side by side)
-        pre_gate  <= ($signed(dtr) >= $signed({7'd0, gate_i})) ||
-                     ($signed(dtr) <= -$signed({7'd0, gate_i}));
+        pre_gate  <= gate_ok;
         if (rst)
             pre_valid <= 1'b0;
     end
@@ -194,13 +225,15 @@ module estimator #(
     // A continuous assignment: as an always @* block it stayed X in Icarus until peak or
     // g_eng first changed, so the first reset loaded g_eng with X.
     function automatic [1:0] gsel(input [14:0] pk, input [1:0] g);
-        gsel = (pk == 0)       ? g :
-               (pk < 15'd2048) ? 2'd3 :
-               (pk < 15'd4096) ? 2'd2 :
-               (pk < 15'd8192) ? 2'd1 : 2'd0;
+        gsel = (pk == 0)            ? g :         // the bounds as bit tests
+               (pk[14:11] == 4'd0) ? 2'd3 :      // < 2048
+               (pk[14:12] == 3'd0) ? 2'd2 :      // < 4096
+               (pk[14:13] == 2'd0) ? 2'd1 : 2'd0;   // < 8192
     endfunction
     wire [1:0] g_new = gsel(peak, g_eng);
-    wire [1:0] g_chk = gsel(cpeak, g_eng);  // the warm-up check: peak before the candidate
+    always @(posedge clk)
+        if (do_cand)
+            g_chk <= g_new;
 
     // normalised sample for the engine
     wire signed [15:0] x1w = cu1 <<< g_eng;
@@ -223,32 +256,28 @@ module estimator #(
     wire cov_restart;
     // the check: trusted, no saturation, enough travel
     wire pre_pass = pre_valid && !pre_bad && !pre_xsat && pre_gate;
-    // a checked candidate waiting for the engine: its octant and travel
-    reg [2:0]  r_oct = 0;
-    reg [19:0] r_s = 0;
     // the engine takes a new program now: not busy, or its program ends now and no
     // EXTRACT follows
     wire eng_free;
     wire do_update = eng_free && (slot_rdy || pre_pass) && tdm_ok;
-    wire [2:0]  u_oct = slot_rdy ? r_oct : pre_oct;
-    wire [19:0] u_s = slot_rdy ? r_s : pre_s;
+    // the octant and travel of the sample an update takes (checked now or in the slot)
+    wire [2:0]  u_oct = pre_oct;
+    wire [19:0] u_s = cand_s;
     wire [4:0] lam_k = (lam_k_i == 0) ? 5'd1 : (lam_k_i > 5'd23) ? 5'd23 : lam_k_i;
     // an EXTRACT program follows an UPDATE that ends valid when a hand-over is due: at
     // least settle_i updates since the last reset, all octants covered since the last
     // hand-over, and no jump detected (trig, below)
     wire trig;
-    wire do_extract = done && running_update && valid && settle >= settle_i &&
+    wire settled = OPT_TUNABLE ? settle >= settle_i : geu({22'd0, settle}, {22'd0, settle_i});
+    wire do_extract = done && running_update && valid && settled &&
                       oct_seen == 8'hff && !trig;
     assign eng_free = !busy || (done && !do_extract);
     reg        start_q = 1'b0;
     reg  [7:0] entry_q = 0;
-    reg signed [15:0] x1_q = 0, x2_q = 0;
     reg signed [2:0]  dg_q = 0;
     always @(posedge clk) begin
         start_q <= do_reset | do_update | do_extract;
         entry_q <= do_reset ? ENTRY_RESET : do_update ? ENTRY_UPDATE : ENTRY_EXTRACT;
-        x1_q    <= x1w;
-        x2_q    <= x2w;
         dg_q    <= $signed({1'b0, g_new}) - $signed({1'b0, g_eng});
         if (do_reset | do_update)
             busy <= 1'b1;
@@ -262,10 +291,6 @@ module estimator #(
             slot_rdy <= 1'b1;
         else if (do_update)
             slot_rdy <= 1'b0;
-        if (pre_valid) begin
-            r_oct <= pre_oct;
-            r_s <= pre_s;
-        end
         if (rst) begin
             start_q <= 1'b0;
             busy <= 1'b0;
@@ -277,13 +302,22 @@ module estimator #(
     wire [15:0] kappa = (kappa_i == 16'd0) ? 16'd1 : kappa_i;
     generate
         if (OPT_EXT_ENGINE) begin : g_ext
+            // the shared engine starts one edge after the command: the sample registered
+            reg signed [15:0] x1_q = 0, x2_q = 0;
+            always @(posedge clk) begin
+                x1_q <= x1w;
+                x2_q <= x2w;
+            end
             assign eng_cmd_o = {start_q, entry_q, x1_q, x2_q, lam_k, freeze, kappa, dg_q};
             assign {sat_o, done, valid, outs} = eng_rsp_i;
             assign eng_busy = 1'b0;
         end else begin : g_int
             rls_engine #(.TABLE_DIR(TABLE_DIR), .LANES(ENGINE_LANES)) u_engine (
                 .clk(clk), .rst(rst),
-                .start_i(start_q), .entry_i(entry_q), .x1_i(x1_q), .x2_i(x2_q),
+                // the sample: the engine latches it with start_q, on the edge after the
+                // decision; the candidate and g_eng do not change on the decision edge (the
+                // slot is not empty, no reset), so it is the decided sample
+                .start_i(start_q), .entry_i(entry_q), .x1_i(x1w), .x2_i(x2w),
                 .lam_k_i(lam_k), .freeze_i(freeze), .kappa_i(kappa), .dg_i(dg_q),
                 .axis_i(1'b0), .busy_o(eng_busy), .done_o(done), .valid_o(valid),
                 .out_o(outs), .sat_o(sat_o)
@@ -297,7 +331,8 @@ module estimator #(
     // value after a reset, 5 kappa (kappa5_i, formed where kappa is written), holds the
     // forgetting off for the next update
     wire signed [15:0] tr_out = outs[111:96];
-    wire        tr_hi = !tr_out[15] && ({3'b000, tr_out[14:0]} >= {4'd0, kappa5_i});
+    wire        tr_hi = !tr_out[15] && (OPT_TUNABLE ? {3'b000, tr_out[14:0]} >= {4'd0, kappa5_i}
+                                                    : geu({17'd0, tr_out[14:0]}, {18'd0, kappa5_i}));
 
     // ---- jump detector (sim/model/core.py) -----------------------------------------------
     //   eabs  u15.5  |e| of the running update (OUT e, s3.13), saturated, 5 fraction bits
@@ -367,11 +402,11 @@ module estimator #(
             updates_o <= updates_o + 1'b1;
             // after WARMUP updates from power-up the gain is checked, and P reset only if
             // it changes (a reset throws the information away); then every period_i
-            if (first && upd + 1'b1 >= WARMUP) begin
+            if (first && geu({15'd0, upd1}, WARMUP)) begin
                 if (g_chk != g_eng)
                     reset_pend <= 1'b1;
                 first <= 1'b0;
-            end else if (!first && period_i != 0 && upd + 1'b1 >= period_i) begin
+            end else if (OPT_TUNABLE && !first && period_i != 0 && upd1 >= {1'b0, period_i}) begin
                 reset_pend <= 1'b1;
             end
         end
@@ -461,6 +496,8 @@ module estimator #(
     //     jl_next <= 0xFFFE0 (|e| saturated at 0x7fff), and jf_next = jf + (eabs - jf) / 4,
     //     jl_next = jl + (eabs - jl) / 64 are the exact sums (the 20-bit adds never wrap).
     //  E4 settle counts up to 1023 and stays there (0 only by rst or a reset program).
+    //  E6 the comparisons with the tuning inputs (bit by bit with OPT_TUNABLE = 0) are the
+    //     plain ones: travel gate, settle, trace bound, warm-up count.
     //  E5 LOAD and hand-over: a hand-over (END of a valid EXTRACT) leaves its bundle, g_eng,
     //     uncal_o = loaded_o = 0 even with load_i on the same edge; a LOAD alone leaves the
     //     staged bundle and loaded_o = 1 with uncal_o unchanged.
@@ -510,6 +547,12 @@ module estimator #(
         assert (jf_next <= F_EMAX && jl_next <= F_EMAX);
         assert (f_jfn >= 0 && f_jfn <= $signed({2'b00, F_EMAX}));
         assert (f_jln >= 0 && f_jln <= $signed({2'b00, F_EMAX}));
+        // E6
+        assert (gate_ok == (($signed(dtr) >= $signed(gate20)) ||
+                            ($signed(dtr) <= -$signed(gate20))));
+        assert (settled == (settle >= settle_i));
+        assert (tr_hi == (!tr_out[15] && ({3'b000, tr_out[14:0]} >= {4'd0, kappa5_i})));
+        assert (geu({15'd0, upd1}, WARMUP) == (upd1 >= WARMUP));
         // 4 jl + jump_min never wraps jthr (it did in 22 bits with jl near its top)
         assert ({2'b00, jl, 2'b00} + {8'd0, jump_min_i, 5'd0} < 24'h800000);
     end

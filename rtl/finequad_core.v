@@ -294,7 +294,7 @@ module finequad_core #(
     );
     // ---- t+9: Eq. 12 pulses ------------------------------------------------------------------------
     wire p_valid, p_a, p_b;
-    pulse #(.SIN_W(SIN_W)) u_pulse (
+    pulse #(.SIN_W(SIN_W), .OPT_TUNABLE(OPT_TUNABLE)) u_pulse (
         .clk(clk), .rst(rst), .valid_i(l_valid),
         .cos_mag_i(l_cmag), .cos_neg_i(l_cneg), .sin_mag_i(l_smag), .sin_neg_i(l_sneg),
         .eps_i(r_eps), .valid_o(p_valid), .a_o(p_a), .b_o(p_b)
@@ -313,7 +313,7 @@ module finequad_core #(
     wire g_a, g_b, g_ovf, g_sticky;
     wire signed [COUNT_W-1:0] g_pos;
     wire signed [15:0] g_backlog;
-    abgen #(.COUNT_W(COUNT_W)) u_abgen (
+    abgen #(.COUNT_W(COUNT_W), .OPT_TUNABLE(OPT_TUNABLE)) u_abgen (
         .clk(clk), .rst(rst), .target_i(m_count), .sep_i(r_absep), .bound_i(r_abbound),
         .a_o(g_a), .b_o(g_b), .pos_o(g_pos), .backlog_o(g_backlog), .ovf_o(g_ovf),
         .ovf_sticky_o(g_sticky)
@@ -323,7 +323,8 @@ module finequad_core #(
 
     // ---- estimator: every sample on arrival, its fine phase 4 edges after (t+2 .. t+6) ------------
     estimator #(.TABLE_DIR(TABLE_DIR), .G_INIT(G_INIT), .PH_DELAY(PHASE_AT),
-                .ENGINE_LANES(ENGINE_LANES), .OPT_EXT_ENGINE(OPT_EXT_ENGINE)) u_est (
+                .ENGINE_LANES(ENGINE_LANES), .OPT_EXT_ENGINE(OPT_EXT_ENGINE),
+                .OPT_TUNABLE(OPT_TUNABLE)) u_est (
         .clk(clk), .rst(rst),
         .smp_valid_i(c_v0), .u1_i(c_raw1), .u2_i(c_raw2), .amax_i(c_amax),
         .ph_valid_i(h_valid), .phase_i(h_phase), .excl_i(mon_excl),

@@ -5,7 +5,10 @@
 // The table values (u0.(SIN_W-1) with sign) are compared in u0.15 units with eps.
 // Latency 1; A and B start at 1.
 module pulse #(
-    parameter SIN_W = 10
+    parameter SIN_W = 10,
+    // 1: eps_i is a register; 0: a constant (rtl/finequad_core.v OPT_TUNABLE = 0): compared
+    // bit by bit, which synthesis folds into a few LUTs
+    parameter [0:0] OPT_TUNABLE = 1'b1
 ) (
     input  wire             clk,
     input  wire             rst,
@@ -24,8 +27,21 @@ module pulse #(
     //   v <= -eps  <=>  ( neg && m >= eps) || (m == 0 && eps == 0)   (used when not v >= eps)
     wire [15:0] cm = {1'b0, cos_mag_i, {(16-SIN_W){1'b0}}};
     wire [15:0] sm = {1'b0, sin_mag_i, {(16-SIN_W){1'b0}}};
-    wire c_ge = cm >= eps_i;
-    wire s_ge = sm >= eps_i;
+    // a >= b (unsigned, up to 32 bits), bit by bit from the LSB: with b constant it folds
+    // to an AND/OR chain that synthesis maps to a few LUTs (yosys maps a comparison with a
+    // constant to a whole carry chain)
+    function automatic geu(input [31:0] a, input [31:0] b);
+        integer i;
+        reg r;
+        begin
+            r = 1'b1;
+            for (i = 0; i < 32; i = i + 1)
+                r = (a[i] & ~b[i]) | (~(a[i] ^ b[i]) & r);
+            geu = r;
+        end
+    endfunction
+    wire c_ge = OPT_TUNABLE ? cm >= eps_i : geu({16'd0, cm}, {16'd0, eps_i});
+    wire s_ge = OPT_TUNABLE ? sm >= eps_i : geu({16'd0, sm}, {16'd0, eps_i});
     wire zero_eps = (eps_i == 16'd0);
     wire c_pos = (!cos_neg_i && c_ge) || (zero_eps && cm == 16'd0);
     wire c_neg = cos_neg_i && c_ge;

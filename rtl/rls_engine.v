@@ -22,15 +22,16 @@
 //                     from A << dz; NORM, CHK on A
 //   S+k+4  product    prod_q    <= {hh, ll} + (hl << 16) + (lh << 16) (carry save, one
 //                     carry chain); the seed table read
-//   S+k+5  accumulate acc       <= (clr ? 0 : acc) +- prod_q (carry select: 32-bit
-//                     halves), or the seed << 15; shift sh - dyn
+//   S+k+5  accumulate acc       <= (clr ? 0 : acc) +- prod_q (LANES = 2: carry select,
+//                     32-bit halves), or the seed << 15; shift sh - dyn
 //   S+k+6  shift      t_q       <= (acc << 1) >>> shift
-//   S+k+7  round      res_q     <= sat32((t_q + 1) >>> 1), and the 16-bit OUT value
-//   S+k+8  write      rf[dst] / out[dst] <= res; END (lane 0): the program ends
-// A register written in slot k is read from the register file from slot k + 8 on (LANES =
-// 2: k + 7); it is forwarded (to A and B of every lane) from the round stage (slot k + 6)
-// and, with LANES = 1, the write stage (slot k + 7) of its lane, so slot k + 6 may use it
-// (program.HAZARD = 6).
+//   S+k+7  round      res_q     <= sat32((t_q + 1) >>> 1), and the 16-bit OUT value;
+//                     LANES = 1: rf[dst] / out[dst] <= the same value (block RAM)
+//   S+k+8  write      LANES = 2: rf[dst] / out[dst] <= res; END (lane 0): the program
+//                     ends
+// A register written in slot k is read from the register file from slot k + 7 on; it is
+// forwarded (to A and B of every lane) from the round stage (slot k + 6) of its lane, so
+// slot k + 6 may use it (program.HAZARD = 6).
 // Shared by AXES axes (rtl/finequad_multi.v, AXES > 1): every bank holds AXES register
 // files, addressed {axis, register} with the axis latched on start_i (axis_i), and sat_o
 // has a sticky bit per axis. A program touches no state of an earlier one but the
@@ -161,7 +162,9 @@ module rls_engine #(
     // on its way into the read stage, the next one by v0.
     reg [ROM_AW-1:0] pc_q = 0;
     reg              run_q = 1'b0;
-    reg [RW-1:0]     word_q = 0;
+    // (no initial value on a block RAM's output register: yosys emulates one with logic;
+    // every use of word_q, rd_q, seed4_q and late_q is qualified by the valid bits)
+    reg [RW-1:0]     word_q;
     reg              v0 = 1'b0;           // word_q holds instructions to execute
     reg              v1 = 1'b0;
     wire [LANES-1:0] end1_l;              // the read stage holds END
@@ -192,14 +195,14 @@ module rls_engine #(
     end
 
     // ---- what the lanes share: the write ports, the forwarded results, dz, flags, OUT -----
-    wire [LANES-1:0]    wr_en;            // write stage: a register write
+    wire [LANES-1:0]    wr_en;            // a register write on the coming edge
     wire [6*LANES-1:0]  wr_dst;
-    wire [32*LANES-1:0] wr_res;           // res_q: the value written on the coming edge
+    wire [32*LANES-1:0] wr_res;           // the value written on the coming edge
     wire [LANES-1:0]    wr5_l;            // shift stage holds a register write
     wire [6*LANES-1:0]  wd5_l;            // its destination
     wire [LANES-1:0]    fw6_l;            // round stage holds a register write
     wire [6*LANES-1:0]  fd6_l;            // its destination
-    wire [32*LANES-1:0] res6_l, res7_l;   // the round and write stages' values
+    wire [32*LANES-1:0] res6_l;           // the round stage's values (res_q)
     wire [LANES-1:0]    dz0_we, dz1_we, inval_l, sat_l, out_we;
     wire [5*LANES-1:0]  dzn_l;
     wire [3*LANES-1:0]  out_dst;
@@ -209,12 +212,13 @@ module rls_engine #(
     reg                 inval_q = 1'b0;
 
     // ---- register file: bank b (written by lane b) in NP copies, one per read port -------
-    // LANES = 1: block RAM, read on the read edge (the address from the ROM word), so a
-    // register is in the RAM for slots k + 8 on and forwarded from the round and write
-    // stages. LANES = 2 (for devices with distributed RAM, e.g. the ECP5: 32-deep banks):
-    // read asynchronously in the operand stage (the address from the registered
-    // instruction, not from the ROM's output), so a register is in the RAM for slots k + 7
-    // on and forwarded from the round stage only.
+    // LANES = 1: block RAM, written on the round edge (from the round stage's value, beside
+    // res_q) and read on the read edge (the address from the ROM word), so a register is
+    // in the RAM for slots k + 7 on. LANES = 2 (for devices with distributed RAM, e.g. the
+    // ECP5: 32-deep banks): written on the write edge, read asynchronously in the operand
+    // stage (the address from the registered instruction, not from the ROM's output), so
+    // a register is in the RAM for slots k + 7 on too. Both: forwarded from the round stage
+    // (slot k + 6).
     localparam [0:0] ASYNC_RF = (LANES == 2);
     wire [6*NP-1:0]     rd_addr;          // port p = 2 l + {0: A, 1: B} of lane l (fetch)
     wire [6*NP-1:0]     rd_addr1;         // the same, one stage later (read)
@@ -225,7 +229,10 @@ module rls_engine #(
             localparam integer BCHI = 48 + b;
             localparam [7:0]   BCH = BCHI[7:0];
             for (p = 0; p < NP; p = p + 1) begin : g_port
-                reg [31:0] mem [0:AXES*(1<<BW)-1];
+                // no_rw_check: a read on the edge that writes the same register is never
+                // used (the reader takes the forwarded value), so the block RAM needs no
+                // collision logic
+                (* no_rw_check *) reg [31:0] mem [0:AXES*(1<<BW)-1];
                 // the write, read (block RAM) and operand-stage read (distributed RAM)
                 // addresses; with AXES > 1 the running program's axis above the register
                 wire [RAW-1:0] wa, ra, ra1;
@@ -251,7 +258,7 @@ module rls_engine #(
                     assign rd_all[32*(NP*b + p) +: 32] = mem[ra1];
                     wire unused_ra = &{1'b0, ra, 1'b0};
                 end else begin : g_sync
-                    reg [31:0] rd_q = 0;
+                    reg [31:0] rd_q;
                     always @(posedge clk)
                         rd_q <= mem[ra];
                     assign rd_all[32*(NP*b + p) +: 32] = rd_q;
@@ -271,59 +278,52 @@ module rls_engine #(
 
             // ---- read ----------------------------------------------------------------------
             // The forwarding decisions for the operand stage are made beside the register
-            // file's read: LANES = 1 here (from the instruction and the results then 5 and 6
-            // slots old, registered), LANES = 2 in the operand stage (from the registered
+            // file's read: LANES = 1 here (from the instruction and the result then 5 slots
+            // old, registered), LANES = 2 in the operand stage (from the registered
             // instruction and the result then 6 slots old: the ROM's output goes to
             // registers only). The operand stage then only selects.
             reg [IW-1:0] i1 = 0;
             always @(posedge clk)
                 i1 <= ins0;
             assign end1_l[l] = i1[2:0] == OP_END;
-            wire ha6, ha7, hb6, hb7;
+            wire ha6, hb6;
             if (ASYNC_RF) begin : g_hit1
                 wire [6:0] ar = i1[22:16], br = i1[29:23];
                 wire       oar = (LANES == 2) ? ar[5] : 1'b0;
                 wire       obr = (LANES == 2) ? br[5] : 1'b0;
                 assign ha6 = !ar[6] && fw6_l[oar] && fd6_l[6*oar +: 6] == ar[5:0];
                 assign hb6 = !br[6] && fw6_l[obr] && fd6_l[6*obr +: 6] == br[5:0];
-                assign ha7 = 1'b0;
-                assign hb7 = 1'b0;
             end else begin : g_hit0
                 wire [6:0] a0 = ins0[22:16], b0 = ins0[29:23];
                 wire       oa0 = (LANES == 2) ? a0[5] : 1'b0;
                 wire       ob0 = (LANES == 2) ? b0[5] : 1'b0;
-                reg        ha6_q = 1'b0, ha7_q = 1'b0, hb6_q = 1'b0, hb7_q = 1'b0;
+                reg        ha6_q = 1'b0, hb6_q = 1'b0;
                 always @(posedge clk) begin
                     ha6_q <= !a0[6] && wr5_l[oa0] && wd5_l[6*oa0 +: 6] == a0[5:0];
                     hb6_q <= !b0[6] && wr5_l[ob0] && wd5_l[6*ob0 +: 6] == b0[5:0];
-                    ha7_q <= !a0[6] && fw6_l[oa0] && fd6_l[6*oa0 +: 6] == a0[5:0];
-                    hb7_q <= !b0[6] && fw6_l[ob0] && fd6_l[6*ob0 +: 6] == b0[5:0];
                 end
                 assign ha6 = ha6_q;
-                assign ha7 = ha7_q;
                 assign hb6 = hb6_q;
-                assign hb7 = hb7_q;
             end
             assign rd_addr1[6*(2*l) +: 6]     = i1[21:16];
             assign rd_addr1[6*(2*l + 1) +: 6] = i1[28:23];
 
             // ---- operands: forwarding, specials ----------------------------------------------
-            // a register of bank o is forwarded from lane o's round (6 slots old) and, with
-            // the block-RAM register file, write (7 slots old) stages; the RAM's data pass
-            // one multiplexer (ram ? rd : other)
+            // a register of bank o is forwarded from lane o's round stage (6 slots old); the
+            // RAM's data pass one multiplexer (ram ? rd : other)
             wire [6:0] a1 = i1[22:16], b1 = i1[29:23];
             wire       oa = (LANES == 2) ? a1[5] : 1'b0;    // owning lane (bank)
             wire       ob = (LANES == 2) ? b1[5] : 1'b0;
             wire [31:0] rda = rd_all[32*(NP*oa + 2*l) +: 32];
             wire [31:0] rdb = rd_all[32*(NP*ob + 2*l + 1) +: 32];
-            wire ram_a = !a1[6] && !ha6 && !ha7;
-            wire ram_b = !b1[6] && !hb6 && !hb7;
+            wire ram_a = !a1[6] && !ha6;
+            wire ram_b = !b1[6] && !hb6;
             wire [31:0] oth_a = a1[6] ? (a1[0] ? x2_30 : x1_30) :
-                                ha6 ? res6_l[32*oa +: 32] : res7_l[32*oa +: 32];
+                                res6_l[32*oa +: 32];
             reg  [31:0] oth_b;
             always @* begin
                 if (!b1[6])
-                    oth_b = hb6 ? res6_l[32*ob +: 32] : res7_l[32*ob +: 32];
+                    oth_b = res6_l[32*ob +: 32];
                 else case (b1[2:0])
                     3'd0: oth_b = x1_30;
                     3'd1: oth_b = x2_30;
@@ -366,13 +366,19 @@ module rls_engine #(
             reg [IW-1:0] i3 = 0;
             reg [4:0]  dz3 = 0;
             wire [4:0]  dz2 = i2[15] ? dz1 : dz0;        // the dz this instruction uses
-            wire [31:0] m2 = opa_q << dz2;
+            // m2 = (A << dz)[30:23], the widest level first, each as wide as the levels
+            // after it need (23, 15, 11, 9, 8 bits)
+            wire [22:0] ms1 = dz2[4] ? {opa_q[14:0], 8'd0} : opa_q[30:8];     // bits 30..8
+            wire [14:0] ms2 = dz2[3] ? ms1[14:0] : ms1[22:8];                  // 30..16
+            wire [10:0] ms3 = dz2[2] ? ms2[10:0] : ms2[14:4];                 // 30..20
+            wire [8:0]  ms4 = dz2[1] ? ms3[8:0] : ms3[10:2];                   // 30..22
+            wire [7:0]  m2  = dz2[0] ? ms4[7:0] : ms4[8:1];                    // 30..23
             always @(posedge clk) begin
                 pp_ll <= $signed({1'b0, opa_q[15:0]}) * $signed({1'b0, opb_q[15:0]});
                 pp_lh <= $signed({1'b0, opa_q[15:0]}) * $signed(opb_q[31:16]);
                 pp_hl <= $signed(opa_q[31:16]) * $signed({1'b0, opb_q[15:0]});
                 pp_hh <= $signed(opa_q[31:16]) * $signed(opb_q[31:16]);
-                sa3_q <= (op2 == OP_SEEDS) ? {1'b1, m2[30:24]} : {1'b0, m2[29:23]};
+                sa3_q <= (op2 == OP_SEEDS) ? {1'b1, m2[7:1]} : {1'b0, m2[6:0]};
                 dz3 <= dz2;                      // for the write-back's dyn shift
                 i3 <= i2;
             end
@@ -386,7 +392,7 @@ module rls_engine #(
             wire       seed3 = (op3 == OP_SEEDR || op3 == OP_SEEDS);
             wire       neg3 = i3[4] && !seed3;
             reg signed [63:0] prod_q = 0;        // the product, or its complement when neg4
-            reg [15:0] seed4_q = 0;              // the seed (u1.15)
+            reg [15:0] seed4_q;              // the seed (u1.15)
             reg [IW-1:0] i4 = 0;
             reg        en4 = 1'b0, neg4 = 1'b0, clr4 = 1'b0, sd4 = 1'b0;
             reg [4:0]  dz4 = 0;
@@ -409,59 +415,111 @@ module rls_engine #(
                     en4 <= 1'b0;
             end
 
+            // ---- the write-back fields {dst, out, wb, sh, dyn} in the product stage: LANES = 1
+            // (the iCE40) through a 4-deep block RAM written with the read stage's
+            // instruction and read three edges later (its output register is the stage's),
+            // instead of three 16-bit pipeline registers; LANES = 2 from i4 -----------------
+            wire [15:0] late0 = {ins0[35:30], ins0[6:5], ins0[14:7]};
+            wire [15:0] late4;
+            if (LANES == 1) begin : g_late_ram
+                (* ram_style = "block", no_rw_check *) reg [15:0] late_mem [0:3];
+                reg [1:0]  late_wa = 2'd0;
+                wire [1:0] late_ra = late_wa + 2'd1;     // = wa - 3 (mod 4)
+                reg [15:0] late_q;
+                always @(posedge clk) begin
+                    late_mem[late_wa] <= late0;          // written on the read edge S+k+1
+                    late_q <= late_mem[late_ra];         // read on S+k+4
+                    late_wa <= late_ra;
+                end
+                assign late4 = late_q;
+            end else begin : g_late_ff
+                assign late4 = {i4[35:30], i4[6:5], i4[14:7]};
+                wire unused_l = &{1'b0, late0, 1'b0};
+            end
+            // the product stage's instruction with the write-back fields from late4
+            wire [IW-1:0] i4x = {late4[15:10], i4[29:15], late4[7:2], late4[1:0],
+                                 late4[9:8], i4[4:0]};
+
             // ---- accumulate; the write-back shift sh - dyn (clamped to 0..63) ----------------------
             reg signed [63:0] acc = 0;
             reg [5:0]  sh_q = 0;
             reg [IW-1:0] i5 = 0;
-            wire [1:0] dyn4 = i4[8:7];
+            wire [1:0] dyn4 = i4x[8:7];
             wire [6:0] dyn_amt = (dyn4 == 2'd1) ? {2'd0, dz4} :
                                  (dyn4 == 2'd2) ? {3'd0, dz4[4:1]} : 7'd0;
-            wire signed [7:0] sh_raw = $signed({2'b00, i4[14:9]}) - $signed({1'b0, dyn_amt});
+            wire signed [7:0] sh_raw = $signed({2'b00, i4x[14:9]}) - $signed({1'b0, dyn_amt});
             wire [5:0]  sh_eff = sh_raw[7] ? 6'd0 : sh_raw[5:0];
-            // the 64-bit sum as a carry-select adder: the high half is added with and
-            // without the low half's carry, side by side, so the loop is one 33-bit carry
-            // chain and a multiplexer; a SEED clears the accumulator and the product (the
-            // sum is 0) and ORs the seed into bits 30..15
-            wire [63:0] acc_a = clr4 ? 64'd0 : acc;
-            wire [32:0] lo_sum = {1'b0, acc_a[31:0]} + {1'b0, prod_q[31:0]} + {32'd0, neg4};
-            wire [31:0] hi_sum0 = acc_a[63:32] + prod_q[63:32];
-            wire [31:0] hi_sum1 = acc_a[63:32] + prod_q[63:32] + 32'd1;
+            // a clear takes 0 instead of acc; a SEED clears and adds its zero product, with
+            // the seed << 15 put into bits 30..15. LANES = 2 (devices with fast carry chains
+            // and area to spare, e.g. the ECP5) adds as a carry-select adder: the high half
+            // with and without the low half's carry, side by side, so the loop is one 33-bit
+            // carry chain and a multiplexer, and the seed (a block RAM's slow output) is ORed
+            // in behind it; LANES = 1 (the iCE40 UP5K) adds in one 64-bit chain, the seed
+            // entering through the clear's gate (no OR behind the adder)
+            wire [63:0] acc_n;
+            if (LANES == 2) begin : g_csel
+                wire [63:0] acc_a = clr4 ? 64'd0 : acc;
+                wire [32:0] lo_sum = {1'b0, acc_a[31:0]} + {1'b0, prod_q[31:0]} + {32'd0, neg4};
+                wire [31:0] hi_sum0 = acc_a[63:32] + prod_q[63:32];
+                wire [31:0] hi_sum1 = acc_a[63:32] + prod_q[63:32] + 32'd1;
+                assign acc_n = {lo_sum[32] ? hi_sum1 : hi_sum0,
+                                lo_sum[31:0] | {1'b0, seed4_q & {16{sd4}}, 15'd0}};
+            end else begin : g_ripple
+                wire [63:0] acc_a = clr4 ? {33'd0, seed4_q & {16{sd4}}, 15'd0} : acc;
+                assign acc_n = acc_a + prod_q + {63'd0, neg4};
+            end
             always @(posedge clk) begin
                 if (en4)
-                    acc <= {lo_sum[32] ? hi_sum1 : hi_sum0,
-                            lo_sum[31:0] | {1'b0, seed4_q & {16{sd4}}, 15'd0}};
+                    acc <= acc_n;
                 sh_q <= sh_eff;
-                i5 <= i4;
+                i5 <= i4x;
             end
 
             // ---- shift, then round and saturate -------------------------------------------------
             // rnd_shr(v, s) = (v + 2**(s-1)) >> s = ((v << 1 >>> s) + 1) >> 1 (s = 0 too): shift,
-            // then an increment. r fits OW bits when bits [65:OW] of t + 1 are sign copies; with
-            // c the carry out of t[OW-1:0], X = t[65:OW] + c is uniform for X in {0, -1}
-            // (c = 0) or X in {-1, -2} (c = 1).
-            reg signed [65:0] t_q = 0;
+            // then an increment. With t = {acc, 0} >>> s (66 bits), r fits OW bits when bits
+            // [65:OW] of t + 1 are sign copies; with c the carry out of t[OW-1:0], X =
+            // t[65:OW] + c is uniform for X in {0, -1} (c = 0) or X in {-1, -2} (c = 1).
+            // Only the window t[32:0] is shifted: six levels, the widest first, each as wide
+            // as the levels after it need (64, 48, 40, 36, 34, 33 bits). What a level does
+            // not shift drops out of the window at its top, so t[65:33] are sign copies iff
+            // every bit dropped so (a level that shifts drops only sign copies) is one:
+            // hi_ok, registered with the window.
+            wire        sg5 = acc[63];
+            wire [63:0] sv1 = sh_q[5] ? {{30{sg5}}, sg5, acc[63:31]} : {acc[62:0], 1'b0};
+            wire [47:0] sv2 = sh_q[4] ? sv1[63:16] : sv1[47:0];
+            wire [39:0] sv3 = sh_q[3] ? sv2[47:8] : sv2[39:0];
+            wire [35:0] sv4 = sh_q[2] ? sv3[39:4] : sv3[35:0];
+            wire [33:0] sv5 = sh_q[1] ? sv4[35:2] : sv4[33:0];
+            wire [32:0] sv6 = sh_q[0] ? sv5[33:1] : sv5[32:0];
+            wire [30:0] sdrop = {sv1[63:48], sv2[47:40], sv3[39:36], sv4[35:34], sv5[33]};
+            wire [30:0] skeep = {{16{sh_q[4]}}, {8{sh_q[3]}}, {4{sh_q[2]}}, {2{sh_q[1]}},
+                                 sh_q[0]};
+            wire        hi_ok = &(skeep | ~(sdrop ^ {31{sg5}}));
+            reg  [32:0] t_q = 0;                 // t[32:0]
+            reg         hi_q = 1'b0, sg_q = 1'b0;   // t[65:33] are sign copies; the sign
             reg  [IW-1:0] i5b = 0;
             always @(posedge clk) begin
-                t_q <= $signed({acc[63], acc, 1'b0}) >>> sh_q;
-                i5b <= i5;
+                t_q  <= sv6;
+                hi_q <= hi_ok;
+                sg_q <= sg5;
+                i5b  <= i5;
             end
             wire [32:0] t_inc = t_q[32:0] + 33'd1;
             wire c32 = &t_q[31:0];
             wire c16 = &t_q[15:0];
-            wire fit32 = c32 ? ((&t_q[65:32]) || (&t_q[65:33] && !t_q[32]))
-                             : ((&t_q[65:32]) || !(|t_q[65:32]));
-            wire fit16 = c16 ? ((&t_q[65:16]) || (&t_q[65:17] && !t_q[16]))
-                             : ((&t_q[65:16]) || !(|t_q[65:16]));
-            reg  signed [31:0] res_q = 0, res_w = 0;
-            reg  signed [15:0] res16 = 0;
-            reg         res16_sat = 1'b0;
+            wire up32 = hi_q && (t_q[32] == sg_q);                  // t[65:32] sign copies
+            wire up17 = hi_q && (t_q[32:17] == {16{sg_q}});        // t[65:17]
+            wire fit32 = c32 ? (sg_q && hi_q) : up32;
+            wire fit16 = c16 ? (sg_q && up17) : up17 && (t_q[16] == sg_q);
+            reg  signed [31:0] res_q = 0;
             reg         fw6 = 1'b0;
             reg  [5:0]  fd6 = 0;
             reg  [IW-1:0] i6 = 0;
+            wire [31:0] res_n = fit32 ? t_inc[32:1] : (sg_q ? 32'sh80000000 : 32'sh7fffffff);
+            wire [15:0] res16_n = fit16 ? t_inc[16:1] : (sg_q ? 16'sh8000 : 16'sh7fff);
             always @(posedge clk) begin
-                res_q <= fit32 ? t_inc[32:1] : (t_q[65] ? 32'sh80000000 : 32'sh7fffffff);
-                res16 <= fit16 ? t_inc[16:1] : (t_q[65] ? 16'sh8000 : 16'sh7fff);
-                res16_sat <= !fit16;
+                res_q <= res_n;
                 fw6 <= v5b && i5b[5] && !i5b[6];
                 fd6 <= i5b[35:30];
                 i6 <= i5b;
@@ -474,25 +532,45 @@ module rls_engine #(
 
             // ---- write ---------------------------------------------------------------------------
             wire wb6 = v6 && i6[5];
-            assign wr_en[l] = wb6 && !i6[6];
-            assign wr_dst[6*l +: 6] = i6[35:30];
-            assign wr_res[32*l +: 32] = res_q;
-            assign out_we[l] = wb6 && i6[6];
-            assign out_dst[3*l +: 3] = i6[32:30];
-            assign out_res[16*l +: 16] = res16;
+            // the register file is written on the round edge (block RAM: read on the next
+            // edge, by slot k + 7) or on the write edge (distributed RAM: read
+            // asynchronously in the operand stage, by slot k + 7 too)
+            assign wr_en[l] = ASYNC_RF ? wb6 && !i6[6] : wr5_l[l];
+            assign wr_dst[6*l +: 6] = ASYNC_RF ? i6[35:30] : i5b[35:30];
+            assign wr_res[32*l +: 32] = ASYNC_RF ? res_q : res_n;
+            // OUT registers: LANES = 1 written on the round edge (the 16-bit value beside
+            // res_q); LANES = 2 (the ECP5) from a register of it on the write edge (a shorter
+            // path behind the round stage's tests)
+            wire wb5 = v5b && i5b[5];
+            wire inv16;                          // an OUT value saturated (write or round)
+            if (LANES == 1) begin : g_out5
+                assign out_we[l] = wb5 && i5b[6];
+                assign out_dst[3*l +: 3] = i5b[32:30];
+                assign out_res[16*l +: 16] = res16_n;
+                assign inv16 = wb5 && i5b[6] && !fit16;
+            end else begin : g_out6
+                reg  [15:0] res16 = 0;
+                reg         res16_sat = 1'b0;
+                always @(posedge clk) begin
+                    res16 <= res16_n;
+                    res16_sat <= !fit16;
+                end
+                assign out_we[l] = wb6 && i6[6];
+                assign out_dst[3*l +: 3] = i6[32:30];
+                assign out_res[16*l +: 16] = res16;
+                assign inv16 = wb6 && i6[6] && res16_sat;
+                wire unused_w = &{1'b0, wb5, 1'b0};
+            end
             assign inval_l[l] = (v2 && (op2 == OP_NORMR || op2 == OP_NORMS || op2 == OP_CHK) &&
-                                 !a_pos) || (wb6 && i6[6] && res16_sat);
-            always @(posedge clk)
-                res_w <= res_q;
+                                 !a_pos) || inv16;
             assign fw6_l[l] = fw6;
             assign fd6_l[6*l +: 6] = fd6;
             assign res6_l[32*l +: 32] = res_q;
-            assign res7_l[32*l +: 32] = res_w;
             assign end6_l[l] = i6[2:0] == OP_END;
 
             wire unused = &{1'b0, i6[29:7], i6[4:0], i5b[29:7], i5b[4:0], i5[35:15], i5[6:0],
-                            i4[35:15], i4[6:0], i3[35:5], i2[35:16], i2[14:3], i1[35:30],
-                            i1[15:0], m2[31], m2[22:0], sh_raw[6], t_inc[0], b1[5:3],
+                            i4[35:15], i4[14:7], i4[6:0], i3[35:5], i2[35:16], i2[14:3], i1[35:30],
+                            i1[15:0], sh_raw[6], t_inc[0], b1[5:3],
                             a1[5:1], nz6[5], 1'b0};
         end
     endgenerate
@@ -532,6 +610,7 @@ module rls_engine #(
     initial begin
         busy_o = 1'b0; out_o = 0; sat_o = {AXES{1'b0}};
     end
-    wire unused = &{1'b0, end1_l, end6_l, wr_dst, rd_addr, rd_addr1, wr5_l, wd5_l, 1'b0};
+    wire unused = &{1'b0, end1_l, end6_l, wr_dst, rd_addr, rd_addr1, wr5_l, wd5_l, fw6_l,
+                    fd6_l, 1'b0};
 endmodule
 `resetall
