@@ -21,7 +21,8 @@ count) go to the --build folder. Everything is measured here:
   under `placed_variant`.
 * A second synthesis without flattening gives the cells per module of the hierarchy.
 * Each device's build (DEVICES params): the iCE40 UP5K one engine lane (its 8 DSP blocks
-  are taken) and block RAM only; the ECP5 two engine lanes (4 more of its 28 DSP blocks,
+  are taken), block RAM only, no harmonic compensation and the tuning registers constant
+  (OPT_HARMONIC=0, OPT_TUNABLE=0; the register port stays); the ECP5 two engine lanes (4 more of its 28 DSP blocks,
   shorter programs), the harmonic table in distributed RAM and the 4096-row phase table
   (OPT_DISTRAM, OPT_PHASE_4K). The probe's simulations run on each device's RTL (the
   parameters in DEVICES probe), against the model with its lanes.
@@ -59,11 +60,15 @@ DEVICES = {
         "yosys": ["yosys"],
         "synth": "synth_ice40 -dsp",
         "nextpnr": ["nextpnr-ice40", "--up5k", "--package", "sg48"],
-        "params": {"OPT_NTH_DSP": 0},
+        # the UP5K build: the n-th order sinusoids from LUTs (OPT_NTH_DSP=0), no harmonic
+        # compensation (OPT_HARMONIC=0: rtl/phase.v) and the tuning registers constant at
+        # their reset values (OPT_TUNABLE=0: EPS, LAMBDA, KAPPA, PERIOD, SETTLE, GATE, HARM,
+        # ABGEN, AB_BOUND); the register port, read-back and the bundle LOAD stay
+        "params": {"OPT_NTH_DSP": 0, "OPT_HARMONIC": 0, "OPT_TUNABLE": 0},
         # the core's parameters the probe is built with (behaviour and structure: the RTL
         # whose latency and rates are measured), and `make model`'s for the comparison
-        "probe": {"ENGINE_LANES": 1},
-        "model": {"LANES": 1},
+        "probe": {"ENGINE_LANES": 1, "OPT_HARMONIC": 0, "OPT_TUNABLE": 0},
+        "model": {"LANES": 1, "HARMONIC": 0},
         "freq": 36.0,
         # key -> nextpnr utilisation entry; the iCE40's ffs come from the packer's log
         "util": {"luts": "ICESTORM_LC", "dsps": "ICESTORM_DSP", "brams": "ICESTORM_RAM"},
@@ -609,11 +614,13 @@ def probe(exe, args):
     return json.loads(p.stdout)
 
 
-def measure_latency(exe, trials=50):
+def measure_latency(exe, trials=50, pulses=True):
     """Per A/B source, `trials` samples forward (97/8192 period per sample) and `trials`
-    backward (131/8192), one every 64 clocks (sim/harness/probe.cpp latency)."""
+    backward (131/8192), one every 64 clocks (sim/harness/probe.cpp latency). pulses
+    False: a build whose ABGEN register is constant (OPT_TUNABLE=0) has only the paced
+    source."""
     out = {}
-    for src, name in ((0, "paced"), (1, "pulses")):
+    for src, name in ((0, "paced"), (1, "pulses"))[:2 if pulses else 1]:
         r = []
         for step, seed in (("97", "1"), ("-131", "2")):
             r += probe(exe, ["latency", "--trials", str(trials), "--ab-src", str(src),
@@ -749,7 +756,7 @@ def simulations(bdir, make_build, log, dev):
     log(f"simulation ({dev}: {prm}): building the probe (Verilator)")
     exe, tb = build_probe(bdir, dev, cfg["probe"])
     log(f"simulation ({dev}): latency")
-    lat = measure_latency(exe)
+    lat = measure_latency(exe, pulses=cfg["probe"].get("OPT_TUNABLE", 1) != 0)
     log(f"simulation ({dev}): fast path at one sample per clock, against make model DIV=1 "
         + " ".join(f"{k}={v}" for k, v in cfg["model"].items()))
     fast = measure_fast_path(exe, bdir, make_build, dev, cfg["model"])
@@ -763,7 +770,7 @@ def simulations(bdir, make_build, log, dev):
             "fast_path": fast, "updates": upd,
             "fast_path_samples_per_clock": round(fast["samples_per_clock"], 4),
             "latency_cycles": max(lat["valid"], lat["count"]),
-            "latency_ab_cycles": {"paced": lat["ab_paced"], "pulses": lat["ab_pulses"]},
+            "latency_ab_cycles": {"paced": lat["ab_paced"], "pulses": lat.get("ab_pulses")},
             "clocks_per_update": worst,
             "seconds": round(time.perf_counter() - t0, 1), "probe_build_s": round(tb, 1)}
 
@@ -902,9 +909,11 @@ def markdown(rep):
                  f"sample strobed on edge t appears on m_valid and m_count after edge t + "
                  f"{lat['valid']} / t + {lat['count']}; the paced A/B pins' first change came "
                  f"after edge t + {lat['ab_paced_min']} .. t + {lat['ab_paced']} (in "
-                 f"{lat['ab_paced_trials']} of {lat['trials']} samples), the Eq. 12 pulses' "
-                 f"(ABGEN bit 8) after t + {lat['ab_pulses_min']} .. t + {lat['ab_pulses']} "
-                 f"(in the {lat['ab_pulses_trials']} samples where they changed).")
+                 f"{lat['ab_paced_trials']} of {lat['trials']} samples)"
+                 + (f", the Eq. 12 pulses' (ABGEN bit 8) after t + {lat['ab_pulses_min']} .. "
+                    f"t + {lat['ab_pulses']} (in the {lat['ab_pulses_trials']} samples where "
+                    "they changed)." if "ab_pulses" in lat else
+                    " (ABGEN is constant in this build: the pulses are not selectable)."))
         L.append(f"- **samples per clock**, {d}: {fast['samples']} samples "
                  f"strobed on {fast['samples']} consecutive clocks gave {fast['results']} "
                  f"results on {fast['edges']} consecutive clocks (longest gap "
