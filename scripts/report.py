@@ -162,10 +162,16 @@ def parse_pnr_report(path):
         if "achieved" not in f:
             raise ReportError(f"{path}: fmax of clock {clk!r} has no 'achieved'")
         fmax = float(f["achieved"]) if fmax is None else min(fmax, float(f["achieved"]))
-    crit = None
+    # the longest path between edges of a clock in "fmax" (nextpnr-ice40 also lists paths
+    # of its packer's constant nets as if they were clocks: "posedge $PACKER_GND_NET")
+    clocks = {f"posedge {c}" for c in rep.get("fmax", {})}
+    crit, worst = None, -1.0
     for cp in rep.get("critical_paths", []):
-        if cp.get("from", "").startswith("posedge") and cp.get("to", "").startswith("posedge"):
-            crit = cp.get("path", [])
+        if cp.get("from") in clocks and cp.get("to") in clocks:
+            path = cp.get("path", [])
+            total = sum(float(st.get("delay", 0.0)) for st in path)
+            if total > worst:
+                crit, worst = path, total
     return util, fmax, crit
 
 

@@ -66,6 +66,18 @@ def test_parse_pnr_report_takes_the_worst_clock_and_the_reg_to_reg_path(tmp_path
     assert crit is PATH or crit == PATH
 
 
+def test_parse_pnr_report_skips_packer_nets_and_takes_the_longest_path(tmp_path):
+    # nextpnr-ice40 lists its constant net's paths as a clock's, after the real one
+    short = PATH[:2] + PATH[-1:]
+    p = _report_json(tmp_path, fmax={"clk": 28.3}, paths=[
+        {"from": "posedge clk", "to": "posedge clk", "path": short},
+        {"from": "posedge clk", "to": "posedge clk", "path": PATH},
+        {"from": "posedge $PACKER_GND_NET", "to": "posedge clk", "path": PATH[:1]},
+        {"from": "posedge clk", "to": "posedge $PACKER_GND_NET", "path": PATH[-2:]}])
+    _, _, crit = report.parse_pnr_report(p)
+    assert crit == PATH
+
+
 def test_parse_pnr_report_pack_only_has_no_fmax(tmp_path):
     util, fmax, crit = report.parse_pnr_report(_report_json(tmp_path))
     assert fmax is None and crit is None and util["ICESTORM_RAM"] == (26, 30)
