@@ -100,6 +100,9 @@ module rls_engine #(
     reg [15:0] sp_kappa = 0;
     reg [31:0] onel = 32'h00800000, gs1 = 32'h01000000, gs2 = 32'h01000000;
     reg [AXW-1:0] axis_q = 0;                   // the axis of the program running
+    // (2 dg as a shift: dgi + dgi mapped to an iCE40 carry chain with one net on both of
+    // a cell's inputs, which nextpnr-ice40 0.4 could not route: its router went round in
+    // circles on that LUT's two input pins)
     wire signed [31:0] dgi = {{29{dg_i[2]}}, dg_i};
     wire signed [31:0] ki = {27'd0, lam_k_i};
     integer bi;
@@ -112,7 +115,7 @@ module rls_engine #(
             for (bi = 0; bi < 32; bi = bi + 1) begin
                 onel[bi] <= (bi == 23) || (!freeze_i && ki == 23 - bi);
                 gs1[bi]  <= (dgi == 24 - bi);
-                gs2[bi]  <= (dgi + dgi == 24 - bi);
+                gs2[bi]  <= ({dgi[30:0], 1'b0} == 24 - bi);     // 2 dg: a shift, no adder
             end
         end
     end

