@@ -268,6 +268,55 @@ module rls_engine #(
         end
     endfunction
     /* verilator lint_on UNUSEDSIGNAL */
+    // the round stage: from t[32:0], hi (t[65:33] are sign copies) and sg (the sign) of
+    // the shift stage, {fit32, fit16, r32, r16}: r = (t + 1) >> 1 saturated to 32 / 16
+    // bits, fit: it fits (see the shift stage below)
+    /* verilator lint_off UNUSEDSIGNAL */
+    function automatic [49:0] rnd_stage(input [32:0] t, input hi, input sg);
+        reg [32:0] t_inc;
+        reg        c32, c16, up32, up17, fit32, fit16;
+        begin
+            t_inc = t + 33'd1;
+            c32 = &t[31:0];
+            c16 = &t[15:0];
+            up32 = hi && (t[32] == sg);                  // t[65:32] sign copies
+            up17 = hi && (t[32:17] == {16{sg}});         // t[65:17]
+            fit32 = c32 ? (sg && hi) : up32;
+            fit16 = c16 ? (sg && up17) : up17 && (t[16] == sg);
+            rnd_stage = {fit32, fit16,
+                         fit32 ? t_inc[32:1] : (sg ? 32'h80000000 : 32'h7fffffff),
+                         fit16 ? t_inc[16:1] : (sg ? 16'h8000 : 16'h7fff)};
+        end
+    endfunction
+    function automatic [31:0] rnd_r32(input [32:0] t, input hi, input sg);
+        reg [49:0] r;
+        begin
+            r = rnd_stage(t, hi, sg);
+            rnd_r32 = r[47:16];
+        end
+    endfunction
+    function automatic [15:0] rnd_r16(input [32:0] t, input hi, input sg);
+        reg [49:0] r;
+        begin
+            r = rnd_stage(t, hi, sg);
+            rnd_r16 = r[15:0];
+        end
+    endfunction
+    function automatic rnd_fit32(input [32:0] t, input hi, input sg);
+        reg [49:0] r;
+        begin
+            r = rnd_stage(t, hi, sg);
+            rnd_fit32 = r[49];
+        end
+    endfunction
+    function automatic rnd_fit16(input [32:0] t, input hi, input sg);
+        reg [49:0] r;
+        begin
+            r = rnd_stage(t, hi, sg);
+            rnd_fit16 = r[48];
+        end
+    endfunction
+    /* verilator lint_on UNUSEDSIGNAL */
 
     // ---- fetch ----------------------------------------------------------------------------
     // Fetching runs from start_i until END (lane 0) reaches the read stage (decoded from a
@@ -310,13 +359,15 @@ module rls_engine #(
     // ---- what the lanes share: the write ports, the forwarded results, dz, flags, OUT -----
     wire [LANES-1:0]    wr_en;            // a register write on the coming edge
     wire [6*LANES-1:0]  wr_dst;
-    wire [32*LANES-1:0] wr_res;           // the value written on the coming edge
+    wire [32*LANES-1:0] wr_res;           // LANES = 2: the value written on the coming edge
+    wire [33*LANES-1:0] rnd_t;            // the round stage's t[32:0], hi, sign (rnd_stage:
+    wire [LANES-1:0]    rnd_hi, rnd_sg;   //  LANES = 1 writes its value on the round edge)
     wire [LANES-1:0]    wr5_l;            // shift stage holds a register write
     wire [6*LANES-1:0]  wd5_l;            // its destination
     wire [LANES-1:0]    fw6_l;            // round stage holds a register write
     wire [6*LANES-1:0]  fd6_l;            // its destination
     wire [32*LANES-1:0] res6_l;           // the round stage's values (res_q)
-    wire [LANES-1:0]    dz0_we, dz1_we, inval_l, sat_l, out_we;
+    wire [LANES-1:0]    dz0_we, dz1_we, inval_l, out_we;
     wire [32*LANES-1:0] dzn_a;            // the multiply stage's operand A (s32), for NORM
     wire [LANES-1:0]    dzn_s;            // the multiply stage holds a NORMS (even dz)
     wire [3*LANES-1:0]  out_dst;
@@ -365,9 +416,12 @@ module rls_engine #(
                     assign ra1 = rd_addr1[6*p +: BW];
                     initial $readmemh({TABLE_DIR, "rls_regfile_", LCH, "_", BCH, ".hex"}, mem);
                 end
+                // (LANES = 1: the round stage's value formed here, for a write only)
                 always @(posedge clk)
                     if (wr_en[b])
-                        mem[wa] <= wr_res[32*b +: 32];
+                        mem[wa] <= ASYNC_RF ? wr_res[32*b +: 32]
+                                            : rnd_r32(rnd_t[33*b +: 33], rnd_hi[b],
+                                                      rnd_sg[b]);
                 if (ASYNC_RF) begin : g_async
                     assign rd_all[32*(NP*b + p) +: 32] = mem[ra1];
                     wire unused_ra = &{1'b0, ra, 1'b0};
@@ -412,10 +466,12 @@ module rls_engine #(
                 wire       oa0 = (LANES == 2) ? a0[5] : 1'b0;
                 wire       ob0 = (LANES == 2) ? b0[5] : 1'b0;
                 reg        ha6_q = 1'b0, hb6_q = 1'b0;
-                always @(posedge clk) begin
-                    ha6_q <= !a0[6] && wr5_l[oa0] && wd5_l[6*oa0 +: 6] == a0[5:0];
-                    hb6_q <= !b0[6] && wr5_l[ob0] && wd5_l[6*ob0 +: 6] == b0[5:0];
-                end
+                // (loaded for a valid instruction only, v0: read with v1)
+                always @(posedge clk)
+                    if (v0) begin
+                        ha6_q <= !a0[6] && wr5_l[oa0] && wd5_l[6*oa0 +: 6] == a0[5:0];
+                        hb6_q <= !b0[6] && wr5_l[ob0] && wd5_l[6*ob0 +: 6] == b0[5:0];
+                    end
                 assign ha6 = ha6_q;
                 assign hb6 = hb6_q;
             end
@@ -561,7 +617,8 @@ module rls_engine #(
                     acc <= acc_next(acc, prod_q, neg4, clr4, sd4, seed4_q);
                 if (v4)
                     sh_q <= wb_shift(i4x[14:9], i4x[8:7], dz4);
-                i5 <= i4x;
+                if (v4)
+                    i5 <= i4x;
             end
 
             // ---- shift, then round and saturate -------------------------------------------------
@@ -583,31 +640,29 @@ module rls_engine #(
                 if (v5) begin
                     {hi_q, t_q} <= shift_win(acc, sh_q);
                     sg_q <= acc[63];
+                    i5b  <= i5;
                 end
-                i5b  <= i5;
             end
-            wire [32:0] t_inc = t_q[32:0] + 33'd1;
-            wire c32 = &t_q[31:0];
-            wire c16 = &t_q[15:0];
-            wire up32 = hi_q && (t_q[32] == sg_q);                  // t[65:32] sign copies
-            wire up17 = hi_q && (t_q[32:17] == {16{sg_q}});        // t[65:17]
-            wire fit32 = c32 ? (sg_q && hi_q) : up32;
-            wire fit16 = c16 ? (sg_q && up17) : up17 && (t_q[16] == sg_q);
+            // (the round stage's value and tests: rnd_stage, above, formed where they are
+            // loaded: res_q for a valid instruction, v5b; the register file (LANES = 1), OUT,
+            // sat_o and the invalid flag for a write)
+            assign rnd_t[33*l +: 33] = t_q;
+            assign rnd_hi[l] = hi_q;
+            assign rnd_sg[l] = sg_q;
             reg  signed [31:0] res_q = 0;
             reg         fw6 = 1'b0;
             reg  [5:0]  fd6 = 0;
             reg  [IW-1:0] i6 = 0;
-            wire [31:0] res_n = fit32 ? t_inc[32:1] : (sg_q ? 32'sh80000000 : 32'sh7fffffff);
-            wire [15:0] res16_n = fit16 ? t_inc[16:1] : (sg_q ? 16'sh8000 : 16'sh7fff);
             always @(posedge clk) begin
-                res_q <= res_n;
+                if (v5b) begin
+                    res_q <= rnd_r32(t_q, hi_q, sg_q);
+                    i6 <= i5b;
+                end
                 fw6 <= v5b && i5b[5] && !i5b[6];
                 fd6 <= i5b[35:30];
-                i6 <= i5b;
                 if (rst)
                     fw6 <= 1'b0;
             end
-            assign sat_l[l] = v5b && i5b[5] && !i5b[6] && !fit32;
             assign wr5_l[l] = v5b && i5b[5] && !i5b[6];
             assign wd5_l[6*l +: 6] = i5b[35:30];
 
@@ -618,24 +673,27 @@ module rls_engine #(
             // asynchronously in the operand stage, by slot k + 7 too)
             assign wr_en[l] = ASYNC_RF ? wb6 && !i6[6] : wr5_l[l];
             assign wr_dst[6*l +: 6] = ASYNC_RF ? i6[35:30] : i5b[35:30];
-            assign wr_res[32*l +: 32] = ASYNC_RF ? res_q : res_n;
+            assign wr_res[32*l +: 32] = res_q;
             // OUT registers: LANES = 1 written on the round edge (the 16-bit value beside
             // res_q); LANES = 2 (the ECP5) from a register of it on the write edge (a shorter
             // path behind the round stage's tests)
             wire wb5 = v5b && i5b[5];
             wire inv16;                          // an OUT value saturated (write or round)
             if (LANES == 1) begin : g_out5
+                // (the value and its saturation formed where OUT and the flag are written)
                 assign out_we[l] = wb5 && i5b[6];
                 assign out_dst[3*l +: 3] = i5b[32:30];
-                assign out_res[16*l +: 16] = res16_n;
-                assign inv16 = wb5 && i5b[6] && !fit16;
+                assign out_res[16*l +: 16] = 16'd0;
+                assign inv16 = 1'b0;
             end else begin : g_out6
                 reg  [15:0] res16 = 0;
                 reg         res16_sat = 1'b0;
-                always @(posedge clk) begin
-                    res16 <= res16_n;
-                    res16_sat <= !fit16;
-                end
+                // (loaded for a valid instruction only, v5b: read with wb6)
+                always @(posedge clk)
+                    if (v5b) begin
+                        res16 <= rnd_r16(t_q, hi_q, sg_q);
+                        res16_sat <= !rnd_fit16(t_q, hi_q, sg_q);
+                    end
                 assign out_we[l] = wb6 && i6[6];
                 assign out_dst[3*l +: 3] = i6[32:30];
                 assign out_res[16*l +: 16] = res16;
@@ -651,7 +709,7 @@ module rls_engine #(
 
             wire unused = &{1'b0, i6[29:7], i6[4:0], i5b[29:7], i5b[4:0], i5[35:15], i5[6:0],
                             i4[35:15], i4[14:7], i4[6:0], i3[35:5], i2[35:16], i2[14:3], i1[35:30],
-                            i1[15:0], t_inc[0], b1[5:3],
+                            i1[15:0], b1[5:3],
                             a1[5:1], 1'b0};
         end
     endgenerate
@@ -664,17 +722,30 @@ module rls_engine #(
                 dz0 <= norm_dz(dzn_a[32*li +: 32], dzn_s[li]);
             if (dz1_we[li])
                 dz1 <= norm_dz(dzn_a[32*li +: 32], dzn_s[li]);
+            // OUT: LANES = 1 the round stage's 16-bit value, LANES = 2 its register
             if (out_we[li])
                 for (oi = 0; oi < 7; oi = oi + 1)
                     if (out_dst[3*li +: 3] == oi[2:0])
-                        out_o[16*oi +: 16] <= out_res[16*li +: 16];
+                        out_o[16*oi +: 16] <= (LANES == 1)
+                            ? rnd_r16(rnd_t[33*li +: 33], rnd_hi[li], rnd_sg[li])
+                            : out_res[16*li +: 16];
+            // a register write saturated
+            if (wr5_l[li])
+                if (!rnd_fit32(rnd_t[33*li +: 33], rnd_hi[li], rnd_sg[li]))
+                    sat_o[(AXES > 1) ? axis_q : {AXW{1'b0}}] <= 1'b1;
         end
+        // invalid: a NORM or CHK on A <= 0, or an OUT value saturated (LANES = 1 tested
+        // here, on its write)
         if (start_i)
             inval_q <= 1'b0;
-        else if (|inval_l)
-            inval_q <= 1'b1;
-        if (|sat_l)
-            sat_o[(AXES > 1) ? axis_q : {AXW{1'b0}}] <= 1'b1;
+        else begin
+            if (|inval_l)
+                inval_q <= 1'b1;
+            for (li = 0; li < LANES; li = li + 1)
+                if (LANES == 1 && out_we[li])
+                    if (!rnd_fit16(rnd_t[33*li +: 33], rnd_hi[li], rnd_sg[li]))
+                        inval_q <= 1'b1;
+        end
         if (start_i)
             busy_o <= 1'b1;
         else if (done_o)
