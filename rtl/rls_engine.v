@@ -100,20 +100,34 @@ module rls_engine #(
     reg [15:0] sp_kappa = 0;
     reg [31:0] onel = 32'h00800000, gs1 = 32'h01000000, gs2 = 32'h01000000;
     reg [AXW-1:0] axis_q = 0;                   // the axis of the program running
-    wire signed [31:0] dgi = {{29{dg_i[2]}}, dg_i};
-    wire signed [31:0] ki = {27'd0, lam_k_i};
-    integer bi;
+    // (functions evaluated in the latch's enabled branch: simulation decodes per start)
+    function automatic [31:0] onel_dec(input [4:0] k, input frz);
+        integer bi;
+        reg signed [31:0] ki;
+        begin
+            ki = {27'd0, k};
+            for (bi = 0; bi < 32; bi = bi + 1)
+                onel_dec[bi] = (bi == 23) || (!frz && ki == 23 - bi);
+        end
+    endfunction
+    function automatic [31:0] gs_dec(input [2:0] dg, input sq);   // sq: GS2
+        integer bi;
+        reg signed [31:0] dgi;
+        begin
+            dgi = {{29{dg[2]}}, dg};
+            for (bi = 0; bi < 32; bi = bi + 1)
+                gs_dec[bi] = sq ? (dgi + dgi == 24 - bi) : (dgi == 24 - bi);
+        end
+    endfunction
     always @(posedge clk) begin
         if (start_i) begin
             sp_x1    <= x1_i;
             sp_x2    <= x2_i;
             sp_kappa <= kappa_i;
             axis_q   <= axis_i;
-            for (bi = 0; bi < 32; bi = bi + 1) begin
-                onel[bi] <= (bi == 23) || (!freeze_i && ki == 23 - bi);
-                gs1[bi]  <= (dgi == 24 - bi);
-                gs2[bi]  <= (dgi + dgi == 24 - bi);
-            end
+            onel     <= onel_dec(lam_k_i, freeze_i);
+            gs1      <= gs_dec(dg_i, 1'b0);
+            gs2      <= gs_dec(dg_i, 1'b1);
         end
     end
     wire signed [31:0] x1_30 = {sp_x1[15], sp_x1, 15'd0};                  // s2.30
@@ -229,6 +243,13 @@ module rls_engine #(
             prod_sum = {cs_s + cs_c, ll[15:0]} ^ {64{neg}};
         end
     endfunction
+    // an instruction with its write-back fields {dst, out, wb, sh, dyn} from lt (the
+    // 4-deep RAM's word, rls_engine's late0 order {dst, wb, sh, dyn})
+    /* verilator lint_off UNUSEDSIGNAL */
+    function automatic [IW-1:0] ins_wb(input [15:0] lt, input [IW-1:0] i);
+        ins_wb = {lt[15:10], i[29:15], lt[7:2], lt[1:0], lt[9:8], i[4:0]};
+    endfunction
+    /* verilator lint_on UNUSEDSIGNAL */
     // the write-back shift sh - dyn (u6 each), clamped to 0..63: dyn = dz (dyn 1), dz / 2
     // (dyn 2) or 0
     /* verilator lint_off UNUSEDSIGNAL */
@@ -600,9 +621,8 @@ module rls_engine #(
                 assign late4 = {i4[35:30], i4[6:5], i4[14:7]};
                 wire unused_l = &{1'b0, late0, 1'b0};
             end
-            // the product stage's instruction with the write-back fields from late4
-            wire [IW-1:0] i4x = {late4[15:10], i4[29:15], late4[7:2], late4[1:0],
-                                 late4[9:8], i4[4:0]};
+            // (the product stage's instruction with the write-back fields from late4:
+            // ins_wb, above, formed where i5 is loaded)
 
             // ---- accumulate; the write-back shift sh - dyn (clamped to 0..63) ----------------------
             reg signed [63:0] acc = 0;
@@ -615,10 +635,10 @@ module rls_engine #(
             always @(posedge clk) begin
                 if (en4)
                     acc <= acc_next(acc, prod_q, neg4, clr4, sd4, seed4_q);
-                if (v4)
-                    sh_q <= wb_shift(i4x[14:9], i4x[8:7], dz4);
-                if (v4)
-                    i5 <= i4x;
+                if (v4) begin
+                    sh_q <= wb_shift(late4[7:2], late4[1:0], dz4);
+                    i5 <= ins_wb(late4, i4);
+                end
             end
 
             // ---- shift, then round and saturate -------------------------------------------------
@@ -708,7 +728,7 @@ module rls_engine #(
             assign end6_l[l] = i6[2:0] == OP_END;
 
             wire unused = &{1'b0, i6[29:7], i6[4:0], i5b[29:7], i5b[4:0], i5[35:15], i5[6:0],
-                            i4[35:15], i4[14:7], i4[6:0], i3[35:5], i2[35:16], i2[14:3], i1[35:30],
+                            i4[35:30], i4[14:5], i3[35:5], i2[35:16], i2[14:3], i1[35:30],
                             i1[15:0], b1[5:3],
                             a1[5:1], 1'b0};
         end
