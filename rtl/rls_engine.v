@@ -100,23 +100,37 @@ module rls_engine #(
     reg [15:0] sp_kappa = 0;
     reg [31:0] onel = 32'h00800000, gs1 = 32'h01000000, gs2 = 32'h01000000;
     reg [AXW-1:0] axis_q = 0;                   // the axis of the program running
+    // (functions evaluated in the latch's enabled branch: simulation decodes per start)
+    function automatic [31:0] onel_dec(input [4:0] k, input frz);
+        integer bi;
+        reg signed [31:0] ki;
+        begin
+            ki = {27'd0, k};
+            for (bi = 0; bi < 32; bi = bi + 1)
+                onel_dec[bi] = (bi == 23) || (!frz && ki == 23 - bi);
+        end
+    endfunction
     // (2 dg as a shift: dgi + dgi mapped to an iCE40 carry chain with one net on both of
     // a cell's inputs, which nextpnr-ice40 0.4 could not route: its router went round in
     // circles on that LUT's two input pins)
-    wire signed [31:0] dgi = {{29{dg_i[2]}}, dg_i};
-    wire signed [31:0] ki = {27'd0, lam_k_i};
-    integer bi;
+    function automatic [31:0] gs_dec(input [2:0] dg, input sq);   // sq: GS2
+        integer bi;
+        reg signed [31:0] dgi;
+        begin
+            dgi = {{29{dg[2]}}, dg};
+            for (bi = 0; bi < 32; bi = bi + 1)
+                gs_dec[bi] = sq ? ({dgi[30:0], 1'b0} == 24 - bi) : (dgi == 24 - bi);
+        end
+    endfunction
     always @(posedge clk) begin
         if (start_i) begin
             sp_x1    <= x1_i;
             sp_x2    <= x2_i;
             sp_kappa <= kappa_i;
             axis_q   <= axis_i;
-            for (bi = 0; bi < 32; bi = bi + 1) begin
-                onel[bi] <= (bi == 23) || (!freeze_i && ki == 23 - bi);
-                gs1[bi]  <= (dgi == 24 - bi);
-                gs2[bi]  <= ({dgi[30:0], 1'b0} == 24 - bi);     // 2 dg: a shift, no adder
-            end
+            onel     <= onel_dec(lam_k_i, freeze_i);
+            gs1      <= gs_dec(dg_i, 1'b0);
+            gs2      <= gs_dec(dg_i, 1'b1);
         end
     end
     wire signed [31:0] x1_30 = {sp_x1[15], sp_x1, 15'd0};                  // s2.30
@@ -159,6 +173,175 @@ module rls_engine #(
         end
     endfunction
 
+    // a NORM's dz: the leading zeros of A (A > 0) minus one, the left shift that puts the
+    // MSB at bit 30 (NORMS: rounded down to even); 0 when A <= 0
+    /* verilator lint_off UNUSEDSIGNAL */
+    function automatic [4:0] norm_dz(input [31:0] a, input s);
+        reg [5:0] nz6;
+        begin
+            nz6 = lzc64({a[30:0], 1'b1, 32'd0});
+            norm_dz = (!a[31] && (|a[30:0])) ? (s ? {nz6[4:1], 1'b0} : nz6[4:0]) : 5'd0;
+        end
+    endfunction
+    /* verilator lint_on UNUSEDSIGNAL */
+
+    // the accumulate stage's sum (acc, prod: s64; seed: u1.15): a clear takes 0 instead of
+    // acc; a SEED clears and adds its zero product, with the seed << 15 put into bits
+    // 30..15. LANES = 2 (devices with fast carry chains and area to spare, e.g. the ECP5)
+    // adds as a carry-select adder: the high half with and without the low half's carry,
+    // side by side, so the loop is one 33-bit carry chain and a multiplexer, and the seed
+    // (a block RAM's slow output) is ORed in behind it; LANES = 1 (the iCE40 UP5K) adds in
+    // one 64-bit chain, the seed entering through the clear's gate (no OR behind the adder)
+    function automatic [63:0] acc_next(input [63:0] acc, input [63:0] prod, input neg,
+                                       input clr, input sd, input [15:0] seed);
+        reg [63:0] acc_a;
+        reg [32:0] lo_sum;
+        reg [31:0] hi_sum0, hi_sum1;
+        begin
+            if (LANES == 2) begin
+                acc_a = clr ? 64'd0 : acc;
+                lo_sum = {1'b0, acc_a[31:0]} + {1'b0, prod[31:0]} + {32'd0, neg};
+                hi_sum0 = acc_a[63:32] + prod[63:32];
+                hi_sum1 = acc_a[63:32] + prod[63:32] + 32'd1;
+                acc_next = {lo_sum[32] ? hi_sum1 : hi_sum0,
+                            lo_sum[31:0] | {1'b0, seed & {16{sd}}, 15'd0}};
+            end else begin
+                acc_a = clr ? {33'd0, seed & {16{sd}}, 15'd0} : acc;
+                acc_next = acc_a + prod + {63'd0, neg};
+            end
+        end
+    endfunction
+
+    // the seed table's address from the multiply stage's operand A (s32) and its dz: m2 =
+    // (A << dz)[30:23], the widest level first, each as wide as the levels after it need
+    // (23, 15, 11, 9, 8 bits); {1, m2[7:1]} for SEEDS (1/sqrt(m)), {0, m2[6:0]} for SEEDR
+    /* verilator lint_off UNUSEDSIGNAL */
+    function automatic [7:0] seed_addr(input [31:0] a, input [4:0] dz, input s);
+        reg [22:0] ms1;
+        reg [14:0] ms2;
+        reg [10:0] ms3;
+        reg [8:0]  ms4;
+        reg [7:0]  m2;
+        begin
+            ms1 = dz[4] ? {a[14:0], 8'd0} : a[30:8];       // bits 30..8
+            ms2 = dz[3] ? ms1[14:0] : ms1[22:8];           // 30..16
+            ms3 = dz[2] ? ms2[10:0] : ms2[14:4];           // 30..20
+            ms4 = dz[1] ? ms3[8:0] : ms3[10:2];            // 30..22
+            m2  = dz[0] ? ms4[7:0] : ms4[8:1];             // 30..23
+            seed_addr = s ? {1'b1, m2[7:1]} : {1'b0, m2[6:0]};
+        end
+    endfunction
+    /* verilator lint_on UNUSEDSIGNAL */
+    // the product (s64) from the four partial products (s32 each): {hh, ll} + (hl + lh) <<
+    // 16 as one carry-save step, then one carry chain; complemented when neg
+    function automatic [63:0] prod_sum(input [31:0] hh, input [31:0] hl, input [31:0] lh,
+                                       input [31:0] ll, input neg);
+        reg [47:0] pa, pb, pc, cs_s, cs_c;
+        begin
+            pa = {hh, ll[31:16]};                                      // bits 63..16
+            pb = {{16{hl[31]}}, hl};
+            pc = {{16{lh[31]}}, lh};
+            cs_s = pa ^ pb ^ pc;
+            cs_c = {(pa[46:0] & pb[46:0]) | (pa[46:0] & pc[46:0]) | (pb[46:0] & pc[46:0]), 1'b0};
+            prod_sum = {cs_s + cs_c, ll[15:0]} ^ {64{neg}};
+        end
+    endfunction
+    // an instruction with its write-back fields {dst, out, wb, sh, dyn} from lt (the
+    // 4-deep RAM's word, rls_engine's late0 order {dst, wb, sh, dyn})
+    /* verilator lint_off UNUSEDSIGNAL */
+    function automatic [IW-1:0] ins_wb(input [15:0] lt, input [IW-1:0] i);
+        ins_wb = {lt[15:10], i[29:15], lt[7:2], lt[1:0], lt[9:8], i[4:0]};
+    endfunction
+    /* verilator lint_on UNUSEDSIGNAL */
+    // the write-back shift sh - dyn (u6 each), clamped to 0..63: dyn = dz (dyn 1), dz / 2
+    // (dyn 2) or 0
+    /* verilator lint_off UNUSEDSIGNAL */
+    function automatic [5:0] wb_shift(input [5:0] sh, input [1:0] dyn, input [4:0] dz);
+        reg [6:0] dyn_amt;
+        reg [7:0] sh_raw;
+        begin
+            dyn_amt = (dyn == 2'd1) ? {2'd0, dz} : (dyn == 2'd2) ? {3'd0, dz[4:1]} : 7'd0;
+            sh_raw = {2'b00, sh} - {1'b0, dyn_amt};
+            wb_shift = sh_raw[7] ? 6'd0 : sh_raw[5:0];
+        end
+    endfunction
+    /* verilator lint_on UNUSEDSIGNAL */
+    // the shift stage: {hi_ok, t[32:0]} from acc (s64) and the shift s (see the shift
+    // stage below)
+    /* verilator lint_off UNUSEDSIGNAL */
+    function automatic [33:0] shift_win(input [63:0] acc, input [5:0] sh);
+        reg        sg;
+        reg [63:0] sv1;
+        reg [47:0] sv2;
+        reg [39:0] sv3;
+        reg [35:0] sv4;
+        reg [33:0] sv5;
+        reg [32:0] sv6;
+        reg [30:0] sdrop, skeep;
+        begin
+            sg  = acc[63];
+            sv1 = sh[5] ? {{30{sg}}, sg, acc[63:31]} : {acc[62:0], 1'b0};
+            sv2 = sh[4] ? sv1[63:16] : sv1[47:0];
+            sv3 = sh[3] ? sv2[47:8] : sv2[39:0];
+            sv4 = sh[2] ? sv3[39:4] : sv3[35:0];
+            sv5 = sh[1] ? sv4[35:2] : sv4[33:0];
+            sv6 = sh[0] ? sv5[33:1] : sv5[32:0];
+            sdrop = {sv1[63:48], sv2[47:40], sv3[39:36], sv4[35:34], sv5[33]};
+            skeep = {{16{sh[4]}}, {8{sh[3]}}, {4{sh[2]}}, {2{sh[1]}}, sh[0]};
+            shift_win = {&(skeep | ~(sdrop ^ {31{sg}})), sv6};
+        end
+    endfunction
+    /* verilator lint_on UNUSEDSIGNAL */
+    // the round stage: from t[32:0], hi (t[65:33] are sign copies) and sg (the sign) of
+    // the shift stage, {fit32, fit16, r32, r16}: r = (t + 1) >> 1 saturated to 32 / 16
+    // bits, fit: it fits (see the shift stage below)
+    /* verilator lint_off UNUSEDSIGNAL */
+    function automatic [49:0] rnd_stage(input [32:0] t, input hi, input sg);
+        reg [32:0] t_inc;
+        reg        c32, c16, up32, up17, fit32, fit16;
+        begin
+            t_inc = t + 33'd1;
+            c32 = &t[31:0];
+            c16 = &t[15:0];
+            up32 = hi && (t[32] == sg);                  // t[65:32] sign copies
+            up17 = hi && (t[32:17] == {16{sg}});         // t[65:17]
+            fit32 = c32 ? (sg && hi) : up32;
+            fit16 = c16 ? (sg && up17) : up17 && (t[16] == sg);
+            rnd_stage = {fit32, fit16,
+                         fit32 ? t_inc[32:1] : (sg ? 32'h80000000 : 32'h7fffffff),
+                         fit16 ? t_inc[16:1] : (sg ? 16'h8000 : 16'h7fff)};
+        end
+    endfunction
+    function automatic [31:0] rnd_r32(input [32:0] t, input hi, input sg);
+        reg [49:0] r;
+        begin
+            r = rnd_stage(t, hi, sg);
+            rnd_r32 = r[47:16];
+        end
+    endfunction
+    function automatic [15:0] rnd_r16(input [32:0] t, input hi, input sg);
+        reg [49:0] r;
+        begin
+            r = rnd_stage(t, hi, sg);
+            rnd_r16 = r[15:0];
+        end
+    endfunction
+    function automatic rnd_fit32(input [32:0] t, input hi, input sg);
+        reg [49:0] r;
+        begin
+            r = rnd_stage(t, hi, sg);
+            rnd_fit32 = r[49];
+        end
+    endfunction
+    function automatic rnd_fit16(input [32:0] t, input hi, input sg);
+        reg [49:0] r;
+        begin
+            r = rnd_stage(t, hi, sg);
+            rnd_fit16 = r[48];
+        end
+    endfunction
+    /* verilator lint_on UNUSEDSIGNAL */
+
     // ---- fetch ----------------------------------------------------------------------------
     // Fetching runs from start_i until END (lane 0) reaches the read stage (decoded from a
     // register there, not from the ROM's output); the word fetched behind END is squashed
@@ -200,14 +383,17 @@ module rls_engine #(
     // ---- what the lanes share: the write ports, the forwarded results, dz, flags, OUT -----
     wire [LANES-1:0]    wr_en;            // a register write on the coming edge
     wire [6*LANES-1:0]  wr_dst;
-    wire [32*LANES-1:0] wr_res;           // the value written on the coming edge
+    wire [32*LANES-1:0] wr_res;           // LANES = 2: the value written on the coming edge
+    wire [33*LANES-1:0] rnd_t;            // the round stage's t[32:0], hi, sign (rnd_stage:
+    wire [LANES-1:0]    rnd_hi, rnd_sg;   //  LANES = 1 writes its value on the round edge)
     wire [LANES-1:0]    wr5_l;            // shift stage holds a register write
     wire [6*LANES-1:0]  wd5_l;            // its destination
     wire [LANES-1:0]    fw6_l;            // round stage holds a register write
     wire [6*LANES-1:0]  fd6_l;            // its destination
     wire [32*LANES-1:0] res6_l;           // the round stage's values (res_q)
-    wire [LANES-1:0]    dz0_we, dz1_we, inval_l, sat_l, out_we;
-    wire [5*LANES-1:0]  dzn_l;
+    wire [LANES-1:0]    dz0_we, dz1_we, inval_l, out_we;
+    wire [32*LANES-1:0] dzn_a;            // the multiply stage's operand A (s32), for NORM
+    wire [LANES-1:0]    dzn_s;            // the multiply stage holds a NORMS (even dz)
     wire [3*LANES-1:0]  out_dst;
     wire [16*LANES-1:0] out_res;
     wire [LANES-1:0]    end6_l;           // write stage holds END
@@ -254,9 +440,12 @@ module rls_engine #(
                     assign ra1 = rd_addr1[6*p +: BW];
                     initial $readmemh({TABLE_DIR, "rls_regfile_", LCH, "_", BCH, ".hex"}, mem);
                 end
+                // (LANES = 1: the round stage's value formed here, for a write only)
                 always @(posedge clk)
                     if (wr_en[b])
-                        mem[wa] <= wr_res[32*b +: 32];
+                        mem[wa] <= ASYNC_RF ? wr_res[32*b +: 32]
+                                            : rnd_r32(rnd_t[33*b +: 33], rnd_hi[b],
+                                                      rnd_sg[b]);
                 if (ASYNC_RF) begin : g_async
                     assign rd_all[32*(NP*b + p) +: 32] = mem[ra1];
                     wire unused_ra = &{1'b0, ra, 1'b0};
@@ -301,10 +490,12 @@ module rls_engine #(
                 wire       oa0 = (LANES == 2) ? a0[5] : 1'b0;
                 wire       ob0 = (LANES == 2) ? b0[5] : 1'b0;
                 reg        ha6_q = 1'b0, hb6_q = 1'b0;
-                always @(posedge clk) begin
-                    ha6_q <= !a0[6] && wr5_l[oa0] && wd5_l[6*oa0 +: 6] == a0[5:0];
-                    hb6_q <= !b0[6] && wr5_l[ob0] && wd5_l[6*ob0 +: 6] == b0[5:0];
-                end
+                // (loaded for a valid instruction only, v0: read with v1)
+                always @(posedge clk)
+                    if (v0) begin
+                        ha6_q <= !a0[6] && wr5_l[oa0] && wd5_l[6*oa0 +: 6] == a0[5:0];
+                        hb6_q <= !b0[6] && wr5_l[ob0] && wd5_l[6*ob0 +: 6] == b0[5:0];
+                    end
                 assign ha6 = ha6_q;
                 assign hb6 = hb6_q;
             end
@@ -351,12 +542,13 @@ module rls_engine #(
             // A NORM's dz is written on the edge that samples the next slot's dz (dz3 below), so
             // the next slot sees it. Leading zeros of A (A > 0) minus one: the left shift that
             // puts the MSB at bit 30.
+            // (the dz itself is formed by norm_dz in the dz registers' write branch, below:
+            // simulation computes the leading-zero count only for a NORM)
             wire [2:0]  op2 = i2[2:0];
             wire        a_pos = !opa_q[31] && (|opa_q[30:0]);
-            wire [5:0]  nz6 = lzc64({opa_q[30:0], 1'b1, 32'd0});
-            wire [4:0]  nz = nz6[4:0];
             wire        norm2 = v2 && (op2 == OP_NORMR || op2 == OP_NORMS);
-            assign dzn_l[5*l +: 5] = a_pos ? (op2 == OP_NORMS ? {nz[4:1], 1'b0} : nz) : 5'd0;
+            assign dzn_a[32*l +: 32] = opa_q;
+            assign dzn_s[l] = (op2 == OP_NORMS);
             assign dz0_we[l] = norm2 && !i2[15];
             assign dz1_we[l] = norm2 && i2[15];
 
@@ -369,19 +561,15 @@ module rls_engine #(
             reg [IW-1:0] i3 = 0;
             reg [4:0]  dz3 = 0;
             wire [4:0]  dz2 = i2[15] ? dz1 : dz0;        // the dz this instruction uses
-            // m2 = (A << dz)[30:23], the widest level first, each as wide as the levels
-            // after it need (23, 15, 11, 9, 8 bits)
-            wire [22:0] ms1 = dz2[4] ? {opa_q[14:0], 8'd0} : opa_q[30:8];     // bits 30..8
-            wire [14:0] ms2 = dz2[3] ? ms1[14:0] : ms1[22:8];                  // 30..16
-            wire [10:0] ms3 = dz2[2] ? ms2[10:0] : ms2[14:4];                 // 30..20
-            wire [8:0]  ms4 = dz2[1] ? ms3[8:0] : ms3[10:2];                   // 30..22
-            wire [7:0]  m2  = dz2[0] ? ms4[7:0] : ms4[8:1];                    // 30..23
+            // (seed_addr, above; sa3_q is loaded for a valid instruction only, v2: its one
+            // reader, the seed, counts for an accumulating instruction only)
             always @(posedge clk) begin
                 pp_ll <= $signed({1'b0, opa_q[15:0]}) * $signed({1'b0, opb_q[15:0]});
                 pp_lh <= $signed({1'b0, opa_q[15:0]}) * $signed(opb_q[31:16]);
                 pp_hl <= $signed(opa_q[31:16]) * $signed({1'b0, opb_q[15:0]});
                 pp_hh <= $signed(opa_q[31:16]) * $signed(opb_q[31:16]);
-                sa3_q <= (op2 == OP_SEEDS) ? {1'b1, m2[7:1]} : {1'b0, m2[6:0]};
+                if (v2)
+                    sa3_q <= seed_addr(opa_q, dz2, op2 == OP_SEEDS);
                 dz3 <= dz2;                      // for the write-back's dyn shift
                 i3 <= i2;
             end
@@ -399,14 +587,11 @@ module rls_engine #(
             reg [IW-1:0] i4 = 0;
             reg        en4 = 1'b0, neg4 = 1'b0, clr4 = 1'b0, sd4 = 1'b0;
             reg [4:0]  dz4 = 0;
-            wire [47:0] pa = {pp_hh, pp_ll[31:16]};                             // bits 63..16
-            wire [47:0] pb = {{16{pp_hl[31]}}, pp_hl};
-            wire [47:0] pc = {{16{pp_lh[31]}}, pp_lh};
-            wire [47:0] cs_s = pa ^ pb ^ pc;
-            wire [47:0] cs_c = {(pa[46:0] & pb[46:0]) | (pa[46:0] & pc[46:0]) |
-                                (pb[46:0] & pc[46:0]), 1'b0};
+            // (prod_sum, above; prod_q is loaded for a valid instruction only, v3: it is read
+            // by an accumulating one only, en4)
             always @(posedge clk) begin
-                prod_q  <= seed3 ? 64'd0 : {cs_s + cs_c, pp_ll[15:0]} ^ {64{neg3}};
+                if (v3)
+                    prod_q <= seed3 ? 64'd0 : prod_sum(pp_hh, pp_hl, pp_lh, pp_ll, neg3);
                 seed4_q <= seeds_rom[sa3_q];
                 en4  <= v3 && (op3 == OP_MAC || seed3);
                 neg4 <= neg3;
@@ -439,43 +624,24 @@ module rls_engine #(
                 assign late4 = {i4[35:30], i4[6:5], i4[14:7]};
                 wire unused_l = &{1'b0, late0, 1'b0};
             end
-            // the product stage's instruction with the write-back fields from late4
-            wire [IW-1:0] i4x = {late4[15:10], i4[29:15], late4[7:2], late4[1:0],
-                                 late4[9:8], i4[4:0]};
+            // (the product stage's instruction with the write-back fields from late4:
+            // ins_wb, above, formed where i5 is loaded)
 
             // ---- accumulate; the write-back shift sh - dyn (clamped to 0..63) ----------------------
             reg signed [63:0] acc = 0;
             reg [5:0]  sh_q = 0;
             reg [IW-1:0] i5 = 0;
-            wire [1:0] dyn4 = i4x[8:7];
-            wire [6:0] dyn_amt = (dyn4 == 2'd1) ? {2'd0, dz4} :
-                                 (dyn4 == 2'd2) ? {3'd0, dz4[4:1]} : 7'd0;
-            wire signed [7:0] sh_raw = $signed({2'b00, i4x[14:9]}) - $signed({1'b0, dyn_amt});
-            wire [5:0]  sh_eff = sh_raw[7] ? 6'd0 : sh_raw[5:0];
-            // a clear takes 0 instead of acc; a SEED clears and adds its zero product, with
-            // the seed << 15 put into bits 30..15. LANES = 2 (devices with fast carry chains
-            // and area to spare, e.g. the ECP5) adds as a carry-select adder: the high half
-            // with and without the low half's carry, side by side, so the loop is one 33-bit
-            // carry chain and a multiplexer, and the seed (a block RAM's slow output) is ORed
-            // in behind it; LANES = 1 (the iCE40 UP5K) adds in one 64-bit chain, the seed
-            // entering through the clear's gate (no OR behind the adder)
-            wire [63:0] acc_n;
-            if (LANES == 2) begin : g_csel
-                wire [63:0] acc_a = clr4 ? 64'd0 : acc;
-                wire [32:0] lo_sum = {1'b0, acc_a[31:0]} + {1'b0, prod_q[31:0]} + {32'd0, neg4};
-                wire [31:0] hi_sum0 = acc_a[63:32] + prod_q[63:32];
-                wire [31:0] hi_sum1 = acc_a[63:32] + prod_q[63:32] + 32'd1;
-                assign acc_n = {lo_sum[32] ? hi_sum1 : hi_sum0,
-                                lo_sum[31:0] | {1'b0, seed4_q & {16{sd4}}, 15'd0}};
-            end else begin : g_ripple
-                wire [63:0] acc_a = clr4 ? {33'd0, seed4_q & {16{sd4}}, 15'd0} : acc;
-                assign acc_n = acc_a + prod_q + {63'd0, neg4};
-            end
+            // (wb_shift, above; sh_q is loaded for a valid instruction only, v4: the shift
+            // stage's result is read for a valid one only)
+            // (acc_next, above: a function evaluated in the accumulate's enabled branch, so
+            // simulation adds only for an accumulating instruction)
             always @(posedge clk) begin
                 if (en4)
-                    acc <= acc_n;
-                sh_q <= sh_eff;
-                i5 <= i4x;
+                    acc <= acc_next(acc, prod_q, neg4, clr4, sd4, seed4_q);
+                if (v4) begin
+                    sh_q <= wb_shift(late4[7:2], late4[1:0], dz4);
+                    i5 <= ins_wb(late4, i4);
+                end
             end
 
             // ---- shift, then round and saturate -------------------------------------------------
@@ -488,48 +654,38 @@ module rls_engine #(
             // not shift drops out of the window at its top, so t[65:33] are sign copies iff
             // every bit dropped so (a level that shifts drops only sign copies) is one:
             // hi_ok, registered with the window.
-            wire        sg5 = acc[63];
-            wire [63:0] sv1 = sh_q[5] ? {{30{sg5}}, sg5, acc[63:31]} : {acc[62:0], 1'b0};
-            wire [47:0] sv2 = sh_q[4] ? sv1[63:16] : sv1[47:0];
-            wire [39:0] sv3 = sh_q[3] ? sv2[47:8] : sv2[39:0];
-            wire [35:0] sv4 = sh_q[2] ? sv3[39:4] : sv3[35:0];
-            wire [33:0] sv5 = sh_q[1] ? sv4[35:2] : sv4[33:0];
-            wire [32:0] sv6 = sh_q[0] ? sv5[33:1] : sv5[32:0];
-            wire [30:0] sdrop = {sv1[63:48], sv2[47:40], sv3[39:36], sv4[35:34], sv5[33]};
-            wire [30:0] skeep = {{16{sh_q[4]}}, {8{sh_q[3]}}, {4{sh_q[2]}}, {2{sh_q[1]}},
-                                 sh_q[0]};
-            wire        hi_ok = &(skeep | ~(sdrop ^ {31{sg5}}));
+            // (shift_win, above; loaded for a valid instruction only, v5: the round stage's
+            // results are read for a valid one only, v5b)
             reg  [32:0] t_q = 0;                 // t[32:0]
             reg         hi_q = 1'b0, sg_q = 1'b0;   // t[65:33] are sign copies; the sign
             reg  [IW-1:0] i5b = 0;
             always @(posedge clk) begin
-                t_q  <= sv6;
-                hi_q <= hi_ok;
-                sg_q <= sg5;
-                i5b  <= i5;
+                if (v5) begin
+                    {hi_q, t_q} <= shift_win(acc, sh_q);
+                    sg_q <= acc[63];
+                    i5b  <= i5;
+                end
             end
-            wire [32:0] t_inc = t_q[32:0] + 33'd1;
-            wire c32 = &t_q[31:0];
-            wire c16 = &t_q[15:0];
-            wire up32 = hi_q && (t_q[32] == sg_q);                  // t[65:32] sign copies
-            wire up17 = hi_q && (t_q[32:17] == {16{sg_q}});        // t[65:17]
-            wire fit32 = c32 ? (sg_q && hi_q) : up32;
-            wire fit16 = c16 ? (sg_q && up17) : up17 && (t_q[16] == sg_q);
+            // (the round stage's value and tests: rnd_stage, above, formed where they are
+            // loaded: res_q for a valid instruction, v5b; the register file (LANES = 1), OUT,
+            // sat_o and the invalid flag for a write)
+            assign rnd_t[33*l +: 33] = t_q;
+            assign rnd_hi[l] = hi_q;
+            assign rnd_sg[l] = sg_q;
             reg  signed [31:0] res_q = 0;
             reg         fw6 = 1'b0;
             reg  [5:0]  fd6 = 0;
             reg  [IW-1:0] i6 = 0;
-            wire [31:0] res_n = fit32 ? t_inc[32:1] : (sg_q ? 32'sh80000000 : 32'sh7fffffff);
-            wire [15:0] res16_n = fit16 ? t_inc[16:1] : (sg_q ? 16'sh8000 : 16'sh7fff);
             always @(posedge clk) begin
-                res_q <= res_n;
+                if (v5b) begin
+                    res_q <= rnd_r32(t_q, hi_q, sg_q);
+                    i6 <= i5b;
+                end
                 fw6 <= v5b && i5b[5] && !i5b[6];
                 fd6 <= i5b[35:30];
-                i6 <= i5b;
                 if (rst)
                     fw6 <= 1'b0;
             end
-            assign sat_l[l] = v5b && i5b[5] && !i5b[6] && !fit32;
             assign wr5_l[l] = v5b && i5b[5] && !i5b[6];
             assign wd5_l[6*l +: 6] = i5b[35:30];
 
@@ -540,24 +696,27 @@ module rls_engine #(
             // asynchronously in the operand stage, by slot k + 7 too)
             assign wr_en[l] = ASYNC_RF ? wb6 && !i6[6] : wr5_l[l];
             assign wr_dst[6*l +: 6] = ASYNC_RF ? i6[35:30] : i5b[35:30];
-            assign wr_res[32*l +: 32] = ASYNC_RF ? res_q : res_n;
+            assign wr_res[32*l +: 32] = res_q;
             // OUT registers: LANES = 1 written on the round edge (the 16-bit value beside
             // res_q); LANES = 2 (the ECP5) from a register of it on the write edge (a shorter
             // path behind the round stage's tests)
             wire wb5 = v5b && i5b[5];
             wire inv16;                          // an OUT value saturated (write or round)
             if (LANES == 1) begin : g_out5
+                // (the value and its saturation formed where OUT and the flag are written)
                 assign out_we[l] = wb5 && i5b[6];
                 assign out_dst[3*l +: 3] = i5b[32:30];
-                assign out_res[16*l +: 16] = res16_n;
-                assign inv16 = wb5 && i5b[6] && !fit16;
+                assign out_res[16*l +: 16] = 16'd0;
+                assign inv16 = 1'b0;
             end else begin : g_out6
                 reg  [15:0] res16 = 0;
                 reg         res16_sat = 1'b0;
-                always @(posedge clk) begin
-                    res16 <= res16_n;
-                    res16_sat <= !fit16;
-                end
+                // (loaded for a valid instruction only, v5b: read with wb6)
+                always @(posedge clk)
+                    if (v5b) begin
+                        res16 <= rnd_r16(t_q, hi_q, sg_q);
+                        res16_sat <= !rnd_fit16(t_q, hi_q, sg_q);
+                    end
                 assign out_we[l] = wb6 && i6[6];
                 assign out_dst[3*l +: 3] = i6[32:30];
                 assign out_res[16*l +: 16] = res16;
@@ -572,9 +731,9 @@ module rls_engine #(
             assign end6_l[l] = i6[2:0] == OP_END;
 
             wire unused = &{1'b0, i6[29:7], i6[4:0], i5b[29:7], i5b[4:0], i5[35:15], i5[6:0],
-                            i4[35:15], i4[14:7], i4[6:0], i3[35:5], i2[35:16], i2[14:3], i1[35:30],
-                            i1[15:0], sh_raw[6], t_inc[0], b1[5:3],
-                            a1[5:1], nz6[5], 1'b0};
+                            i4[35:30], i4[14:5], i3[35:5], i2[35:16], i2[14:3], i1[35:30],
+                            i1[15:0], b1[5:3],
+                            a1[5:1], 1'b0};
         end
     endgenerate
 
@@ -583,20 +742,33 @@ module rls_engine #(
     always @(posedge clk) begin
         for (li = 0; li < LANES; li = li + 1) begin
             if (dz0_we[li])
-                dz0 <= dzn_l[5*li +: 5];
+                dz0 <= norm_dz(dzn_a[32*li +: 32], dzn_s[li]);
             if (dz1_we[li])
-                dz1 <= dzn_l[5*li +: 5];
+                dz1 <= norm_dz(dzn_a[32*li +: 32], dzn_s[li]);
+            // OUT: LANES = 1 the round stage's 16-bit value, LANES = 2 its register
             if (out_we[li])
                 for (oi = 0; oi < 7; oi = oi + 1)
                     if (out_dst[3*li +: 3] == oi[2:0])
-                        out_o[16*oi +: 16] <= out_res[16*li +: 16];
+                        out_o[16*oi +: 16] <= (LANES == 1)
+                            ? rnd_r16(rnd_t[33*li +: 33], rnd_hi[li], rnd_sg[li])
+                            : out_res[16*li +: 16];
+            // a register write saturated
+            if (wr5_l[li])
+                if (!rnd_fit32(rnd_t[33*li +: 33], rnd_hi[li], rnd_sg[li]))
+                    sat_o[(AXES > 1) ? axis_q : {AXW{1'b0}}] <= 1'b1;
         end
+        // invalid: a NORM or CHK on A <= 0, or an OUT value saturated (LANES = 1 tested
+        // here, on its write)
         if (start_i)
             inval_q <= 1'b0;
-        else if (|inval_l)
-            inval_q <= 1'b1;
-        if (|sat_l)
-            sat_o[(AXES > 1) ? axis_q : {AXW{1'b0}}] <= 1'b1;
+        else begin
+            if (|inval_l)
+                inval_q <= 1'b1;
+            for (li = 0; li < LANES; li = li + 1)
+                if (LANES == 1 && out_we[li])
+                    if (!rnd_fit16(rnd_t[33*li +: 33], rnd_hi[li], rnd_sg[li]))
+                        inval_q <= 1'b1;
+        end
         if (start_i)
             busy_o <= 1'b1;
         else if (done_o)
