@@ -263,16 +263,20 @@ module harmonic #(
     // (lb is the committed word's address until the next candidate's stage 3, at least
     // eight arrivals after the commit)
     wire [15:0] rd_q = c2 ? a1 : a0;                     // A[b]
-    // ~A (sign-extended) + R' + 256 for both candidates; c selects the sum (y, u13; a
-    // function evaluated in the stage's clock enable's branch, like the phase's sum)
+    // ~A (sign-extended) + R' + 256 for both candidates; c selects the sum and u gates it
+    // (y, u13, or 0 where the correction is not used; a function evaluated in the stage's
+    // clock enable's branch, like the phase's sum). The selection is an AND-OR behind both
+    // adders, one LUT with the gate: a multiplexer would let synthesis share the two
+    // adders behind a multiplexer of the words (ECP5: one more LUT level on the path from
+    // the distributed RAM)
     /* verilator lint_off UNUSEDSIGNAL */
-    function automatic [12:0] h_ysum(input [15:0] w0, input [15:0] w1, input c,
+    function automatic [12:0] h_ysum(input [15:0] w0, input [15:0] w1, input c, input u,
                                      input [20:0] rq);
         reg [20:0] ys0, ys1;
         begin
             ys0 = ~{{5{w0[15]}}, w0} + rq;
             ys1 = ~{{5{w1[15]}}, w1} + rq;
-            h_ysum = c ? ys1[20:8] : ys0[20:8];
+            h_ysum = (ys1[20:8] & {13{c & u}}) | (ys0[20:8] & {13{!c & u}});
         end
     endfunction
     /* verilator lint_on UNUSEDSIGNAL */
@@ -286,8 +290,8 @@ module harmonic #(
         valid_o <= v2;
         if (v2) begin
             phase_o <= h_ph(k0, ph_i, neg2);
-            ya <= ua2 ? h_ysum(a0, a1, c2, rq2) : 13'd0;
-            yb <= ub2 ? h_ysum(a0, a1, c2, rq2) : 13'd0;
+            ya <= h_ysum(a0, a1, c2, ua2, rq2);
+            yb <= h_ysum(a0, a1, c2, ub2, rq2);
         end
         v3 <= v2;
         cand3 <= v2 && cand2;
