@@ -373,6 +373,10 @@ module rls_engine #(
     end
 
     // ---- the valid bits of the later stages (shared by the lanes) ---------------------------
+    // rst clears them, dropping the instructions in flight; with LANES = 1 the instruction
+    // in the round stage is written on that edge (its write is on the round edge), with
+    // LANES = 2 it is dropped. Either way a program cut by rst leaves the register file
+    // partly updated: the estimator starts with a RESET program after rst.
     reg v2 = 1'b0, v3 = 1'b0, v4 = 1'b0, v5 = 1'b0, v5b = 1'b0, v6 = 1'b0;
     always @(posedge clk) begin
         {v6, v5b, v5, v4, v3, v2} <= {v5b, v5, v4, v3, v2, v1};

