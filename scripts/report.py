@@ -22,9 +22,9 @@ count) go to the --build folder. Everything is measured here:
 * A second synthesis without flattening gives the cells per module of the hierarchy.
 * Each device's build (DEVICES params): the iCE40 UP5K one engine lane (its 8 DSP blocks
   are taken), block RAM only, no harmonic compensation and the tuning registers constant
-  (OPT_HARMONIC=0, OPT_TUNABLE=0; the register port stays); the ECP5 two engine lanes (4 more of its 28 DSP blocks,
-  shorter programs), the harmonic table in distributed RAM and the 4096-row phase table
-  (OPT_DISTRAM, OPT_PHASE_4K). The probe's simulations run on each device's RTL (the
+  (OPT_HARMONIC=0, OPT_TUNABLE=0; the register port stays); the ECP5 two engine lanes (4
+  more of its 28 DSP blocks, shorter programs), the harmonic table in distributed RAM and
+  the 4096-row phase table (OPT_DISTRAM, OPT_PHASE_4K). The probe's simulations run on each device's RTL (the
   parameters in DEVICES probe), against the model with its lanes.
 * The simulations (sim/harness/probe.cpp, Verilator): the clocks from a sample's strobe
   edge to m_valid, to m_count changing, to the A/B pins changing (paced and Eq. 12
@@ -71,8 +71,9 @@ DEVICES = {
         "probe": {"ENGINE_LANES": 1, "OPT_HARMONIC": 0, "OPT_TUNABLE": 0},
         "model": {"LANES": 1, "HARMONIC": 0},
         "freq": 36.0,
-        # a seed that routes does so in well under a minute; at 96 % of the cells some
-        # seeds' routers do not converge (router1 and router2 alike): stopped, reported
+        # a seed routes in well under a minute; a router that does not converge (as
+        # nextpnr-ice40 0.4 did on a carry cell with one net on both inputs, see
+        # rtl/rls_engine.v gs_dec) is stopped and the seed reported as not routed
         "pnr_timeout_s": 180,
         # key -> nextpnr utilisation entry; the iCE40's ffs come from the packer's log
         "util": {"luts": "ICESTORM_LC", "dsps": "ICESTORM_DSP", "brams": "ICESTORM_RAM"},
