@@ -50,6 +50,21 @@ def test_octant(sim, exact):
                    extra_env=dict(TABLE_EXACT=exact))
 
 
+
+def test_octant_mult18():
+    """OPT_ECP5_MULT = 1 as synthesis sees it (SYNTHESIS defined: the MULT18X18D instance,
+    whose operand registers are the DSP block's), with the primitive's behavioural
+    stand-in cocotb_tests/sim_mult18x18d.v: the instance's wiring (bit order, clock
+    enable) gives the same outputs as the inferred form, on the same vectors (exact table;
+    Icarus)."""
+    fqtb.run_block("icarus", "octant", fqtb.sources("octant") + [fqtb.HERE / "sim_mult18x18d.v"],
+                   "test_octant",
+                   parameters=dict(TABLE_DIR=fqtb.qstr(fqtb.TABLE_DIR), TABLE_EXACT=1,
+                                   OPT_ECP5_MULT=1),
+                   extra_env=dict(TABLE_EXACT=1, MULT18=1), tag="mult18",
+                   extra_build_args=("-DSYNTHESIS",))
+
+
 # ---- cocotb side ------------------------------------------------------------------------
 import cocotb  # noqa: E402
 
@@ -205,6 +220,9 @@ async def octant_all(dut):
     from sim.model import fastpath as fp
 
     exact = fqtb.env_int("TABLE_EXACT")
+    if fqtb.env_int("MULT18", 0):
+        # the primitive's branch was elaborated (not the inferred form)
+        assert dut.g_mult18.u_mult is not None
     kind = "exact" if exact else "paper"
     rng = random.Random(303 + exact)
     sweep, sweep_t = sweep_vectors(exact, rng)

@@ -45,11 +45,15 @@ module finequad_core #(
     // (rtl/phase.v; HARM reads 0: for devices too small for it)
     parameter [0:0] OPT_HARMONIC = 1'b1,
     // 1: the harmonic table in distributed RAM, read from a registered address (ECP5 and
-    // the like: a shorter path behind the ratio multiply); 0: in block RAM (iCE40)
+    // the like: the read starts at flip-flops); 0: in block RAM (iCE40)
     parameter [0:0] OPT_DISTRAM = 1'b0,
     // 1: the exact phase table in 4096 rows addressed without a rounding add (rtl/lut.v;
     // one more block RAM, a shorter path: for ~100 MHz); 0: 2048 rows (iCE40)
     parameter [0:0] OPT_PHASE_4K = 1'b0,
+    // 1: the ratio multiply's operand registers inside an ECP5 DSP block (a MULT18X18D
+    // instantiated: rtl/octant.v; synthesis only, simulation runs the inferred form);
+    // 0: inferred (any device)
+    parameter [0:0] OPT_ECP5_MULT = 1'b0,
     // 1: every setting is a register; 0: the tuning settings (EPS, LAMBDA_K, KAPPA,
     // PERIOD, SETTLE, GATE, HARM, JUMP, ABGEN, AB_BOUND, CLIP, RADIUS, MONITOR) keep their
     // reset values, which synthesis folds into the logic (writes are ignored, reads return
@@ -242,7 +246,7 @@ module finequad_core #(
     wire [10:0] o_j;
     wire [11:0] o_t;
     wire [1:0] o_oct2;
-    octant #(.TABLE_DIR(TABLE_DIR), .TABLE_EXACT(TABLE_EXACT))
+    octant #(.TABLE_DIR(TABLE_DIR), .TABLE_EXACT(TABLE_EXACT), .OPT_ECP5_MULT(OPT_ECP5_MULT))
     u_octant (
         .clk(clk), .valid_i(c_valid), .ax_i(c_ax), .ay_i(c_ay), .xn_i(c_xn), .yn_i(c_yn),
         .zl_i(c_zl),

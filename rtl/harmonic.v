@@ -42,11 +42,13 @@
 //   a      candidate decision; commit (RAM write and R) of the candidate k - 7
 //   a + 1  t_i registered (it is combinational before this edge, the ratio multiply's
 //          result); the phase sums' constant parts registered (apply_i sampled).
-//          OPT_DISTRAM = 0 (block RAM, e.g. iCE40): A[b0], A[b1] read on this edge, the
-//          candidates b0, b1 formed from t_i before it; OPT_DISTRAM = 1 (distributed RAM,
-//          e.g. ECP5): read asynchronously after it, the candidates formed from the
-//          registered t (their low bits address the RAM's banks, the octant's bits only
-//          select among them), so that the read is not behind the multiplier.
+//          The candidates b0, b1 are formed from t_i before this edge (rtl/hbin.v).
+//          OPT_DISTRAM = 0 (block RAM, e.g. iCE40): A[b0], A[b1] read on this edge;
+//          OPT_DISTRAM = 1 (distributed RAM, e.g. ECP5): b0, b1 registered on this edge
+//          and the RAM read asynchronously after it from the flip-flops (no logic
+//          before its address; the ECP5 build keeps the multiplier's operand registers
+//          in its DSP block, rtl/octant.v OPT_ECP5_MULT, to make room for hbin in front
+//          of the register).
 //          Either way the read sees the writes on edges <= a (as if read on this edge: a
 //          commit on this edge is undone by lha below).
 //   a + 2  phase_o, phase_c_o, valid_o (ph_i is the phase table's output, valid after
@@ -65,9 +67,10 @@
 module harmonic #(
     // the thresholds of the bins (rtl/tables/hbin.vh): 1 exact table, 0 the paper's
     parameter [0:0] TABLE_EXACT = 1'b1,
-    // 1: the table is read asynchronously from a registered address (distributed RAM:
-    // ECP5 and the like, a shorter path at high clock rates); 0: read on edge a + 1 from
-    // t_i directly (block RAM: iCE40). The results are the same.
+    // 1: the table is read asynchronously from the candidates' registered addresses
+    // (distributed RAM: ECP5 and the like; the read starts at flip-flops, a shorter path at
+    // high clock rates); 0: read on edge a + 1 (block RAM: iCE40). Either way the
+    // addresses are formed from t_i before edge a + 1. The results are the same.
     parameter [0:0] OPT_DISTRAM = 1'b0
 ) (
     input  wire        clk,
@@ -185,7 +188,10 @@ module harmonic #(
             reg        we_q = 1'b0;
             reg [5:0]  wa_q = 6'd0;
             reg [15:0] hp_q = 16'd0;
-            always @(posedge clk) begin
+            reg [11:0] bc_q = 12'd0;            // {b1, b0} from t_i, registered: the
+            always @(posedge clk) begin         // RAM's address straight from flip-flops
+                if (v1)
+                    bc_q <= bc1;
                 we_q <= we;
                 wa_q <= wa;
                 hp_q <= hp;
@@ -194,9 +200,9 @@ module harmonic #(
                     mem1[wa_q] <= hp_q;
                 end
             end
-            assign a0 = mem0[bc[5:0]];
-            assign a1 = mem1[bc[11:6]];
-            wire unused_a = &{1'b0, cw2, bc1, 1'b0};
+            assign a0 = mem0[bc_q[5:0]];
+            assign a1 = mem1[bc_q[11:6]];
+            wire unused_a = &{1'b0, cw2, bc, 1'b0};
         end else begin : g_sync
             reg [15:0] rd0_q = 16'd0, rd1_q = 16'd0;
             always @(posedge clk) begin

@@ -39,7 +39,15 @@
 //                      at 2047; paper: 2 jp (the scale of rtl/tables/hbin.vh)
 module octant #(
     parameter TABLE_DIR = "rtl/tables/",
-    parameter [0:0] TABLE_EXACT = 1'b1
+    parameter [0:0] TABLE_EXACT = 1'b1,
+    // 1: the ratio multiply's operand registers (rcp_q, sn_q) are the DSP block's own
+    // input registers: an ECP5 MULT18X18D instantiated (synthesis does not pack registers
+    // into it), which saves the route from the flip-flops to the block in front of the
+    // address logic (ECP5 at ~100 MHz: rtl/harmonic.v OPT_DISTRAM reads its bin address
+    // from t_o). Synthesis only (`SYNTHESIS, as Yosys defines it); simulators, which have
+    // no model of the primitive, run the inferred form, the same registers and product.
+    // 0: inferred (any device)
+    parameter [0:0] OPT_ECP5_MULT = 1'b0
 ) (
     input  wire        clk,
     input  wire        valid_i,
@@ -117,18 +125,65 @@ module octant #(
     assign neg_o = neg_q;
 
     // ---- e+2: the reciprocal and the small magnitude in flip-flops ----------------------------
-    reg [13:0] rcp_q = 0;
-    reg [13:0] sn_q = 0;
     reg [10:0] jp_q = 0;
     always @(posedge clk)
-        if (v1) begin
-            rcp_q   <= rcp;
-            sn_q    <= sn;
+        if (v1)
             jp_q    <= jp;
-        end
 
     // ---- e+3 (combinational): ratio (a DSP block), address, scale --------------------------
-    wire [27:0] p = sn_q * rcp_q;
+    wire [27:0] p;                                   // u28 sn_q * rcp_q
+`ifdef SYNTHESIS
+    localparam [0:0] MULT18 = OPT_ECP5_MULT;
+`else
+    localparam [0:0] MULT18 = OPT_ECP5_MULT & 1'b0;   // (simulation: inferred)
+`endif
+    generate
+        if (MULT18) begin : g_mult18
+`ifdef SYNTHESIS
+            // rcp_q and sn_q in the block's input registers A and B (clock 0, enable 0:
+            // v1); unsigned 14 x 14 bits, no output or pipeline register
+            wire [35:0] pw;
+            MULT18X18D #(
+                .REG_INPUTA_CLK("CLK0"), .REG_INPUTA_CE("CE0"), .REG_INPUTA_RST("RST0"),
+                .REG_INPUTB_CLK("CLK0"), .REG_INPUTB_CE("CE0"), .REG_INPUTB_RST("RST0")
+            ) u_mult (
+                .A17(1'b0), .A16(1'b0), .A15(1'b0), .A14(1'b0), .A13(rcp[13]),
+                .A12(rcp[12]), .A11(rcp[11]), .A10(rcp[10]), .A9(rcp[9]), .A8(rcp[8]),
+                .A7(rcp[7]), .A6(rcp[6]), .A5(rcp[5]), .A4(rcp[4]), .A3(rcp[3]),
+                .A2(rcp[2]), .A1(rcp[1]), .A0(rcp[0]),
+                .B17(1'b0), .B16(1'b0), .B15(1'b0), .B14(1'b0), .B13(sn[13]),
+                .B12(sn[12]), .B11(sn[11]), .B10(sn[10]), .B9(sn[9]), .B8(sn[8]),
+                .B7(sn[7]), .B6(sn[6]), .B5(sn[5]), .B4(sn[4]), .B3(sn[3]), .B2(sn[2]),
+                .B1(sn[1]), .B0(sn[0]),
+                .C17(1'b0), .C16(1'b0), .C15(1'b0), .C14(1'b0), .C13(1'b0), .C12(1'b0),
+                .C11(1'b0), .C10(1'b0), .C9(1'b0), .C8(1'b0), .C7(1'b0), .C6(1'b0),
+                .C5(1'b0), .C4(1'b0), .C3(1'b0), .C2(1'b0), .C1(1'b0), .C0(1'b0),
+                .SIGNEDA(1'b0), .SIGNEDB(1'b0), .SOURCEA(1'b0), .SOURCEB(1'b0),
+                .CLK0(clk), .CLK1(1'b0), .CLK2(1'b0), .CLK3(1'b0),
+                .CE0(v1), .CE1(1'b0), .CE2(1'b0), .CE3(1'b0),
+                .RST0(1'b0), .RST1(1'b0), .RST2(1'b0), .RST3(1'b0),
+                .P35(pw[35]), .P34(pw[34]), .P33(pw[33]), .P32(pw[32]), .P31(pw[31]),
+                .P30(pw[30]), .P29(pw[29]), .P28(pw[28]), .P27(pw[27]), .P26(pw[26]),
+                .P25(pw[25]), .P24(pw[24]), .P23(pw[23]), .P22(pw[22]), .P21(pw[21]),
+                .P20(pw[20]), .P19(pw[19]), .P18(pw[18]), .P17(pw[17]), .P16(pw[16]),
+                .P15(pw[15]), .P14(pw[14]), .P13(pw[13]), .P12(pw[12]), .P11(pw[11]),
+                .P10(pw[10]), .P9(pw[9]), .P8(pw[8]), .P7(pw[7]), .P6(pw[6]),
+                .P5(pw[5]), .P4(pw[4]), .P3(pw[3]), .P2(pw[2]), .P1(pw[1]), .P0(pw[0])
+            );
+            assign p = pw[27:0];
+            wire unused_pw = &{1'b0, pw[35:28], 1'b0};
+`endif
+        end else begin : g_mult
+            reg [13:0] rcp_q = 0;                    // u0.14 rcp
+            reg [13:0] sn_q = 0;                     // u14 sn
+            always @(posedge clk)
+                if (v1) begin
+                    rcp_q <= rcp;
+                    sn_q  <= sn;
+                end
+            assign p = sn_q * rcp_q;
+        end
+    endgenerate
     wire [28:0] psum = {1'b0, p} + 29'h8000;
     wire [10:0] jr = (psum[28:27] != 2'b00) ? 11'd2047 : psum[26:16];
     assign j_o = TABLE_EXACT ? jr : jp_q;

