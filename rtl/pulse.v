@@ -25,18 +25,8 @@ module pulse #(
     // With v = +-m (m the magnitude in u0.15) one unsigned comparison m >= eps decides:
     //   v >= eps   <=>  (!neg && m >= eps) || (m == 0 && eps == 0)
     //   v <= -eps  <=>  ( neg && m >= eps) || (m == 0 && eps == 0)   (used when not v >= eps)
-    // m = mag << S (the table's SIN_W - 1 bits at the top of u0.15), so m >= eps is
-    // mag >= E with E = ceil(eps / 2**S) (u(17 - S)): the rounding is on the register's
-    // side, and the table's output (block RAM, a long clock-to-output time) meets one
-    // comparison of SIN_W - 1 bits
-    localparam S = 16 - SIN_W;
-    localparam [16:0] RND = (17'd1 << S) - 17'd1;
-    /* verilator lint_off UNUSEDSIGNAL */
-    wire [16:0]      e_up = {1'b0, eps_i} + RND;                   // eps + 2**S - 1
-    /* verilator lint_on UNUSEDSIGNAL */
-    wire [16-S:0]    e_th = e_up[16:S];                            // E
-    wire             e_big = |e_th[16-S:SIN_W-1];                  // E > every magnitude
-    wire [SIN_W-2:0] e_lo = e_th[SIN_W-2:0];
+    wire [15:0] cm = {1'b0, cos_mag_i, {(16-SIN_W){1'b0}}};
+    wire [15:0] sm = {1'b0, sin_mag_i, {(16-SIN_W){1'b0}}};
     // a >= b (unsigned, up to 32 bits), bit by bit from the LSB: with b constant it folds
     // to an AND/OR chain that synthesis maps to a few LUTs (yosys maps a comparison with a
     // constant to a whole carry chain)
@@ -50,15 +40,12 @@ module pulse #(
             geu = r;
         end
     endfunction
-    localparam PAD = 32 - (SIN_W - 1);
-    wire c_ge = !e_big && (OPT_TUNABLE ? cos_mag_i >= e_lo
-                                       : geu({{PAD{1'b0}}, cos_mag_i}, {{PAD{1'b0}}, e_lo}));
-    wire s_ge = !e_big && (OPT_TUNABLE ? sin_mag_i >= e_lo
-                                       : geu({{PAD{1'b0}}, sin_mag_i}, {{PAD{1'b0}}, e_lo}));
+    wire c_ge = OPT_TUNABLE ? cm >= eps_i : geu({16'd0, cm}, {16'd0, eps_i});
+    wire s_ge = OPT_TUNABLE ? sm >= eps_i : geu({16'd0, sm}, {16'd0, eps_i});
     wire zero_eps = (eps_i == 16'd0);
-    wire c_pos = (!cos_neg_i && c_ge) || (zero_eps && cos_mag_i == 0);
+    wire c_pos = (!cos_neg_i && c_ge) || (zero_eps && cm == 16'd0);
     wire c_neg = cos_neg_i && c_ge;
-    wire s_pos = (!sin_neg_i && s_ge) || (zero_eps && sin_mag_i == 0);
+    wire s_pos = (!sin_neg_i && s_ge) || (zero_eps && sm == 16'd0);
     wire s_neg = sin_neg_i && s_ge;
     always @(posedge clk) begin
         valid_o <= valid_i;
