@@ -54,9 +54,10 @@ def test_octant(sim, exact):
 def test_octant_mult18():
     """OPT_ECP5_MULT = 1 as synthesis sees it (SYNTHESIS defined: the MULT18X18D instance,
     whose operand registers are the DSP block's), with the primitive's behavioural
-    stand-in cocotb_tests/sim_mult18x18d.v: the instance's wiring (bit order, clock
-    enable) gives the same outputs as the inferred form, on the same vectors (exact table;
-    Icarus)."""
+    stand-in cocotb_tests/sim_mult18x18d.v: the instance's wiring (the operands' and the
+    used product bits' order) gives the same outputs as the inferred form, on the same
+    vectors (exact table; Icarus). (A clock enable of 1 instead of v1 would pass too: rcp
+    and sn only change with a sample.)"""
     fqtb.run_block("icarus", "octant", fqtb.sources("octant") + [fqtb.HERE / "sim_mult18x18d.v"],
                    "test_octant",
                    parameters=dict(TABLE_DIR=fqtb.qstr(fqtb.TABLE_DIR), TABLE_EXACT=1,

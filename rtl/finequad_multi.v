@@ -59,6 +59,8 @@ module finequad_multi #(
     parameter [0:0] OPT_DISTRAM = 1'b0,
     // 1: the exact phase table in 4096 rows (rtl/finequad_core.v)
     parameter [0:0] OPT_PHASE_4K = 1'b0,
+    // 1: the ratio multiply's operand registers in an ECP5 DSP block (rtl/finequad_core.v)
+    parameter [0:0] OPT_ECP5_MULT = 1'b0,
     // 1: every setting is a register; 0: the tuning settings keep their reset values
     parameter [0:0] OPT_TUNABLE = 1'b1,
     // lanes of the shared RLS engine, 1 or 2
@@ -113,6 +115,7 @@ module finequad_multi #(
                             .COUNT_W(COUNT_W), .TABLE_EXACT(TABLE_EXACT), .G_INIT(G_INIT),
                             .OPT_NTH_DSP(OPT_NTH_DSP), .OPT_HARMONIC(OPT_HARMONIC),
                             .OPT_DISTRAM(OPT_DISTRAM), .OPT_PHASE_4K(OPT_PHASE_4K),
+                            .OPT_ECP5_MULT(OPT_ECP5_MULT),
                             .OPT_TUNABLE(OPT_TUNABLE), .ENGINE_LANES(ENGINE_LANES),
                             .OPT_EXT_ENGINE(SHARED)) u_core (
                 .clk(clk), .rst(rst),

@@ -46,9 +46,9 @@
 //          OPT_DISTRAM = 0 (block RAM, e.g. iCE40): A[b0], A[b1] read on this edge;
 //          OPT_DISTRAM = 1 (distributed RAM, e.g. ECP5): b0, b1 registered on this edge
 //          and the RAM read asynchronously after it from the flip-flops (no logic
-//          before its address; the ECP5 build keeps the multiplier's operand registers
-//          in its DSP block, rtl/octant.v OPT_ECP5_MULT, to make room for hbin in front
-//          of the register).
+//          before its address; the report's ECP5 build keeps the multiplier's operand
+//          registers in its DSP block, rtl/octant.v OPT_ECP5_MULT, to make room for hbin
+//          in front of the register).
 //          Either way the read sees the writes on edges <= a (as if read on this edge: a
 //          commit on this edge is undone by lha below).
 //   a + 2  phase_o, phase_c_o, valid_o (ph_i is the phase table's output, valid after
@@ -160,7 +160,7 @@ module harmonic #(
     wire [5:0]  swa = 6'd0 - swp[5:0];          // sweep address 0, 1, .., 63
     wire [5:0]  wa = sweeping ? swa : lb;       // (a named 6-bit wire: Icarus 11 indexes
     wire        we = sweeping || commit;        //  with a wider difference otherwise)
-    wire [11:0] bc1;                            // {b1, b0} from t_i (block RAM's address)
+    wire [11:0] bc1;                            // {b1, b0} from t_i (the RAM's address)
     wire        c1_unused;
     wire [5:0]  bin1_unused;
     hbin #(.TABLE_EXACT(TABLE_EXACT)) u_bin1 (

@@ -31,7 +31,8 @@
 //        valid_o       (octant: |u2c| <= |u1c| is the low octant 0, 3, 4 or 7; ties low)
 //   e+2  rcp_q   u0.14 rcp again, sn_q u14 sn: the block RAM's output in flip-flops (its
 //                      clock-to-output time, 5.6 ns on the ECP5, leaves no room for a
-//                      multiply behind it in one clock)
+//                      multiply behind it in one clock); with OPT_ECP5_MULT these two
+//                      registers are the DSP block's input registers
 //   e+3 (combinational from the registers of e+2, for the block RAM addresses):
 //        p       u28   sn_q * rcp_q = t * 2**27 (1 + O(2**-10)) (a DSP block)
 //        j_o     u11   exact: min(2047, (p + 2**15) >> 16) = round(2048 t), clipped; paper: jp
@@ -43,10 +44,11 @@ module octant #(
     // 1: the ratio multiply's operand registers (rcp_q, sn_q) are the DSP block's own
     // input registers: an ECP5 MULT18X18D instantiated (synthesis does not pack registers
     // into it), which saves the route from the flip-flops to the block in front of the
-    // address logic (ECP5 at ~100 MHz: rtl/harmonic.v OPT_DISTRAM reads its bin address
-    // from t_o). Synthesis only (`SYNTHESIS, as Yosys defines it); simulators, which have
-    // no model of the primitive, run the inferred form, the same registers and product.
-    // 0: inferred (any device)
+    // logic behind t_o (ECP5 at ~100 MHz: rtl/harmonic.v OPT_DISTRAM forms its bins'
+    // addresses from t_o and registers them). Synthesis only (`SYNTHESIS, as Yosys
+    // defines it); simulations run the inferred form, the same registers and product
+    // (cocotb_tests/test_octant.py test_octant_mult18 runs the instance against a
+    // stand-in of the primitive). 0: inferred (any device)
     parameter [0:0] OPT_ECP5_MULT = 1'b0
 ) (
     input  wire        clk,
@@ -124,7 +126,8 @@ module octant #(
     assign oct2_o = oct2_q;
     assign neg_o = neg_q;
 
-    // ---- e+2: the reciprocal and the small magnitude in flip-flops ----------------------------
+    // ---- e+2: the reciprocal and the small magnitude in flip-flops (rcp_q, sn_q: below,
+    // beside the multiply) ---------------------------------------------------------------------
     reg [10:0] jp_q = 0;
     always @(posedge clk)
         if (v1)

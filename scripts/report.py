@@ -25,8 +25,8 @@ count) go to the --build folder. Everything is measured here:
   (OPT_HARMONIC=0, OPT_TUNABLE=0; the register port stays); the ECP5 two engine lanes (4
   more of its 28 DSP blocks, shorter programs), the harmonic table in distributed RAM and
   the 4096-row phase table, the ratio multiply's operand registers inside its DSP block
-  (OPT_DISTRAM, OPT_PHASE_4K, OPT_ECP5_MULT). The probe's simulations run on each device's RTL (the
-  parameters in DEVICES probe), against the model with its lanes.
+  (OPT_DISTRAM, OPT_PHASE_4K, OPT_ECP5_MULT). The probe's simulations run on each
+  device's RTL (the parameters in DEVICES probe), against the model with its lanes.
 * The simulations (sim/harness/probe.cpp, Verilator): the clocks from a sample's strobe
   edge to m_valid, to m_count changing, to the A/B pins changing (paced and Eq. 12
   pulses); a sample strobed on every clock (every result must arrive, on consecutive
