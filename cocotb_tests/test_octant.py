@@ -50,7 +50,6 @@ def test_octant(sim, exact):
                    extra_env=dict(TABLE_EXACT=exact))
 
 
-
 def test_octant_mult18():
     """OPT_ECP5_MULT = 1 as synthesis sees it (SYNTHESIS defined: the MULT18X18D instance,
     whose operand registers are the DSP block's), with the primitive's behavioural
@@ -58,8 +57,8 @@ def test_octant_mult18():
     used product bits' order) gives the same outputs as the inferred form, on the same
     vectors (exact table; Icarus). (A clock enable of 1 instead of v1 would pass too: rcp
     and sn only change with a sample.)"""
-    fqtb.run_block("icarus", "octant", fqtb.sources("octant") + [fqtb.HERE / "sim_mult18x18d.v"],
-                   "test_octant",
+    fqtb.run_block("icarus", "octant",
+                   fqtb.sources("octant") + [fqtb.HERE / "sim_mult18x18d.v"], "test_octant",
                    parameters=dict(TABLE_DIR=fqtb.qstr(fqtb.TABLE_DIR), TABLE_EXACT=1,
                                    OPT_ECP5_MULT=1),
                    extra_env=dict(TABLE_EXACT=1, MULT18=1), tag="mult18",

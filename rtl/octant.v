@@ -127,7 +127,7 @@ module octant #(
     assign neg_o = neg_q;
 
     // ---- e+2: the reciprocal and the small magnitude in flip-flops (rcp_q, sn_q: below,
-    // beside the multiply) ---------------------------------------------------------------------
+    // beside the multiply) ----------------------------------------------------------------
     reg [10:0] jp_q = 0;
     always @(posedge clk)
         if (v1)
@@ -143,8 +143,8 @@ module octant #(
     generate
         if (MULT18) begin : g_mult18
 `ifdef SYNTHESIS
-            // rcp_q and sn_q in the block's input registers A and B (clock 0, enable 0:
-            // v1); unsigned 14 x 14 bits, no output or pipeline register
+            // rcp_q and sn_q in the block's input registers A and B (CLK0 = clk,
+            // CE0 = v1); unsigned 14 x 14 bits, no output or pipeline register
             wire [35:0] pw;
             MULT18X18D #(
                 .REG_INPUTA_CLK("CLK0"), .REG_INPUTA_CE("CE0"), .REG_INPUTA_RST("RST0"),
