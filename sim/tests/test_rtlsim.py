@@ -12,8 +12,10 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 
 
 ECP5 = dict(LANES=2, DISTRAM=1, PH4K=1)    # the ECP5 build's parameters (scripts/report.py)
-UP5K = dict(HARMONIC=0)     # the UP5K build's behaviour (and the iCEBreaker's): no harmonic
-                            # compensation (rtl/phase.v)
+# the UP5K build (scripts/report.py; the iCEBreaker's behaviour too): no harmonic
+# compensation (rtl/phase.v), n * phase in logic, the tuning registers constant (the
+# harness writes their reset values)
+UP5K = dict(HARMONIC=0, NTH_DSP=0, TUNABLE=0)
 
 
 @pytest.mark.parametrize("table,interp,seed,div,adc_w,count_mode,build",
@@ -30,7 +32,8 @@ def test_rtlsim_equals_model(tmp_path, table, interp, seed, div, adc_w, count_mo
     edge mode (CTRL bit 3, the paper's x4 decoder of A/B). build: the ECP5 build's RTL
     (two engine lanes, the harmonic table in distributed RAM, the 4096-row phase table)
     against the model with two lanes; or the UP5K build's (OPT_HARMONIC = 0: rtl/phase.v
-    assembles the phase) against the model without the harmonic compensation."""
+    assembles the phase; OPT_NTH_DSP = 0, OPT_TUNABLE = 0) against the model without the
+    harmonic compensation."""
     # long enough in clocks for the estimator to calibrate (a commit needs ~330 updates
     # of ~400 clocks) and to re-estimate many times afterwards
     n = max(40000, 240000 // div)
