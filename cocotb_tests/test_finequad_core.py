@@ -35,6 +35,10 @@ Scenarios (one simulator process each, from power-up):
              channel 1 stuck, single-sample glitches (a point at a random angle), a short
              over-range (amplitude x 1.6) and clipped samples (FAULT_EVENTS); the monitor's
              registers written to non-default values
+  faults_lean  the faults recording through the UP5K report build's options (OPT_MONITOR=0:
+             no fault checks, OPT_JUMP=0: no jump detector; Verilator only): nothing is
+             flagged or held while the full model flags the faults; RADIUS and MONITOR
+             read 0, JUMP 0x8000
 
 Beyond RTL == model, independent checks: every change of m_a / m_b (paced outputs:
 scenarios other than paper) is on a clock edge, never both pins on one edge, at least
@@ -121,6 +125,14 @@ SCENARIOS = {
                  regs=dict(interp=256, eps=3000, lam_k=6, kappa=32 << 8, period=200,
                            settle=16, gate=40, ab_sep=12, ab_bound=6, jump_min=60),
                  build=dict(ENGINE_LANES=2, OPT_DISTRAM=1, OPT_PHASE_4K=1), like="gaps"),
+    # the UP5K report build's (scripts/report.py) options: no fault checks in the monitor,
+    # no jump detector (OPT_MONITOR=0, OPT_JUMP=0); the signal and registers of "faults":
+    # nothing is flagged or held (the model with the same options), RADIUS and MONITOR
+    # read 0, JUMP 0x8000 (off) and JUMPS 0; Verilator only
+    "faults_lean": dict(exact=1, n={"icarus": 0, "verilator": 30000},
+                        regs=dict(interp=100, clip=32000, loss=4000, over=21000, glitch_k=9,
+                                  stuck_n=6), load=True,
+                        build=dict(OPT_MONITOR=0, OPT_JUMP=0), like="faults"),
 }
 # faults: (fraction of the recording where it starts, what, length in samples); the move
 # runs from 0.05 to 0.95 of the recording at about 1800 samples per signal period at any
@@ -309,8 +321,11 @@ def _config(scenario, resets, n=None):
     is the model's final bundle on the same recording of n samples."""
     from sim.model import core
     sc = SCENARIOS[scenario]
+    build = sc.get("build", {})
     cfg = core.Config(TABLE="exact" if sc["exact"] else "paper", resets=list(resets),
-                      ENGINE_LANES=sc.get("build", {}).get("ENGINE_LANES", 1), **sc["regs"])
+                      ENGINE_LANES=build.get("ENGINE_LANES", 1),
+                      OPT_MONITOR=build.get("OPT_MONITOR", 1), OPT_JUMP=build.get("OPT_JUMP", 1),
+                      **sc["regs"])
     if sc.get("load") and n is not None:
         cfg.loads = [(load_edge(cfg), calibration(scenario, n))]
     return cfg
@@ -656,13 +671,23 @@ async def core_run(dut):
           (await rd(0x00)) & 0x1B, ctrl_word(cfg) | ((fault_ph >> 4) & 1)
           | (((fault_ph >> 5) & 1) << 1) | int(res["loaded"][ph]) << 4)
     check("CLIP 0x18", await rd(0x18), cfg.clip)
-    check("RADIUS 0x19", await rd(0x19), radius_word(cfg))
-    check("MONITOR 0x1a", await rd(0x1A), monitor_word(cfg))
+    check("RADIUS 0x19", await rd(0x19), radius_word(cfg) if cfg.OPT_MONITOR else 0)
+    check("MONITOR 0x1a", await rd(0x1A), monitor_word(cfg) if cfg.OPT_MONITOR else 0)
     check("travel 0x1c", await rd(0x1C), int(res["travel"][n - 1]))   # real samples only
     check("gain 0x0b", await rd(0x0B), int(res["g"][ph]))
     check("HARM 0x12", await rd(0x12), harm_word(cfg))
-    check("JUMP 0x13", await rd(0x13), jump_word(cfg))
+    check("JUMP 0x13", await rd(0x13), jump_word(cfg) if cfg.OPT_JUMP else 0x8000)
     check("jumps 0x14", await rd(0x14), len(res["jumps"]) & 0xFFFF)
+    if not cfg.OPT_MONITOR:
+        held = sum(1 << core_model.FAULT_BITS[b] for b in ("loss", "over", "stuck", "glitch"))
+        assert not np.bitwise_and(res["fault"][:n], held).any(), \
+            f"{scenario}: a fault check flagged without the monitor's checks"
+        full = core_model.run(np.asarray(u1), np.asarray(u2),
+                        _config(SCENARIOS[scenario]["like"], [], n), strobes=t)
+        assert np.bitwise_and(full["fault"][:n], held).any(), \
+            f"{scenario}: the signal has no fault for the full monitor to flag"
+    if not cfg.OPT_JUMP:
+        assert not res["jumps"], f"{scenario}: a jump without the jump detector"
     check("ABGEN 0x15", await rd(0x15), abgen_word(cfg))
     check("AB_BOUND 0x16", await rd(0x16), cfg.ab_bound)
     bl_got = await rd(BACKLOG)

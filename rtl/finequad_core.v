@@ -60,6 +60,13 @@ module finequad_core #(
     // them); CTRL, INTERP, the staged coefficients and FAULT_STICKY stay writable (for a
     // small device, e.g. the iCE40 UP5K)
     parameter [0:0] OPT_TUNABLE = 1'b1,
+    // 1: the signal monitor's fault checks (loss, over-range, stuck channel, glitch:
+    // rtl/monitor.v); 0: none (the counter never holds, those fault bits are 0, RADIUS and
+    // MONITOR read 0; the travel that gates the estimator stays: for a small device)
+    parameter [0:0] OPT_MONITOR = 1'b1,
+    // 1: the estimator's jump detector (rtl/estimator.v); 0: none (JUMP reads 0x8000,
+    // disabled, and JUMPS 0: for a small device)
+    parameter [0:0] OPT_JUMP = 1'b1,
     // lanes of the estimator's RLS engine, 1 or 2 (2: four more DSP blocks, shorter
     // programs: rtl/rls_engine.v, sim/model/estimator.py CYCLES_BY_LANES)
     parameter ENGINE_LANES = 1,
@@ -275,7 +282,7 @@ module finequad_core #(
     // ---- signal monitor: faults, the counter's hold (stage t+6 .. t+7), the travel ------------
     wire mon_hold, mon_excl, mon_loss, mon_over, mon_stuck, mon_glitch;
     wire [19:0] mon_travel;
-    monitor u_monitor (
+    monitor #(.OPT_MONITOR(OPT_MONITOR)) u_monitor (
         .clk(clk), .rst(rst), .valid0_i(c_v0), .raw1_i(c_raw1), .raw2_i(c_raw2),
         .clip_i(c_clip), .ref_i(b_ref), .ax_i(c_ax), .ay_i(c_ay), .xn_i(c_xn), .yn_i(c_yn), .pvalid_i(h_valid), .phase_i(h_phase),
         .loss_th_i(r_loss), .over_th_i(r_over), .glitch_k_i(r_glitch),
@@ -338,7 +345,7 @@ module finequad_core #(
         .req_reset_i(req_reset), .lam_k_i(r_lam_k), .kappa_i(r_kappa),
         .kappa5_i(r_kappa5),
         .period_i(r_period), .settle_i(r_settle), .gate_i(r_gate),
-        .jump_on_i(!r_jump_off), .jump_min_i(r_jump_min), .jumps_o(e_jumps),
+        .jump_on_i(OPT_JUMP && !r_jump_off), .jump_min_i(r_jump_min), .jumps_o(e_jumps),
         .g_o(b_g), .m1_o(b_m1), .m2_o(b_m2), .c1_o(b_c1), .c12_o(b_c12), .c2_o(b_c2),
         .uncal_o(b_uncal), .hold_o(b_hold), .loaded_o(b_loaded), .ref_o(b_ref),
         .updates_o(e_updates), .sat_o(e_sat),
@@ -394,14 +401,14 @@ module finequad_core #(
                 6'h10: reg_rdata <= {{16{b_c2[15]}}, b_c2};
                 6'h11: reg_rdata <= e_updates;
                 6'h12: reg_rdata <= OPT_HARMONIC ? {26'd0, r_hmu, 2'd0, r_hlearn, r_happly} : 32'd0;
-                6'h13: reg_rdata <= {16'd0, r_jump_off, 4'd0, r_jump_min};
-                6'h14: reg_rdata <= {16'd0, e_jumps};
+                6'h13: reg_rdata <= OPT_JUMP ? {16'd0, r_jump_off, 4'd0, r_jump_min} : 32'h8000;
+                6'h14: reg_rdata <= OPT_JUMP ? {16'd0, e_jumps} : 32'd0;
                 6'h15: reg_rdata <= {23'd0, r_absrc, r_absep};
                 6'h16: reg_rdata <= {16'd0, r_abbound};
                 6'h17: reg_rdata <= {{16{g_backlog[15]}}, g_backlog};
                 6'h18: reg_rdata <= {16'd0, r_clip};
-                6'h19: reg_rdata <= {r_over, r_loss};
-                6'h1a: reg_rdata <= {8'd0, r_stuckn, 12'd0, r_glitch};
+                6'h19: reg_rdata <= OPT_MONITOR ? {r_over, r_loss} : 32'd0;
+                6'h1a: reg_rdata <= OPT_MONITOR ? {8'd0, r_stuckn, 12'd0, r_glitch} : 32'd0;
                 6'h1b: reg_rdata <= {{(32-COUNT_W+1){r_cap[COUNT_W-1]}}, r_cap[COUNT_W-2:0]};
                 6'h1c: reg_rdata <= {12'd0, mon_travel};
                 6'h1f: reg_rdata <= ID;

@@ -63,6 +63,9 @@ module finequad_multi #(
     parameter [0:0] OPT_ECP5_MULT = 1'b0,
     // 1: every setting is a register; 0: the tuning settings keep their reset values
     parameter [0:0] OPT_TUNABLE = 1'b1,
+    // 1: the signal monitor's fault checks, the jump detector; 0: none (rtl/finequad_core.v)
+    parameter [0:0] OPT_MONITOR = 1'b1,
+    parameter [0:0] OPT_JUMP = 1'b1,
     // lanes of the shared RLS engine, 1 or 2
     parameter ENGINE_LANES = 1
 ) (
@@ -115,7 +118,8 @@ module finequad_multi #(
                             .COUNT_W(COUNT_W), .TABLE_EXACT(TABLE_EXACT), .G_INIT(G_INIT),
                             .OPT_NTH_DSP(OPT_NTH_DSP), .OPT_HARMONIC(OPT_HARMONIC),
                             .OPT_DISTRAM(OPT_DISTRAM), .OPT_PHASE_4K(OPT_PHASE_4K),
-                            .OPT_ECP5_MULT(OPT_ECP5_MULT),
+                            .OPT_ECP5_MULT(OPT_ECP5_MULT), .OPT_MONITOR(OPT_MONITOR),
+                            .OPT_JUMP(OPT_JUMP),
                             .OPT_TUNABLE(OPT_TUNABLE), .ENGINE_LANES(ENGINE_LANES),
                             .OPT_EXT_ENGINE(SHARED)) u_core (
                 .clk(clk), .rst(rst),

@@ -37,6 +37,10 @@ module finequad_system #(
     parameter [0:0] OPT_PHASE_4K = 1'b0,
     // the ratio multiply's operand registers in an ECP5 DSP block (rtl/finequad_core.v)
     parameter [0:0] OPT_ECP5_MULT = 1'b0,
+    // the core's signal monitor and jump detector (rtl/finequad_core.v OPT_MONITOR,
+    // OPT_JUMP)
+    parameter [0:0] OPT_MONITOR = 1'b1,
+    parameter [0:0] OPT_JUMP = 1'b1,
     // ADC front end: clocks per SCLK half period, CS_N to first SCLK falling, per sample
     parameter ADC_SCLK_HALF = 1,
     parameter ADC_CS_SETUP = 1,
@@ -134,7 +138,8 @@ module finequad_system #(
     wire [65:0] eng_cmd;                 // 0: the core's engine is inside
     finequad_core #(.TABLE_DIR(TABLE_DIR), .ADC_W(12), .OPT_NTH_DSP(OPT_NTH_DSP),
                     .OPT_HARMONIC(OPT_HARMONIC), .OPT_DISTRAM(OPT_DISTRAM),
-                    .OPT_PHASE_4K(OPT_PHASE_4K), .OPT_ECP5_MULT(OPT_ECP5_MULT)) u_core (
+                    .OPT_PHASE_4K(OPT_PHASE_4K), .OPT_ECP5_MULT(OPT_ECP5_MULT),
+                    .OPT_MONITOR(OPT_MONITOR), .OPT_JUMP(OPT_JUMP)) u_core (
         .clk(clk), .rst(rst),
         .s_valid(s_valid), .s_u1(s_u1), .s_u2(s_u2),
         .reg_we(reg_we), .reg_re(reg_re), .reg_addr(reg_addr), .reg_wdata(reg_wdata),

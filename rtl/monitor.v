@@ -48,8 +48,15 @@
 // and |U - S| stays below 2^19 at any speed below half a period per sample: 32 x 4096),
 // snap s17 (|o| <= 32767, the difference s18), orun u12, run u8 and grun u5 saturate,
 // pred and ph_a u13 wrap. Nothing overflows
-// (the formal properties below and sim/formal/monitor.sby).
-module monitor (
+// (the formal properties below and sim/formal/monitor.sby, for OPT_MONITOR = 1).
+// OPT_MONITOR = 0 (a small device, e.g. the iCE40 UP5K): no fault checks: loss, over,
+// stuck and glitch are 0, hold_o never, excl_o = pvalid_i and clip (a clipped sample is
+// still not estimated); every sample is accepted, so U and S (the travel, the
+// estimator's gate) follow every sample. The checks' logic drives nothing and synthesis
+// removes it. sim/model/monitor.py Monitor(enabled=False) is the same.
+module monitor #(
+    parameter [0:0] OPT_MONITOR = 1'b1
+) (
     input  wire               clk,
     input  wire               rst,
     // edge t
@@ -150,7 +157,7 @@ module monitor (
     reg [1:0] stuck_d = 0;
     always @(posedge clk)
         stuck_d <= {stuck_d[0], stuck4};
-    wire stuck = stuck_d[1];
+    wire stuck = OPT_MONITOR && stuck_d[1];
     // the clip flag of edge t, at t + 5 (into `early`, below)
     reg [4:0] clip_d = 0;
     always @(posedge clk)
@@ -171,12 +178,12 @@ module monitor (
         loss6 <= loss5;
         over6 <= over5;
     end
-    wire loss = loss6, over = over6;
+    wire loss = OPT_MONITOR && loss6, over = OPT_MONITOR && over6;
     // loss, stuck or clip with over-range of the sample in H, combined on the edge before
     // (t + 6); clip alone for the estimator
     reg early = 1'b0, clip6 = 1'b0;
     always @(posedge clk) begin
-        early <= loss5 || stuck_d[0] || (clip_d[4] && over5);
+        early <= OPT_MONITOR && (loss5 || stuck_d[0] || (clip_d[4] && over5));
         clip6 <= clip_d[4];
     end
 
@@ -200,7 +207,7 @@ module monitor (
             gmask[kb] <= (glitch_k_i != 4'd0) && (kb >= glitch_k_i);
     wire        big_p = |(e[11:1] & gmask);
     wire        big_n = |(~e[11:1] & gmask);
-    wire        glitch = chk[1] && (e[12] ? big_n : big_p);
+    wire        glitch = OPT_MONITOR && chk[1] && (e[12] ? big_n : big_p);
     assign hold_o = pvalid_i && (early || glitch);
     // a glitch alone coasts along the line (COAST_MAX coasts since two samples in a row
     // were accepted; a clipped sample, a channel on a rail, coasts on for as long as it lasts)

@@ -86,6 +86,10 @@ def main(argv=None):
                     help="lanes of the estimator's RLS engine (ENGINE_LANES; default 1)")
     ap.add_argument("--harmonic", type=int, choices=[0, 1], default=1,
                     help="OPT_HARMONIC: 0 = a core built without the harmonic compensation")
+    ap.add_argument("--monitor", type=int, choices=[0, 1], default=1,
+                    help="OPT_MONITOR: 0 = a core built without the signal monitor's checks")
+    ap.add_argument("--jump", type=int, choices=[0, 1], default=1,
+                    help="OPT_JUMP: 0 = a core built without the estimator's jump detector")
     args = ap.parse_args(argv)
     if not 1 <= args.interp <= 511:
         die(f"--interp must be 1..511, got {args.interp}")
@@ -105,7 +109,8 @@ def main(argv=None):
     cfg = core.Config(TABLE=args.table, interp=args.interp, div=args.div, ADC_W=args.adc_w,
                       count_mode=args.count_mode, ab_sep=args.ab_sep, ab_src=args.ab_src,
                       ab_bound=args.ab_bound, ENGINE_LANES=args.lanes,
-                      OPT_HARMONIC=args.harmonic)
+                      OPT_HARMONIC=args.harmonic, OPT_MONITOR=args.monitor,
+                      OPT_JUMP=args.jump)
     res = core.run(u1, u2, cfg, trace=bool(args.vcd))
     try:
         write_result(args.out, res)

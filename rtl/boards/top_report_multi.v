@@ -16,6 +16,8 @@ module top_report_multi #(
     parameter [0:0] OPT_PHASE_4K = 1'b0,
     parameter [0:0] OPT_ECP5_MULT = 1'b0,
     parameter [0:0] OPT_TUNABLE = 1'b1,
+    parameter [0:0] OPT_MONITOR = 1'b1,
+    parameter [0:0] OPT_JUMP = 1'b1,
     parameter ENGINE_LANES = 1
 ) (
     input  wire clk,
@@ -43,7 +45,8 @@ module top_report_multi #(
     finequad_multi #(.AXES(AXES), .TDM_W(TDM_W), .OPT_NTH_DSP(OPT_NTH_DSP),
                      .OPT_HARMONIC(OPT_HARMONIC), .OPT_TUNABLE(OPT_TUNABLE),
                      .OPT_DISTRAM(OPT_DISTRAM), .OPT_PHASE_4K(OPT_PHASE_4K),
-                     .OPT_ECP5_MULT(OPT_ECP5_MULT), .ENGINE_LANES(ENGINE_LANES)) u_multi (
+                     .OPT_ECP5_MULT(OPT_ECP5_MULT), .OPT_MONITOR(OPT_MONITOR),
+                     .OPT_JUMP(OPT_JUMP), .ENGINE_LANES(ENGINE_LANES)) u_multi (
         .clk(clk), .rst(rst), .s_valid(s_valid), .s_u1(s_u1), .s_u2(s_u2),
         .reg_we(reg_we), .reg_re(reg_re), .reg_axis(reg_axis), .reg_addr(reg_addr),
         .reg_wdata(reg_wdata), .reg_rdata(reg_rdata),

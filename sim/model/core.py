@@ -150,6 +150,8 @@ class Config:
     COUNT_W: int = 32
     G_INIT: int = 0
     OPT_HARMONIC: int = 1    # 0: no harmonic compensation (rtl/phase.v), HARM reads 0
+    OPT_MONITOR: int = 1     # 0: no fault checks (sim/model/monitor.py), RADIUS reads 0
+    OPT_JUMP: int = 1        # 0: no jump detector (as jump_on = 0), JUMPS reads 0
     ENGINE_LANES: int = 1    # lanes of the RLS engine (1 or 2): its clocks per program
     interp: int = 100        # n, 1..511
     count_mode: int = 0      # CTRL bit 3: counter mode, 0 phase (4 n phase, nothing
@@ -283,7 +285,7 @@ class Core:
         for w, b in sorted(cfg.loads, key=lambda x: x[0]):
             self._event(w + BUNDLE_AT, ("load", tuple(int(v) for v in b)))
         self.uncal = 1
-        self.mon = Monitor()
+        self.mon = Monitor(enabled=bool(cfg.OPT_MONITOR))
         self.s_last = 0               # the travel at the last update (estimator's gate)
         self.n_updates = 0
         self.sched = []               # the estimator's programs, for the float reference
@@ -600,7 +602,7 @@ class Core:
         # jump detector on the a-priori residual |e| of this update (s3.13)
         eabs = min(abs(self.est.out[5]), 32767) << 5
         jf_next = self.jf + ((eabs - self.jf) >> 2)
-        trig = self.armed and cfg.jump_on and \
+        trig = self.armed and cfg.OPT_JUMP and cfg.jump_on and \
             jf_next > (self.jl << 2) + (cfg.jump_min << 5)
         if trig:
             self._pend_reset(done)

@@ -91,6 +91,10 @@ samples moves by less than 1/4 unit per sample at standstill even with 2 % noise
 noise alone no longer passes the gate (the raw phase did, about one sample in 12), while
 creep and motion pass it after every `gate` units of travel, at any speed.
 All widths wrap or saturate as stated: nothing overflows (sim/formal/monitor.sby).
+
+Without the checks (OPT_MONITOR = 0, rtl/monitor.v: a small device): loss, over, stuck
+and glitch are never flagged, no sample is held, excl = clip, and every sample moves the
+travel (U, S) as an accepted one does.
 """
 from dataclasses import dataclass
 
@@ -126,7 +130,8 @@ class MonitorRegs:
 class Monitor:
     """State of rtl/monitor.v from reset; step() runs one sample."""
 
-    def __init__(self):
+    def __init__(self, enabled=True):
+        self.enabled = enabled    # OPT_MONITOR: the fault checks are built
         self.prev = (0, 0)        # the previous sample's aligned codes
         self.run = [0, 0]         # consecutive unchanged codes per channel
         self.snap = [0, 0]        # s2.14: the other channel when this one last changed
@@ -150,6 +155,10 @@ class Monitor:
         xn, yn of the corrected signals, fine phase (u13, uncorrected), ref (the bundle
         is a calibration), clip (a code at or near a rail). Returns (loss, over, stuck,
         glitch, hold, excl)."""
+        if not self.enabled:
+            self._travel(wrap13(phase - self.ph_a))
+            self.ph_a = phase
+            return False, False, False, False, False, bool(clip)
         # stuck channel (codes compared with the previous sample's)
         other = (-ay if yn else ay, -ax if xn else ax)     # the other channel, signed
         stuck = False
@@ -190,11 +199,7 @@ class Monitor:
             self.pred = (phase + step) & 8191
             self.ph_a = phase
             self.chk = min(self.chk + 1, 2)
-            diff = ((self.u << S_FRAC) - self.s) & ((1 << S_W) - 1)
-            if diff >> (S_W - 1):
-                diff -= 1 << S_W
-            self.s = (self.s + (diff >> S_FRAC)) & ((1 << S_W) - 1)
-            self.u = (self.u + d) & ((1 << U_W) - 1)
+            self._travel(d)
             if self.acc:                  # two in a row: the line holds
                 self.grun = 0
             self.acc = True
@@ -207,3 +212,11 @@ class Monitor:
             self.grun = 0
             self.acc = False
         return loss, over, stuck, glitch, hold, excl
+
+    def _travel(self, d):
+        """An accepted sample's step d (s13) into U and S (S from U before the step)."""
+        diff = ((self.u << S_FRAC) - self.s) & ((1 << S_W) - 1)
+        if diff >> (S_W - 1):
+            diff -= 1 << S_W
+        self.s = (self.s + (diff >> S_FRAC)) & ((1 << S_W) - 1)
+        self.u = (self.u + d) & ((1 << U_W) - 1)

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from sim import siggen
+from sim.model import core
 from sim.run_model import write_codes
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
@@ -61,6 +62,54 @@ def test_rtlsim_equals_model(tmp_path, table, interp, seed, div, adc_w, count_mo
     assert np.abs(np.diff(r[:, 0])).max() > 0      # the counter moved
     uncal = (r[:, 3] >> 4) & 1
     assert uncal[0] == 1 and uncal[-1] == 0        # the coefficients were handed over
+
+
+# the UP5K report build (scripts/report.py): the UP5K build without the signal monitor's
+# fault checks and the jump detector (OPT_MONITOR = 0, OPT_JUMP = 0)
+LEAN = dict(MONITOR=0, JUMP=0)
+
+
+def _run(tmp_path, tag, div, build):
+    out = tmp_path / f"{tag}.csv"
+    subprocess.run(["make", "-s", "-C", str(ROOT), tag.split("_")[0], f"IN={tmp_path / 'in.csv'}",
+                    f"OUT={out}", f"DIV={div}"] + [f"{k}={v}" for k, v in build.items()],
+                   check=True)
+    return np.loadtxt(out, delimiter=",", skiprows=1, dtype=np.int64)
+
+
+@pytest.mark.parametrize("div", [1, 36])
+def test_lean_build_equals_model_through_faults(tmp_path, div):
+    """The UP5K report build (OPT_MONITOR = 0, OPT_JUMP = 0 besides the UP5K build's
+    options) against the model with the same options, on a recording with what those
+    options are about: a signal dropout, a burst of wrong codes, a channel on its rail and
+    an amplitude step after the hand-over. The full model flags and holds there and its
+    jump detector fires; the lean one must not (so the options change the behaviour,
+    and the RTL must follow them)."""
+    n = max(40000, 240000 // div)
+    fs = 1e6 * n / 40000
+    x = siggen.s_curve(n, fs, 60e3, 0.03, t_start=0.003)
+    x += siggen.s_curve(n, fs, -25e3, 0.005, t_start=0.034)
+    amp = siggen.jump(np.full(n, 0.4), int(0.7 * n), 0.25)
+    sig = siggen.Signal(A1=amp, A2=amp * 0.93, m1=0.012, m2=-0.008, noise=0.004,
+                        dropout=((int(0.6 * n), int(0.6 * n) + 40, 0.0),))
+    u1, u2, _ = siggen.encode(x, 4000.0, sig, seed=21)
+    k = int(0.8 * n)
+    u1[k:k + 6], u2[k:k + 6] = -u1[k:k + 6], -u2[k:k + 6]      # half a period off
+    u1[k + 500:k + 540] = 32767                                  # a broken line
+    write_codes(tmp_path / "in.csv", u1, u2)
+    lean = {**UP5K, **LEAN}
+    r = _run(tmp_path, "rtlsim", div, lean)
+    m = _run(tmp_path, "model", div, {"HARMONIC": 0, **LEAN})
+    full = _run(tmp_path, "model_full", div, {"HARMONIC": 0})
+    diff = np.nonzero((r != m).any(axis=1))[0]
+    assert len(diff) == 0, f"first difference at sample {diff[0]}: rtl {r[diff[0]]} model {m[diff[0]]}"
+    uncal = (r[:, 3] >> 4) & 1
+    assert uncal[0] == 1 and uncal[-1] == 0        # the coefficients were handed over
+    held = 0b111 << 7 | 1 << 10                    # loss, over, stuck, glitch (core.py)
+    assert not (r[:, 3] & held).any()
+    assert (full[:, 3] & held).any() and (full != m).any()
+    # the amplitude step fires the full core's jump detector
+    assert core.run(u1, u2, core.Config(OPT_HARMONIC=0, div=div))["jumps"]
 
 
 @pytest.mark.parametrize("target", ["rtlsim", "model"])
