@@ -32,6 +32,13 @@ AB_SEP  ?= 4
 AB_SRC  ?= 0
 AB_BOUND ?= 1024
 AB_ARGS  = --ab-sep $(AB_SEP) --ab-src $(AB_SRC) --ab-bound $(AB_BOUND)
+# a build knob outside its values would be truncated by Verilator and share the default
+# build's folder: refused here, before anything is built
+$(foreach v,DISTRAM PH4K HARMONIC NTH_DSP TUNABLE MONITOR JUMP,\
+    $(if $(and $(filter 1,$(words $($(v)))),$(filter 0 1,$($(v)))),,\
+        $(error $(v)='$($(v))': must be 0 or 1)))
+$(if $(and $(filter 1,$(words $(LANES))),$(filter 1 2,$(LANES))),,\
+    $(error LANES='$(LANES)': must be 1 or 2))
 RTL     := $(shell grep -v '^\#' rtl/finequad_core.f)
 SYS_RTL := $(shell grep -v '^\#' rtl/finequad_system.f)
 TABLE_EXACT := $(if $(filter paper,$(TABLE)),0,1)

@@ -688,6 +688,11 @@ async def core_run(dut):
             f"{scenario}: the signal has no fault for the full monitor to flag"
     if not cfg.OPT_JUMP:
         assert not res["jumps"], f"{scenario}: a jump without the jump detector"
+        import dataclasses
+        assert core_model.run(np.asarray(u1), np.asarray(u2),
+                              dataclasses.replace(_config(scenario, [], n), OPT_JUMP=1),
+                              strobes=t)["jumps"], \
+            f"{scenario}: the jump detector would not fire on this signal"
     check("ABGEN 0x15", await rd(0x15), abgen_word(cfg))
     check("AB_BOUND 0x16", await rd(0x16), cfg.ab_bound)
     bl_got = await rd(BACKLOG)

@@ -18,7 +18,9 @@ codes, the radius dropping below LOSS and rising above
 OVER (also for longer than OVER_PERSIST samples, when over-range is let in to the
 estimator again), single-sample phase glitches, the checks off (0 thresholds), radius
 checks disarmed (ref low), and an rst in the middle. Every output of every sample equals
-the model's; each fault kind must have been raised."""
+the model's; each fault kind must have been raised. With OPT_MONITOR = 0 (Verilator) the
+same stimulus against Monitor(enabled=False): no flag and no hold, only clipped samples
+excluded, the travel following every sample; the full model raises every flag there."""
 import math
 import random
 
@@ -27,10 +29,14 @@ import pytest
 import fqtb
 
 
+@pytest.mark.parametrize("opt", [1, 0])
 @pytest.mark.parametrize("sim", fqtb.SIMULATORS)
-def test_monitor(sim):
+def test_monitor(sim, opt):
+    if not opt and sim == "icarus":
+        pytest.skip("OPT_MONITOR=0 runs on Verilator")
     fqtb.run_block(sim, "monitor", fqtb.sources("monitor"), "test_monitor",
-                   extra_env=dict(SCALE=1 if sim == "icarus" else 4))
+                   parameters=dict(OPT_MONITOR=opt),
+                   extra_env=dict(SCALE=1 if sim == "icarus" else 4, OPT_MONITOR=opt))
 
 
 # ---- stimulus (importable without a simulator) -------------------------------------------
@@ -125,16 +131,16 @@ def build(scale, seed=5):
     return samples, resets
 
 
-def model(samples, resets):
+def model(samples, resets, enabled=True):
     """Per sample (hold, excl, loss, over, stuck, glitch, travel) from sim.model.monitor,
-    epoch by epoch (rst restarts the state)."""
+    epoch by epoch (rst restarts the state); enabled: OPT_MONITOR."""
     from sim.model.monitor import Monitor, MonitorRegs
     out = []
-    mon = Monitor()
+    mon = Monitor(enabled)
     ri = 0
     for x in samples:
         while ri < len(resets) and resets[ri] < x["t"] + T_RAW:
-            mon = Monitor()
+            mon = Monitor(enabled)
             ri += 1
         loss, over, glitch_k, stuck_n = x["regs"]
         regs = MonitorRegs(loss=loss, over=over, glitch_k=glitch_k, stuck_n=stuck_n)
@@ -155,8 +161,9 @@ NAMES = ("hold", "excl", "loss", "over", "stuck", "glitch", "travel")
 @cocotb.test()
 async def monitor_stream(dut):
     scale = fqtb.env_int("SCALE")
+    opt = fqtb.env_int("OPT_MONITOR")
     samples, resets = build(scale)
-    want = model(samples, resets)
+    want = model(samples, resets, enabled=bool(opt))
     rng = random.Random(77)
     at = {off: {x["t"] + off: k for k, x in enumerate(samples)}
           for off in (T_REF, T_RAW, T_MAG, T_PH)}
@@ -211,10 +218,14 @@ async def monitor_stream(dut):
                        f"codes {x['r1']},{x['r2']}, mags {x['ax']},{x['ay']}, phase "
                        f"{x['phase']}, ref {x['ref']}, regs {x['regs']}): {diff}")
     assert not bad, f"{len(bad)} mismatches, first:\n" + "\n".join(bad[:12])
-    counts = {nm: sum(w[i] for w in want) for i, nm in enumerate(NAMES[:6])}
+    full = want if opt else model(samples, resets)
+    counts = {nm: sum(w[i] for w in full) for i, nm in enumerate(NAMES[:6])}
     for nm, c in counts.items():
         assert c > 0, f"no sample raised {nm}: the stimulus misses it"
     # over-range let in again once it lasted OVER_PERSIST samples
-    assert any(w[3] and not w[1] for w in want), "persistent over-range never let in"
+    assert any(w[3] and not w[1] for w in full), "persistent over-range never let in"
+    if not opt:
+        assert not any(any(w[i] for i in (0, 2, 3, 4, 5)) for w in want)
+        assert [w[1] for w in want] == [int(x["clip"]) for x in samples]
     dut._log.info("monitor: %d samples equal to the model; flags raised %s", len(samples),
                   counts)

@@ -21,9 +21,10 @@
 // Fault bits (m_fault): 0 clip (at or near a rail), 1 gain saturation, 2 correction
 // saturation, 3 overspeed (|phase step| >= 3/4 pi per sample), 4 not calibrated,
 // 5 estimate held (last theta invalid), 6 A/B backlog over its bound, 7 signal loss,
-// 8 over-range, 9 stuck channel, 10 glitch (rtl/monitor.v). Bits 0, 7, 9 and 10 hold
-// the counter (the sample's phase is not trusted); they and bit 8 keep the sample from
-// the estimator.
+// 8 over-range, 9 stuck channel, 10 glitch (rtl/monitor.v). Bits 7, 9, 10, and 0 with 8,
+// hold the counter (the sample's phase is not trusted); 0, 7, 9, 10 and a short bit 8
+// keep the sample from the estimator. With OPT_MONITOR = 0 bits 7..10 stay 0 and
+// nothing holds the counter; clipped samples are still kept from the estimator.
 // Register port: reg_we writes reg_wdata to reg_addr on the edge; reg_re reads reg_addr,
 // reg_rdata holds the value after that edge (registered; rtl/axil_regs.v puts an AXI4-Lite
 // slave in front). The register map is in README.md.
@@ -57,7 +58,7 @@ module finequad_core #(
     // 1: every setting is a register; 0: the tuning settings (EPS, LAMBDA_K, KAPPA,
     // PERIOD, SETTLE, GATE, HARM, JUMP, ABGEN, AB_BOUND, CLIP, RADIUS, MONITOR) keep their
     // reset values, which synthesis folds into the logic (writes are ignored, reads return
-    // them); CTRL, INTERP, the staged coefficients and FAULT_STICKY stay writable (for a
+    // them, except as OPT_MONITOR and OPT_JUMP say below); CTRL, INTERP, the staged coefficients and FAULT_STICKY stay writable (for a
     // small device, e.g. the iCE40 UP5K)
     parameter [0:0] OPT_TUNABLE = 1'b1,
     // 1: the signal monitor's fault checks (loss, over-range, stuck channel, glitch:

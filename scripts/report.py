@@ -23,8 +23,8 @@ count) go to the --build folder. Everything is measured here:
 * Each device's build (DEVICES params): the iCE40 UP5K one engine lane (its 8 DSP blocks
   are taken), block RAM only, no harmonic compensation, the tuning registers constant,
   no fault checks in the signal monitor and no jump detector (OPT_HARMONIC=0,
-  OPT_TUNABLE=0, OPT_MONITOR=0, OPT_JUMP=0; the register port stays); the ECP5 every
-  feature, two engine lanes (4
+  OPT_TUNABLE=0, OPT_MONITOR=0, OPT_JUMP=0; the register port stays); the ECP5 with every
+  feature and two engine lanes (4
   more of its 28 DSP blocks, shorter programs), the harmonic table in distributed RAM and
   the 4096-row phase table, the ratio multiply's operand registers inside its DSP block
   (OPT_DISTRAM, OPT_PHASE_4K, OPT_ECP5_MULT). The probe's simulations run on each
@@ -68,8 +68,10 @@ DEVICES = {
         # their reset values (OPT_TUNABLE=0: EPS, LAMBDA, KAPPA, PERIOD, SETTLE, GATE, HARM,
         # ABGEN, AB_BOUND, JUMP, CLIP, RADIUS, MONITOR: rtl/finequad_core.v), no fault
         # checks in the signal monitor (OPT_MONITOR=0: the counter never holds; the travel
-        # that gates the estimator stays) and no jump detector (OPT_JUMP=0: periodic and
-        # requested resets only, as in the paper); the register port, read-back and the
+        # that gates the estimator stays) and no jump detector (OPT_JUMP=0; with PERIOD
+        # constant at 0 the covariance resets are the requested ones, CTRL bit 0, and the
+        # automatic ones: the gain check after the warm-up, an invalid update, an input
+        # gain that saturates); the register port, read-back and the
         # bundle LOAD stay. With the monitor and the jump detector the core takes 96.5 %
         # of the logic cells (README, Performance report)
         "params": {"OPT_NTH_DSP": 0, "OPT_HARMONIC": 0, "OPT_TUNABLE": 0, "OPT_MONITOR": 0,

@@ -8,8 +8,8 @@ iCE40 UP5K and the ECP5 LFE5U-25F.
 The same flow and tools as scripts/report.py (whose helpers it uses): the design is
 rtl/boards/top_report_multi.v (finequad_multi with every port kept: inputs from a scan
 chain, outputs XOR-reduced into registers), linted with Verilator, synthesised (iCE40:
-Debian Yosys `synth_ice40 -dsp`, OPT_NTH_DSP=0 as report.py; ECP5: YoWASP Yosys
-`synth_ecp5`), then nextpnr --pack-only (the resources; where nextpnr cannot even pack it,
+Debian Yosys `synth_ice40 -dsp`; ECP5: YoWASP Yosys `synth_ecp5`; each device with the
+core parameters of its report.py build, DEVICES params), then nextpnr --pack-only (the resources; where nextpnr cannot even pack it,
 the synthesis cell counts alone) and, where it fits, place and route with one seed
 (--freq 36 / 100 MHz as report.py): Fmax. The synthesis cell counts are given in every
 case (LUT4, carry, FF, DSP, block RAM cells of the flattened netlist).

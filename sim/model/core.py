@@ -150,7 +150,8 @@ class Config:
     COUNT_W: int = 32
     G_INIT: int = 0
     OPT_HARMONIC: int = 1    # 0: no harmonic compensation (rtl/phase.v), HARM reads 0
-    OPT_MONITOR: int = 1     # 0: no fault checks (sim/model/monitor.py), RADIUS reads 0
+    OPT_MONITOR: int = 1     # 0: no fault checks (sim/model/monitor.py), RADIUS and
+                             # MONITOR read 0
     OPT_JUMP: int = 1        # 0: no jump detector (as jump_on = 0), JUMPS reads 0
     ENGINE_LANES: int = 1    # lanes of the RLS engine (1 or 2): its clocks per program
     interp: int = 100        # n, 1..511

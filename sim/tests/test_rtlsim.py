@@ -108,8 +108,22 @@ def test_lean_build_equals_model_through_faults(tmp_path, div):
     held = 0b111 << 7 | 1 << 10                    # loss, over, stuck, glitch (core.py)
     assert not (r[:, 3] & held).any()
     assert (full[:, 3] & held).any() and (full != m).any()
-    # the amplitude step fires the full core's jump detector
-    assert core.run(u1, u2, core.Config(OPT_HARMONIC=0, div=div))["jumps"]
+    # the amplitude step fires the jump detector, also without the monitor's checks, and
+    # it changes the outputs there (so an RTL that kept it would differ)
+    assert core.run(u1, u2, core.Config(OPT_HARMONIC=0, OPT_MONITOR=0, div=div))["jumps"]
+    jump = _run(tmp_path, "model_jump", div, {"HARMONIC": 0, "MONITOR": 0})
+    assert (jump != m).any()
+
+
+@pytest.mark.parametrize("knob,value", [("MONITOR", "2"), ("JUMP", ""), ("LANES", "3"),
+                                        ("HARMONIC", "0 1")])
+def test_build_knob_outside_its_values_is_refused(knob, value):
+    """A knob that Verilator would truncate (and whose build would share the default's
+    folder) stops make before anything runs, naming the knob and its values."""
+    p = subprocess.run(["make", "-s", "-C", str(ROOT), "rtlsim", f"{knob}={value}"],
+                       capture_output=True, text=True)
+    assert p.returncode != 0
+    assert f"{knob}='{value}': must be" in p.stderr, p.stderr
 
 
 @pytest.mark.parametrize("target", ["rtlsim", "model"])
