@@ -299,6 +299,9 @@ module monitor #(
     //     in U units, at any phase steps: wrap13 bounds them), so S's step never sees a
     //     wrapped difference.
     //  M7 rst: the flags, orun, chk, U, S, ph_a, pred, the runs, latches and snapshots 0.
+    //  M8 OPT_MONITOR = 0 (sby task prf_m): M1..M7 with loss, over, stuck and glitch as
+    //     specified replaced by 0: hold_o never, excl_o == pvalid && clip, every sample
+    //     accepted (M4's accepted branch: U and S follow every sample).
     // The pipeline invariants (the RTL's stage registers against the ghost delay lines) make
     // every property inductive in two steps.
     reg f_past_valid = 1'b0;
@@ -334,8 +337,9 @@ module monitor #(
     wire [16:0] f_r5  = f_radius(f_axy[89:75], f_axy[74:60]);      // one sample later
     wire [16:0] f_r4  = f_radius(f_axy[59:45], f_axy[44:30]);
     wire [16:0] f_rin = f_radius(ax_i, ay_i);
-    wire        f_loss  = f_ref[6] && ({1'b0, f_th[63:48]} > f_r);
-    wire        f_over  = f_ref[6] && ({1'b0, f_th[47:32]} < f_r);
+    // (the fault bits as specified exist only with OPT_MONITOR; 0 without: M8)
+    wire        f_loss  = OPT_MONITOR && f_ref[6] && ({1'b0, f_th[63:48]} > f_r);
+    wire        f_over  = OPT_MONITOR && f_ref[6] && ({1'b0, f_th[47:32]} < f_r);
     wire        f_loss5 = f_ref[5] && ({1'b0, f_th[31:16]} > f_r5);
     wire        f_over5 = f_ref[5] && ({1'b0, f_th[15:0]} < f_r5);
     wire        f_lowa  = (f_axy[29:15] >= f_axy[14:0]);
@@ -359,7 +363,7 @@ module monitor #(
             assert (gmask[fk] == ((f_k != 4'd0) && (fk >= f_k)));
     wire signed [17:0] f_lim = $signed(18'd1 << f_k);           // 2^K
     wire signed [17:0] f_ew18 = f_ew;
-    wire f_glitch = (f_k != 4'd0) && (chk == 2'd2)
+    wire f_glitch = OPT_MONITOR && (f_k != 4'd0) && (chk == 2'd2)
                     && ((f_ew18 < -f_lim) || (f_ew18 > f_lim - 18'sd1));
     // v's running mean in exact arithmetic (20 bits), and its range
     wire signed [19:0] f_vn = $signed(v) + (($signed(f_dw) * 20'sd8 - $signed(v)) >>> 3);
@@ -397,7 +401,7 @@ module monitor #(
         assert (o2 <= 17'sd32767 && o2 >= -17'sd32767);
         assert (x1 == f_x1[17:0] && x2 == f_x2[17:0]);                  // s18 exact
         assert (stk1n == f_stk1n && stk2n == f_stk2n);
-        assert (stuck == f_stkp[2]);
+        assert (stuck == (OPT_MONITOR && f_stkp[2]));
         assert (f_rin < 17'h10000);                                      // M1
         assert ({1'b0, r4} == f_r4);
         assert (loss == f_loss && over == f_over);
@@ -407,6 +411,8 @@ module monitor #(
             assert (!hold_o && !excl_o);
         if (hold_o)
             assert (excl_o);
+        if (!OPT_MONITOR)                                                // M8
+            assert (!hold_o && excl_o == (pvalid_i && f_clip[5]));
         // pipeline invariants
         assert (ref0 == f_ref[0] && ref1 == f_ref[1] && ref2 == f_ref[2]
                 && ref3 == f_ref[3] && ref4 == f_ref[4]);
@@ -460,7 +466,7 @@ module monitor #(
             end else begin
                 // M1..M3: the fault bits of the sample
                 assert (loss_o == $past(f_loss) && over_o == $past(f_over));
-                assert (stuck_o == $past(f_stkp[2]));
+                assert (stuck_o == $past(OPT_MONITOR && f_stkp[2]));
                 assert (glitch_o == $past(f_glitch));
                 // M5: the over-range run
                 if (!$past(over))
