@@ -78,9 +78,18 @@ def cell_counts(netlist, dev):
     return dict(c)
 
 
-def update_rate(axes, n=12000):
+def model_config(params):
+    """The model's build fields (sim/model/core.py Config) of a device's core parameters
+    (report.py DEVICES params)."""
+    fields = {"ENGINE_LANES": "ENGINE_LANES", "OPT_HARMONIC": "OPT_HARMONIC",
+              "OPT_MONITOR": "OPT_MONITOR", "OPT_JUMP": "OPT_JUMP"}
+    return {f: int(params[k]) for k, f in fields.items() if k in params}
+
+
+def update_rate(axes, build, n=12000):
     """Estimator updates per clock of one axis, a sample on every clock, constant speed
-    of 96 phase units per sample (every sample passes the 64-unit gate), model."""
+    of 96 phase units per sample (every sample passes the 64-unit gate), model with the
+    device's build (model_config(): its engine lanes set the window L)."""
     import numpy as np
     from sim.model import core
     x = np.arange(n) * (96 / 8192)                 # periods
@@ -88,8 +97,9 @@ def update_rate(axes, n=12000):
     u1 = np.round(0.6 * 32767 * np.cos(a)).astype(np.int64)
     u2 = np.round(0.6 * 32767 * np.sin(a)).astype(np.int64)
     t = 16 + np.arange(n)
-    tdm = None if axes == 1 else (axes, 0, core.tdm_period(TDM_W), TDM_W)
-    c = core.Core(core.Config(tdm=tdm))
+    lanes = build.get("ENGINE_LANES", 1)
+    tdm = None if axes == 1 else (axes, 0, core.tdm_period(TDM_W, lanes), TDM_W)
+    c = core.Core(core.Config(tdm=tdm, **build))
     c.feed(u1, u2, strobes=t)
     ups = [e for k, e in c.decided if k == "update"]
     ups = ups[len(ups) // 4:]                       # after the start-up
@@ -104,8 +114,12 @@ def flow(dev, axes, bdir, seed, log):
     log(f"{dev} AXES={axes}: synthesis")
     t_syn = synth(dev, params, d / "top.json", d / "yosys.log")
     cells = cell_counts(json.loads((d / "top.json").read_text()), dev)
+    from sim.model import core
+    build = model_config(cfg["params"])
     out = {"device": dev, "axes": axes, "params": params, "synth_cells": cells,
-           "synth_s": round(t_syn, 1)}
+           "synth_s": round(t_syn, 1),
+           "tdm_l": core.tdm_period(TDM_W, build.get("ENGINE_LANES", 1)),
+           "updates_per_clock": update_rate(axes, build)}
     util, _, _, text, _, err = rp.pnr(dev, d / "top.json", d)
     if err:
         log(f"{dev} AXES={axes}: nextpnr --pack-only failed: {err}")
@@ -139,11 +153,11 @@ def markdown(rep):
             return f"{used} / {avail} ({100 * used / avail:.1f} %)"
         c = r["synth_cells"]
         f = r.get("fmax_mhz")
-        upc = rep["updates_per_clock"][str(r["axes"])]
+        upc = r["updates_per_clock"]
         rate = (f"{upc * f * 1e6 / 1e3:.1f} k ({upc * 36e6 / 1e3:.1f} k)" if f
                 else f"- ({upc * 36e6 / 1e3:.1f} k)")
         fits = "yes" if r.get("fits") else ("no (pack failed)" if "pack_error" in r else "no")
-        L.append(f"| {r['device']} | {r['axes']} | {rep['tdm_l'] if r['axes'] > 1 else '-'} | "
+        L.append(f"| {r['device']} | {r['axes']} | {r['tdm_l'] if r['axes'] > 1 else '-'} | "
                  f"{cell('luts')} | {cell('ffs')} | {cell('dsps')} | {cell('brams')} | {fits} | "
                  f"{f if f else '-'} | {rate} | {c.get('lut4', 0)} / {c.get('carry', 0)} / "
                  f"{c.get('ff', 0)} / {c.get('dsp', 0)} / {c.get('bram', 0)} |")
@@ -175,10 +189,7 @@ def main(argv=None):
     def log(msg):
         print(f"[{time.time() - t0:6.0f} s] {msg}", flush=True)
 
-    from sim.model import core
-    rep = {"seed": a.seed, "tdm_w": TDM_W, "tdm_l": core.tdm_period(TDM_W),
-           "tools": rp.tool_versions(),
-           "updates_per_clock": {str(n): update_rate(n) for n in axes}, "runs": []}
+    rep = {"seed": a.seed, "tdm_w": TDM_W, "tools": rp.tool_versions(), "runs": []}
     try:
         for dv in devs:
             for n in axes:

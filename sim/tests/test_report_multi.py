@@ -22,29 +22,49 @@ def test_cell_counts_of_the_flattened_top():
                                                  "carry": 1}
 
 
+@pytest.mark.parametrize("lanes", [1, 2])
 @pytest.mark.parametrize("axes", [1, 2, 4])
-def test_update_rate_is_one_per_window_round(axes):
-    r = rm.update_rate(axes, n=6000)
+def test_update_rate_is_one_per_window_round(axes, lanes):
+    """With the device's engine lanes (the ECP5 build has two): its program length and
+    its window L."""
+    r = rm.update_rate(axes, {"ENGINE_LANES": lanes}, n=6000)
     if axes == 1:
-        # back to back: an UPDATE every CYCLES[update] + 1 clocks
-        from sim.model.estimator import CYCLES
-        assert r == pytest.approx(1 / (CYCLES["update"] + 1))
+        # back to back: an UPDATE every CYCLES[update] + 1 clocks; with two lanes the
+        # short run's measured stretch also holds the hand-over's EXTRACT (one gap of 149
+        # clocks among those of 87)
+        from sim.model.estimator import CYCLES_BY_LANES
+        top = 1 / (CYCLES_BY_LANES[lanes]["update"] + 1)
+        if lanes == 1:
+            assert r == pytest.approx(top)
+        else:
+            assert 0.97 * top < r <= top
     else:
-        assert r == pytest.approx(1 / (axes * core.tdm_period(rm.TDM_W)))
+        assert r == pytest.approx(1 / (axes * core.tdm_period(rm.TDM_W, lanes)))
+
+
+def test_model_config_of_the_device_builds():
+    """The model runs what each device builds (report.py DEVICES params)."""
+    import report as rp
+    assert rm.model_config(rp.DEVICES["ecp5_25f"]["params"]) == {"ENGINE_LANES": 2}
+    assert rm.model_config(rp.DEVICES["ice40_up5k"]["params"]) == {
+        "OPT_HARMONIC": 0, "OPT_MONITOR": 0, "OPT_JUMP": 0}
 
 
 def test_markdown_rows():
-    rep = {"seed": 1, "tdm_l": 259, "updates_per_clock": {"1": 1 / 128, "2": 1 / 518},
+    rep = {"seed": 1,
            "runs": [
-               {"device": "ice40_up5k", "axes": 1, "fits": False,
+               {"device": "ice40_up5k", "axes": 1, "fits": False, "tdm_l": 259,
+                "updates_per_clock": 1 / 128,
                 "util": {"luts": [7000, 5280], "ffs": [2600, 5280], "dsps": [8, 8],
                          "brams": [27, 30]},
                 "synth_cells": {"lut4": 6000, "carry": 900, "ff": 2600, "dsp": 8, "bram": 27}},
                {"device": "ecp5_25f", "axes": 2, "fits": True, "fmax_mhz": 70.0,
+                "tdm_l": 259, "updates_per_clock": 1 / 518,
                 "util": {"luts": [11000, 24288], "ffs": [5000, 24288], "dsps": [14, 28],
                          "brams": [18, 56]},
                 "synth_cells": {"lut4": 10000, "ff": 5000, "dsp": 14, "bram": 18}},
                {"device": "ice40_up5k", "axes": 2, "pack_error": "ERROR: x", "fits": False,
+                "tdm_l": 259, "updates_per_clock": 1 / 518,
                 "synth_cells": {"lut4": 12000}}]}
     md = rm.markdown(rep).splitlines()
     assert len(md) == 5
