@@ -683,7 +683,7 @@ async def core_run(dut):
         assert not np.bitwise_and(res["fault"][:n], held).any(), \
             f"{scenario}: a fault check flagged without the monitor's checks"
         full = core_model.run(np.asarray(u1), np.asarray(u2),
-                        _config(SCENARIOS[scenario]["like"], [], n), strobes=t)
+                              _config(SCENARIOS[scenario]["like"], [], n), strobes=t)
         assert np.bitwise_and(full["fault"][:n], held).any(), \
             f"{scenario}: the signal has no fault for the full monitor to flag"
     if not cfg.OPT_JUMP:

@@ -81,9 +81,8 @@ def cell_counts(netlist, dev):
 def model_config(params):
     """The model's build fields (sim/model/core.py Config) of a device's core parameters
     (report.py DEVICES params)."""
-    fields = {"ENGINE_LANES": "ENGINE_LANES", "OPT_HARMONIC": "OPT_HARMONIC",
-              "OPT_MONITOR": "OPT_MONITOR", "OPT_JUMP": "OPT_JUMP"}
-    return {f: int(params[k]) for k, f in fields.items() if k in params}
+    fields = ("ENGINE_LANES", "OPT_HARMONIC", "OPT_MONITOR", "OPT_JUMP")   # same names
+    return {k: int(v) for k, v in params.items() if k in fields}
 
 
 def update_rate(axes, build, n=12000):

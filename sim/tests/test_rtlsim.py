@@ -19,6 +19,15 @@ ECP5 = dict(LANES=2, DISTRAM=1, PH4K=1)    # the ECP5 build's parameters (script
 UP5K = dict(HARMONIC=0, NTH_DSP=0, TUNABLE=0)
 
 
+def _make(tmp_path, target, knobs, tag=None):
+    """`make target` (rtlsim or model) on tmp_path/in.csv with the knobs (NAME: value);
+    its rows (count, a, b, fault), written to tmp_path/<tag or target>.csv."""
+    out = tmp_path / f"{tag or target}.csv"
+    subprocess.run(["make", "-s", "-C", str(ROOT), target, f"IN={tmp_path / 'in.csv'}",
+                    f"OUT={out}"] + [f"{k}={v}" for k, v in knobs.items()], check=True)
+    return np.loadtxt(out, delimiter=",", skiprows=1, dtype=np.int64)
+
+
 @pytest.mark.parametrize("table,interp,seed,div,adc_w,count_mode,build",
                          [("exact", 100, 1, 36, 16, 0, {}), ("paper", 100, 2, 36, 16, 0, {}),
                           ("exact", 256, 3, 36, 16, 0, {}), ("exact", 7, 4, 36, 16, 0, {}),
@@ -46,16 +55,9 @@ def test_rtlsim_equals_model(tmp_path, table, interp, seed, div, adc_w, count_mo
                         noise=0.004 * (seed % 5 + 1), adc_bits=adc_w)
     u1, u2, _ = siggen.encode(x, 4000.0, sig, seed=seed)
     write_codes(tmp_path / "in.csv", u1, u2)
-    outs = {}
-    for target in ("rtlsim", "model"):
-        out = tmp_path / f"{target}.csv"
-        subprocess.run(["make", "-s", "-C", str(ROOT), target, f"IN={tmp_path / 'in.csv'}",
-                        f"OUT={out}", f"INTERP={interp}", f"TABLE={table}", f"DIV={div}",
-                        f"ADC_W={adc_w}", f"COUNT_MODE={count_mode}"]
-                       + [f"{k}={v}" for k, v in build.items()],
-                       check=True)
-        outs[target] = np.loadtxt(out, delimiter=",", skiprows=1, dtype=np.int64)
-    r, m = outs["rtlsim"], outs["model"]
+    knobs = dict(INTERP=interp, TABLE=table, DIV=div, ADC_W=adc_w, COUNT_MODE=count_mode,
+                 **build)
+    r, m = _make(tmp_path, "rtlsim", knobs), _make(tmp_path, "model", knobs)
     assert r.shape == (n, 4)
     diff = np.nonzero((r != m).any(axis=1))[0]
     assert len(diff) == 0, f"first difference at sample {diff[0]}: rtl {r[diff[0]]} model {m[diff[0]]}"
@@ -67,14 +69,6 @@ def test_rtlsim_equals_model(tmp_path, table, interp, seed, div, adc_w, count_mo
 # the UP5K report build (scripts/report.py): the UP5K build without the signal monitor's
 # fault checks and the jump detector (OPT_MONITOR = 0, OPT_JUMP = 0)
 LEAN = dict(MONITOR=0, JUMP=0)
-
-
-def _run(tmp_path, tag, div, build):
-    out = tmp_path / f"{tag}.csv"
-    subprocess.run(["make", "-s", "-C", str(ROOT), tag.split("_")[0], f"IN={tmp_path / 'in.csv'}",
-                    f"OUT={out}", f"DIV={div}"] + [f"{k}={v}" for k, v in build.items()],
-                   check=True)
-    return np.loadtxt(out, delimiter=",", skiprows=1, dtype=np.int64)
 
 
 @pytest.mark.parametrize("div", [1, 36])
@@ -97,22 +91,21 @@ def test_lean_build_equals_model_through_faults(tmp_path, div):
     u1[k:k + 6], u2[k:k + 6] = -u1[k:k + 6], -u2[k:k + 6]      # half a period off
     u1[k + 500:k + 540] = 32767                                  # a broken line
     write_codes(tmp_path / "in.csv", u1, u2)
-    lean = {**UP5K, **LEAN}
-    r = _run(tmp_path, "rtlsim", div, lean)
-    m = _run(tmp_path, "model", div, {"HARMONIC": 0, **LEAN})
-    full = _run(tmp_path, "model_full", div, {"HARMONIC": 0})
+    r = _make(tmp_path, "rtlsim", dict(DIV=div, **UP5K, **LEAN))
+    m = _make(tmp_path, "model", dict(DIV=div, HARMONIC=0, **LEAN))
+    full = _make(tmp_path, "model", dict(DIV=div, HARMONIC=0), tag="model_full")
     diff = np.nonzero((r != m).any(axis=1))[0]
     assert len(diff) == 0, f"first difference at sample {diff[0]}: rtl {r[diff[0]]} model {m[diff[0]]}"
     uncal = (r[:, 3] >> 4) & 1
     assert uncal[0] == 1 and uncal[-1] == 0        # the coefficients were handed over
-    held = 0b111 << 7 | 1 << 10                    # loss, over, stuck, glitch (core.py)
+    held = sum(1 << core.FAULT_BITS[b] for b in ("loss", "over", "stuck", "glitch"))
     assert not (r[:, 3] & held).any()
     assert (full[:, 3] & held).any() and (full != m).any()
     # the amplitude step fires the jump detector, also without the monitor's checks, and
     # it changes the outputs there (so an RTL that kept it would differ)
-    assert core.run(u1, u2, core.Config(OPT_HARMONIC=0, OPT_MONITOR=0, div=div))["jumps"]
-    jump = _run(tmp_path, "model_jump", div, {"HARMONIC": 0, "MONITOR": 0})
-    assert (jump != m).any()
+    jump = core.run(u1, u2, core.Config(OPT_HARMONIC=0, OPT_MONITOR=0, div=div))
+    assert jump["jumps"]
+    assert (np.stack([jump[f] for f in ("count", "a", "b", "fault")], axis=1) != m).any()
 
 
 @pytest.mark.parametrize("knob,value", [("MONITOR", "2"), ("JUMP", ""), ("LANES", "3"),
