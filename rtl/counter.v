@@ -79,18 +79,31 @@ module counter #(
     wire        back = (raw[13:12] == 2'b01);   // raw >= 4096: wrapped backwards
     wire        fwd  = (raw[13:12] == 2'b10);   // raw < -4096: wrapped forwards
     wire [12:0] dph = raw[12:0];                 // wrap13, as u13
-    wire        ovs = geu({19'd0, dph}, 32'd3072) && geu(32'd5120, {19'd0, dph});   // |wrap13| >= 3072
+    // |wrap13| >= 3072, of a step registered on e + 1 (the test waits for the count's edge,
+    // so no comparison follows the phase difference)
+    function automatic ovs_of(input [12:0] d);
+        ovs_of = geu({19'd0, d}, 32'd3072) && geu(32'd5120, {19'd0, d});
+    endfunction
     wire signed [COUNT_W-1:0] n4 = {{(COUNT_W-11){1'b0}}, n_i, 2'b00};
-    reg         v1 = 1'b0, ovs1 = 1'b0, hold1 = 1'b0;
+    // B - 4n and B + 4n beside the phase difference (two adders from B and n, which do
+    // not wait for the phase): the wrap test only chooses between them and B
+    wire signed [COUNT_W-1:0] b_dn = b_acc - n4;
+    wire signed [COUNT_W-1:0] b_up = b_acc + n4;
+    reg         v1 = 1'b0, ovc1 = 1'b0, hold1 = 1'b0;
+    reg  [12:0] dph1 = 13'd0;
+    wire        ovs1 = ovc1 && ovs_of(dph1);     // the sample of v1 is at overspeed
     always @(posedge clk) begin
         v1 <= valid_i;
-        ovs1 <= primed && ovs && !hold_i;
+        ovc1 <= primed && !hold_i;
+        dph1 <= dph;
         hold1 <= hold_i;
         if (valid_i && !hold_i) begin
             ph_prev <= phase_i;
             primed <= 1'b1;
-            if (back || fwd)                     // one adder: B -+ 4n
-                b_acc <= b_acc + (back ? -n4 : n4);
+            if (back)
+                b_acc <= b_dn;
+            else if (fwd)
+                b_acc <= b_up;
         end
         if (rst) begin
             v1 <= 1'b0;

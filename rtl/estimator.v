@@ -90,7 +90,8 @@ module estimator #(
     input  wire [15:0]        kappa_i,     // u8.8 (0 is taken as 1/256)
     input  wire [13:0]        kappa5_i,    // u10.4 5 max(kappa_i, 1/256) >> 4 (a register)
     input  wire [15:0]        period_i,    // updates between resets, 0 = never
-    input  wire [9:0]         settle_i,    // updates after a reset before a commit
+    input  wire [9:0]         settle_i,    // updates after a reset before a commit (taken
+                                           // one edge before the decision)
     input  wire [12:0]        gate_i,      // u13 phase progress between updates
     input  wire               jump_on_i,   // jump detector enabled
     input  wire [10:0]        jump_min_i,  // its floor, s3.13 units of |e|
@@ -285,7 +286,14 @@ module estimator #(
     // least settle_i updates since the last reset, all octants covered since the last
     // hand-over, and no jump detected (trig, below)
     wire trig;
-    wire settled = OPT_TUNABLE ? settle >= settle_i : geu({22'd0, settle}, {22'd0, settle_i});
+    // (registered: settle changes only on a program's END, a RESET decision or rst, and a
+    // program runs for at least three edges, so at a decision settle has held for two
+    // edges and the flag is its comparison; settle_i, a register, is taken one edge
+    // before the decision. No carry chain in front of the decision)
+    reg  settled = 1'b0;
+    always @(posedge clk)
+        settled <= OPT_TUNABLE ? settle >= settle_i
+                               : geu({22'd0, settle}, {22'd0, settle_i});
     wire do_extract = done && running_update && valid && settled &&
                       oct_seen == 8'hff && !trig;
     assign eng_free = !busy || (done && !do_extract);
@@ -516,7 +524,8 @@ module estimator #(
     //     jl_next = jl + (eabs - jl) / 64 are the exact sums (the 20-bit adds never wrap).
     //  E4 settle counts up to 1023 and stays there (0 only by rst or a reset program).
     //  E6 the comparisons with the tuning inputs (bit by bit with OPT_TUNABLE = 0) are the
-    //     plain ones: travel gate, settle, trace bound, warm-up count.
+    //     plain ones: travel gate, settle (registered: settle >= settle_i of one edge
+    //     before, at every update's END), trace bound, warm-up count.
     //  E5 LOAD and hand-over: a hand-over (END of a valid EXTRACT) leaves its bundle, g_eng,
     //     uncal_o = loaded_o = 0 even with load_i on the same edge; a LOAD alone leaves the
     //     staged bundle and loaded_o = 1 with uncal_o unchanged.
@@ -570,13 +579,16 @@ module estimator #(
         assert (gate_chk(travel_i, s_last, gate_i) ==
                 (($signed(travel_i - s_last) >= $signed({7'd0, gate_i})) ||
                  ($signed(travel_i - s_last) <= -$signed({7'd0, gate_i}))));
-        assert (settled == (settle >= settle_i));
         assert (tr_hi == (!tr_out[15] && ({3'b000, tr_out[14:0]} >= {4'd0, kappa5_i})));
         assert (geu({15'd0, upd1}, WARMUP) == (upd1 >= WARMUP));
         // 4 jl + jump_min never wraps jthr (it did in 22 bits with jl near its top)
         assert ({2'b00, jl, 2'b00} + {8'd0, jump_min_i, 5'd0} < 24'h800000);
     end
     always @(posedge clk) if (f_past_valid && !$past(rst)) begin
+        // E6: at an update's END (where settled is read) the settle count is the one
+        // compared, with settle_i of one edge before
+        if (done && running_update)
+            assert (settled == (settle >= $past(settle_i)));
         assert (jf_next == $past(f_jfn[19:0]) && jl_next == $past(f_jln[19:0]));
         // the threshold register holds the exact sum (a narrower jthr would fail here)
         assert ({1'b0, jthr} == $past({2'b00, jl, 2'b00} + {8'd0, jump_min_i, 5'd0}));
