@@ -16,11 +16,11 @@ and ph_i carry a sample's values only on the edge they are read on and garbage o
 other edge; apply_i, learn_i and mu_i are levels (the core's registers).
 The stimulus is a stream of angles (a moving stage with a periodic error and noise) made
 into corrected signals on a circle and put through sim.model.fastpath.octant and Lut
-(front()), so that oct2 (base / 2048), neg, t (fastpath.scale), ph = PH[j] and the
-model's bin = phase >> 7 are what the core's octant and phase table give (hbin(t) = bin:
-cocotb_tests/test_hbin.py). Both table memories: block RAM (OPT_DISTRAM = 0, read on
-a + 1 with the same-edge collision undone) and distributed RAM (OPT_DISTRAM = 1, read after
-a + 1 from copies written one edge late). Checked: phase_o equals the model's fine phase
+(front()), so that oct2 (base / 2048), neg, t (fastpath.scale), ph (PH[j], ~PH[j] for
+neg: rtl/lut.v ph_o) and the model's bin = phase >> 7 are what the core's octant and
+phase table give (hbin(t) = bin: cocotb_tests/test_hbin.py). Both table memories: block
+RAM (OPT_DISTRAM = 0, read on a + 1 with the same-edge collision undone) and distributed
+RAM (OPT_DISTRAM = 1, read after a + 1 from copies written one edge late). Checked: phase_o equals the model's fine phase
 (Lut.phase) and phase_c_o the output of sim.model.harmonic.Harmonic.run, for every
 sample; valid_o is high after exactly the edges a + OUT_AT; the model learns (more than
 one update per 40 samples).
@@ -173,8 +173,9 @@ def front(x, kind, rng, spread):
     """What the core's octant and phase table give for a stream of angles x (float, phase
     units): corrected signals on a circle of radius 16384 (1 +- spread) (s2.14, rounded)
     through sim.model.fastpath.octant and Lut(kind). Returns int64 arrays oct2 (base
-    phase / 2048), neg, t = the address's scale (fastpath.scale), ph = PH[j], bin = phase
-    >> 7 and phase (Lut.phase)."""
+    phase / 2048), neg, t = the address's scale (fastpath.scale), ph = the phase table's
+    word (PH[j], its 12-bit complement for neg: rtl/lut.v ph_o), bin = phase >> 7 and
+    phase (Lut.phase)."""
     a = 2 * np.pi * np.asarray(x, dtype=float) / tables.PH_PERIOD
     r = 16384.0 * (1.0 + spread * (2.0 * rng.random(len(a)) - 1.0))
     u1 = np.rint(r * np.cos(a)).astype(np.int64)
@@ -184,7 +185,7 @@ def front(x, kind, rng, spread):
     lut = fp.Lut(kind)
     phase = lut.phase(j, base, neg)
     return dict(oct2=base // (tables.PH_PERIOD // 4), neg=neg, t=fp.scale(ax, ay, kind),
-                ph=lut.ph[j],
+                ph=lut.ph[j] ^ (neg * ((1 << tables.PHT_W) - 1)),
                 bin=phase >> hm.BIN_SHIFT, phase=phase)
 
 

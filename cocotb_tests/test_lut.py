@@ -4,17 +4,20 @@ on every edge, for both table kinds, sine widths 8..16 and both forms of the n *
 product (DSP `*` and the carry-save rows in logic).
 
 Timing (rtl/lut.v header; sim.model.core ADDR_AT, PHASE_AT, NTH_AT, SIN_AT): an address
-j_i presented for edge A (= t + ADDR_AT in the core) gives ph_o = PH[j] after edge A (the
-block RAM's output register); with OPT_PHASE_4K the scale t_i instead (rtl/octant.v t_o,
-j = min(2047, (t + 1) >> 1)), PH of that j, and j_i carries garbage (t_i does without
-OPT_PHASE_4K). A fine phase with n_i presented for edge E (valid_i; the
+j_i presented for edge A (= t + ADDR_AT in the core), with the octant's sign neg_i
+presented for edge A - 1, gives ph_o = PH[j] after edge A, or its 12-bit complement for
+neg (the block RAM's output register; the complement after it); with OPT_PHASE_4K the
+scale t_i instead (rtl/octant.v t_o, j = min(2047, (t + 1) >> 1)), PH of that j (its
+complement read from the table's second half), and j_i carries garbage (t_i does
+without OPT_PHASE_4K). neg_i carries garbage on the other edges. A fine phase with n_i presented for edge E (valid_i; the
 phase is registered on t + PHASE_AT, so E = t + PHASE_AT + 1) gives nth_valid_o and
 prod_o = n * phase (u22) after edge E + (NTH_AT - PHASE_AT - 1), and valid_o, pn_o =
 prod mod 8192 and the sines (magnitude, and sign from pn's quadrant: cos negative for
 (pn + 2048) mod 8192 >= 4096, sin for pn >= 4096; the signed values equal Lut.nth's)
 after edge E + (SIN_AT - PHASE_AT - 1).
 
-Vectors: the phase table at every address (OPT_PHASE_4K: every t), then random ones; the n-th order at
+Vectors: the phase table at every address (OPT_PHASE_4K: every t) with either sign, then
+random ones with random signs; the n-th order at
 every n from 0 to 511 (with the phase extremes 0, 8191, around 4096 and a random one),
 every phase with n = 1 (every sine address in every quadrant, for the cosine and the
 sine: checked before the run), every phase of a stride with n = 511, walking ones and
@@ -39,6 +42,21 @@ def test_lut(sim, exact, sin_w, dsp, ph4k):
                    parameters=dict(TABLE_DIR=fqtb.qstr(fqtb.TABLE_DIR), TABLE_EXACT=exact,
                                    SIN_W=sin_w, OPT_NTH_DSP=dsp, OPT_PHASE_4K=ph4k),
                    extra_env=dict(TABLE_EXACT=exact, SIN_W=sin_w, PH4K=ph4k))
+
+
+def test_lut_mult18():
+    """OPT_ECP5_MULT = 1 with the DSP product as synthesis sees it (SYNTHESIS defined: the
+    MULT18X18D instance, whose output register is prod_o), with the primitive's
+    behavioural stand-in cocotb_tests/sim_mult18x18d.v: the instance's wiring (operand
+    and product bit order, the register's timing) gives the same outputs as the inferred
+    form on the same vectors (the ECP5 report build's tables: exact, 4096 rows; Icarus)."""
+    fqtb.run_block("icarus", "lut", fqtb.sources("lut") + [fqtb.HERE / "sim_mult18x18d.v"],
+                   "test_lut",
+                   parameters=dict(TABLE_DIR=fqtb.qstr(fqtb.TABLE_DIR), TABLE_EXACT=1,
+                                   SIN_W=10, OPT_NTH_DSP=1, OPT_PHASE_4K=1,
+                                   OPT_ECP5_MULT=1),
+                   extra_env=dict(TABLE_EXACT=1, SIN_W=10, PH4K=1, MULT18=1), tag="mult18",
+                   extra_build_args=("-DSYNTHESIS",))
 
 
 # ---- cocotb side ------------------------------------------------------------------------
@@ -91,6 +109,9 @@ async def lut_all(dut):
     from sim.model import fastpath as fp
 
     exact = fqtb.env_int("TABLE_EXACT")
+    if fqtb.env_int("MULT18", 0):
+        # the primitive's branch was elaborated (not the inferred form)
+        assert dut.g_mult18.u_mult is not None
     sin_w = fqtb.env_int("SIN_W")
     assert len(dut.cos_mag_o) == sin_w - 1
     lut = fp.Lut("exact" if exact else "paper", sin_w)
@@ -102,9 +123,12 @@ async def lut_all(dut):
     # phase-table stream: every address (every t with OPT_PHASE_4K), then random ones
     ph4k = fqtb.env_int("PH4K")
     n_a = 4096 if ph4k else 2048
-    js = list(range(n_a)) + [rng.randint(0, n_a - 1) for _ in range(2000)]
+    # (the first address's sign, 0, is that of neg_q from power-up: no edge comes before it)
+    js = list(range(n_a)) * 2 + [rng.randint(0, n_a - 1) for _ in range(2000)]
+    negs = [0] * n_a + [1] * n_a + [rng.randint(0, 1) for _ in range(2000)]
     nth = nth_vectors(rng)
-    ph_exp = [int(lut.ph[min(2047, (j + 1) >> 1) if ph4k else j]) for j in js]
+    ph_exp = [int(lut.ph[min(2047, (j + 1) >> 1) if ph4k else j]) ^ (4095 * ng)
+              for j, ng in zip(js, negs)]
     a = np.array(nth, dtype=np.int64)
     prod, pn, cosn, sinn = lut.nth(a[:, 0], a[:, 1])
     check_sine_coverage(pn.tolist())
@@ -131,8 +155,8 @@ async def lut_all(dut):
                 got = fqtb.uval(dut.ph_o)
                 checked[0] += 1
                 if got != ph_exp[i]:
-                    bad.append(f"{'t' if ph4k else 'j'}={js[i]}: ph_o={got}, "
-                               f"model {ph_exp[i]}")
+                    bad.append(f"{'t' if ph4k else 'j'}={js[i]}, neg={negs[i]}: "
+                               f"ph_o={got}, model {ph_exp[i]}")
             nv, v = fqtb.uval(dut.nth_valid_o), fqtb.uval(dut.valid_o)
             if (nv == 1) != (e in p_out):
                 bad.append(f"nth_valid_o={nv} after edge {e}")
@@ -162,6 +186,8 @@ async def lut_all(dut):
         a_in = js[j_at[nxt]] if nxt in j_at else rng.randint(0, n_a - 1)
         dut.j_i.value = rng.randint(0, 2047) if ph4k else a_in     # the other: garbage
         dut.t_i.value = a_in if ph4k else rng.randint(0, 4095)
+        # the sign one edge before its address
+        dut.neg_i.value = negs[j_at[nxt + 1]] if nxt + 1 in j_at else rng.randint(0, 1)
         if nxt in n_at:
             p, n = nth[n_at[nxt]]
             dut.valid_i.value = 1

@@ -48,11 +48,13 @@ module finequad_core #(
     // 1: the harmonic table in distributed RAM, read from a registered address (ECP5 and
     // the like: the read starts at flip-flops); 0: in block RAM (iCE40)
     parameter [0:0] OPT_DISTRAM = 1'b0,
-    // 1: the exact phase table in 4096 rows addressed without a rounding add (rtl/lut.v;
-    // one more block RAM, a shorter path: for ~100 MHz); 0: 2048 rows (iCE40)
+    // 1: the exact phase table in 4096 rows per octant sign, addressed without a rounding
+    // add and read without an inversion behind it (rtl/lut.v; four more block RAMs, a
+    // shorter path: for ~100 MHz); 0: 2048 rows (iCE40)
     parameter [0:0] OPT_PHASE_4K = 1'b0,
-    // 1: the ratio multiply's operand registers inside an ECP5 DSP block (a MULT18X18D
-    // instantiated: rtl/octant.v; synthesis only, simulation runs the inferred form);
+    // 1: the ratio multiply's operand registers (rtl/octant.v) and the n-th order
+    // product's output register (rtl/lut.v, with OPT_NTH_DSP) inside ECP5 DSP blocks
+    // (MULT18X18D instantiated; synthesis only, simulation runs the inferred form);
     // 0: inferred (any device)
     parameter [0:0] OPT_ECP5_MULT = 1'b0,
     // 1: every setting is a register; 0: the tuning settings (EPS, LAMBDA_K, KAPPA,
@@ -297,8 +299,9 @@ module finequad_core #(
     wire [12:0] l_pn;
     wire [SIN_W-2:0] l_cmag, l_smag;
     lut #(.TABLE_DIR(TABLE_DIR), .TABLE_EXACT(TABLE_EXACT), .SIN_W(SIN_W),
-          .OPT_NTH_DSP(OPT_NTH_DSP), .OPT_PHASE_4K(OPT_PHASE_4K)) u_lut (
-        .clk(clk), .j_i(o_j), .t_i(o_t), .ph_o(l_ph),
+          .OPT_NTH_DSP(OPT_NTH_DSP), .OPT_PHASE_4K(OPT_PHASE_4K),
+          .OPT_ECP5_MULT(OPT_ECP5_MULT)) u_lut (
+        .clk(clk), .j_i(o_j), .t_i(o_t), .neg_i(o_neg), .ph_o(l_ph),
         .valid_i(h_valid), .phase_i(h_phase_c), .n_i(r_interp),
         .nth_valid_o(n_valid), .prod_o(n_prod),
         .valid_o(l_valid), .pn_o(l_pn), .cos_mag_o(l_cmag), .cos_neg_o(l_cneg),

@@ -78,7 +78,7 @@ module harmonic #(
     input  wire [1:0]  oct2_i,      // with valid_i: base phase 2048 oct2 (rtl/octant.v)
     input  wire        neg_i,       // with valid_i: phase = base - ph
     input  wire [11:0] t_i,         // combinational before edge a + 1: u12 address scale
-    input  wire [11:0] ph_i,        // u12 PH[j], valid after edge a + 1 (block RAM output)
+    input  wire [11:0] ph_i,        // u12 PH[j], ~PH[j] for neg (rtl/lut.v), after a + 1
     input  wire        apply_i,     // apply the correction to phase_c_o
     input  wire        learn_i,     // update the table
     input  wire [1:0]  mu_i,        // LMS step 2^-mu, mu = 3 + mu_i
@@ -286,9 +286,10 @@ module harmonic #(
         end
     endfunction
     /* verilator lint_on UNUSEDSIGNAL */
-    // 256 (base + neg) / 256 + ph, or - ph - 1 (neg): the uncorrected phase (u13, wraps)
+    // 256 (base + neg) / 256 + ph, or - ph - 1 (neg): the uncorrected phase (u13, wraps);
+    // the table gives ~ph for neg (rtl/lut.v), so - ph - 1 = {1, ~ph} is a concatenation
     function automatic [12:0] h_ph(input [12:0] k, input [11:0] ph, input neg);
-        h_ph = k + ({1'b0, ph} ^ {13{neg}});
+        h_ph = k + {neg, ph};
     endfunction
     reg  [12:0] ya = 13'd0, yb = 13'd0;                 // y applied (phase_c_o), used (pc)
     reg         v3 = 1'b0, cand3 = 1'b0, lok = 1'b0;

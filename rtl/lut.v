@@ -5,12 +5,15 @@
 // a phase table (one octant, by symmetry) and the n-th order phase indexes one
 // quarter-wave sine table that serves every n:
 //   phase table: ph = PH[j] (u12, phase_<table>.hex), read on the edge j_i is presented
-//     (j_i may be combinational: rtl/octant.v forms it with its last add); ph_o is the
-//     block RAM's output, valid after that edge. OPT_PHASE_4K (exact table): the table in
-//     4096 rows (phase_exact_4k.hex), read at the scale t_i instead (row t holds
-//     PH[min(2047, (t + 1) >> 1)]), so the address does not wait for j's rounding add. The fine phase itself,
-//     (2048 oct2 +- ph) mod 8192, is assembled with the harmonic correction in
-//     rtl/harmonic.v.
+//     (j_i may be combinational: rtl/octant.v forms it with its last add), with the
+//     octant's sign neg_i presented one edge before (registered here); ph_o = PH[j], or
+//     its complement ~PH[j] (12 bits) for neg, valid after the read edge: the fine phase
+//     (2048 oct2 +- PH) mod 8192 = 2048 oct2 + neg + {neg, ph_o} needs no inversion
+//     after the table (it is assembled with the harmonic correction in rtl/harmonic.v,
+//     or rtl/phase.v). Default: 2048 rows, the complement taken after the block RAM.
+//     OPT_PHASE_4K (exact table): 4096 rows per sign (phase_exact_4k.hex: row t holds
+//     PH[min(2047, (t + 1) >> 1)], row 4096 + t its complement), read at {neg, t_i}: the
+//     address does not wait for j's rounding add, and ph_o is the block RAM's output.
 //   n-th order: the full product P = n * phase (u22) of the (corrected) fine phase
 //     registered on edge e is registered on e + 1: its low 13 bits are the n-th order
 //     phase pn = (n phase) mod 8192, its high bits the counter's fine count
@@ -28,22 +31,32 @@ module lut #(
     // 1: n * phase with the `*` operator (a DSP block where the device has one to
     // spare, e.g. ECP5); 0: shift-and-add in logic (iCE40 UP5K: its 8 DSP blocks are taken)
     parameter [0:0] OPT_NTH_DSP = 1'b1,
-    // 1 (with TABLE_EXACT): the phase table in 4096 rows addressed by t_i, no rounding add
-    // before the block RAM (for clock rates near 100 MHz, e.g. ECP5: 3 block RAMs instead
-    // of 2); 0: 2048 rows addressed by j_i (iCE40: its block RAMs are counted)
-    parameter [0:0] OPT_PHASE_4K = 1'b0
+    // 1 (with TABLE_EXACT): the phase table in 4096 rows per sign addressed by {neg, t_i},
+    // no rounding add before the block RAM and no inversion after it (for clock rates
+    // near 100 MHz, e.g. ECP5: 6 block RAMs instead of 2); 0: 2048 rows addressed by j_i
+    // (iCE40: its block RAMs are counted)
+    parameter [0:0] OPT_PHASE_4K = 1'b0,
+    // 1 (with OPT_NTH_DSP): prod_o is the output register of an ECP5 MULT18X18D
+    // instantiated for n * phase (synthesis does not pack registers into it), which saves
+    // the route from the block to flip-flops behind the multiply (ECP5 at ~100 MHz: the
+    // phase correction's add lies in front of it). Synthesis only (`SYNTHESIS, as Yosys
+    // defines it); simulations run the inferred form, the same register and product
+    // (cocotb_tests/test_lut.py test_lut_mult18 runs the instance against a stand-in of
+    // the primitive). 0: inferred (any device)
+    parameter [0:0] OPT_ECP5_MULT = 1'b0
 ) (
     input  wire              clk,
     // phase table
     input  wire [10:0]       j_i,          // u11 octant-local address
     input  wire [11:0]       t_i,          // u12 its scale (OPT_PHASE_4K), with j_i
-    output wire [11:0]       ph_o,         // u12 PH[j], one edge after j_i
+    input  wire              neg_i,        // the sample's octant sign, one edge before j_i
+    output wire [11:0]       ph_o,         // u12 PH[j] (~PH[j] for neg), one edge after j_i
     // n-th order
     input  wire              valid_i,      // with phase_i
     input  wire [12:0]       phase_i,      // u13 fine phase (registered)
     input  wire [8:0]        n_i,          // interpolation factor
     output reg               nth_valid_o,  // latency 1
-    output reg  [21:0]       prod_o,       // u22 n * phase: pn = [12:0], q = [21:11]
+    output wire [21:0]       prod_o,       // u22 n * phase: pn = [12:0], q = [21:11]
     output reg               valid_o,      // latency 2
     output reg  [12:0]       pn_o,         // u13 n-th order phase, aligned with the sines
     output wire [SIN_W-2:0]  cos_mag_o,
@@ -83,24 +96,31 @@ module lut #(
 
     // ---- phase table ------------------------------------------------------------------------
     reg [11:0] ph_q = 0;
+    reg        neg_q = 1'b0;                     // neg_i, on the edge before the read
+    always @(posedge clk)
+        neg_q <= neg_i;
     generate
         if (PH4K) begin : g_ph4k
-            reg [11:0] ph_rom [0:4095];
+            reg [11:0] ph_rom [0:8191];
             initial
                 $readmemh({TABLE_DIR, "phase_exact_4k.hex"}, ph_rom);
             always @(posedge clk)
-                ph_q <= ph_rom[t_i];
+                ph_q <= ph_rom[{neg_q, t_i}];
+            assign ph_o = ph_q;
             wire unused_j = &{1'b0, j_i, 1'b0};
         end else begin : g_ph2k
             reg [11:0] ph_rom [0:2047];
+            reg        neg_r = 1'b0;             // neg_q with the read
             initial
                 $readmemh({TABLE_DIR, PH_FILE}, ph_rom);
-            always @(posedge clk)
+            always @(posedge clk) begin
                 ph_q <= ph_rom[j_i];
+                neg_r <= neg_q;
+            end
+            assign ph_o = ph_q ^ {12{neg_r}};
             wire unused_t = &{1'b0, t_i, 1'b0};
         end
     endgenerate
-    assign ph_o = ph_q;
 
     // ---- n-th order phase: P = n * phase ----------------------------------------------------
     wire [21:0] prod;
@@ -131,10 +151,52 @@ module lut #(
             assign prod = s0 + s1;
         end
     endgenerate
+    reg [21:0] prod_q = 0;
     always @(posedge clk) begin
-        prod_o <= prod;
+        prod_q <= prod;
         nth_valid_o <= valid_i;
     end
+    generate
+        if (OPT_NTH_DSP && OPT_ECP5_MULT) begin : g_mult18
+`ifdef SYNTHESIS
+            // phase (u13) on A, n (u9) on B, unsigned; P registered on every edge (CE0 = 1)
+            wire [35:0] pw;
+            MULT18X18D #(
+                .REG_OUTPUT_CLK("CLK0"), .REG_OUTPUT_CE("CE0"), .REG_OUTPUT_RST("RST0")
+            ) u_mult (
+                .A17(1'b0), .A16(1'b0), .A15(1'b0), .A14(1'b0), .A13(1'b0),
+                .A12(phase_i[12]), .A11(phase_i[11]), .A10(phase_i[10]), .A9(phase_i[9]),
+                .A8(phase_i[8]), .A7(phase_i[7]), .A6(phase_i[6]), .A5(phase_i[5]),
+                .A4(phase_i[4]), .A3(phase_i[3]), .A2(phase_i[2]), .A1(phase_i[1]),
+                .A0(phase_i[0]),
+                .B17(1'b0), .B16(1'b0), .B15(1'b0), .B14(1'b0), .B13(1'b0), .B12(1'b0),
+                .B11(1'b0), .B10(1'b0), .B9(1'b0), .B8(n_i[8]), .B7(n_i[7]), .B6(n_i[6]),
+                .B5(n_i[5]), .B4(n_i[4]), .B3(n_i[3]), .B2(n_i[2]), .B1(n_i[1]),
+                .B0(n_i[0]),
+                .C17(1'b0), .C16(1'b0), .C15(1'b0), .C14(1'b0), .C13(1'b0), .C12(1'b0),
+                .C11(1'b0), .C10(1'b0), .C9(1'b0), .C8(1'b0), .C7(1'b0), .C6(1'b0),
+                .C5(1'b0), .C4(1'b0), .C3(1'b0), .C2(1'b0), .C1(1'b0), .C0(1'b0),
+                .SIGNEDA(1'b0), .SIGNEDB(1'b0), .SOURCEA(1'b0), .SOURCEB(1'b0),
+                .CLK0(clk), .CLK1(1'b0), .CLK2(1'b0), .CLK3(1'b0),
+                .CE0(1'b1), .CE1(1'b0), .CE2(1'b0), .CE3(1'b0),
+                .RST0(1'b0), .RST1(1'b0), .RST2(1'b0), .RST3(1'b0),
+                .P35(pw[35]), .P34(pw[34]), .P33(pw[33]), .P32(pw[32]), .P31(pw[31]),
+                .P30(pw[30]), .P29(pw[29]), .P28(pw[28]), .P27(pw[27]), .P26(pw[26]),
+                .P25(pw[25]), .P24(pw[24]), .P23(pw[23]), .P22(pw[22]), .P21(pw[21]),
+                .P20(pw[20]), .P19(pw[19]), .P18(pw[18]), .P17(pw[17]), .P16(pw[16]),
+                .P15(pw[15]), .P14(pw[14]), .P13(pw[13]), .P12(pw[12]), .P11(pw[11]),
+                .P10(pw[10]), .P9(pw[9]), .P8(pw[8]), .P7(pw[7]), .P6(pw[6]),
+                .P5(pw[5]), .P4(pw[4]), .P3(pw[3]), .P2(pw[2]), .P1(pw[1]), .P0(pw[0])
+            );
+            assign prod_o = pw[21:0];
+            wire unused_pw = &{1'b0, pw[35:22], prod_q, 1'b0};
+`else
+            assign prod_o = prod_q;
+`endif
+        end else begin : g_prod
+            assign prod_o = prod_q;
+        end
+    endgenerate
 
     // ---- sines: quarter-wave table, cos(x) = sin(x + pi/2) ----------------------------------
     wire [12:0] pn = prod_o[12:0];
@@ -153,7 +215,7 @@ module lut #(
     assign sin_mag_o = sraw[SIN_W-2:0];
     assign cos_mag_o = craw[SIN_W-2:0];
     initial begin
-        nth_valid_o = 1'b0; prod_o = 0; valid_o = 1'b0; pn_o = 0;
+        nth_valid_o = 1'b0; valid_o = 1'b0; pn_o = 0;
         sin_neg_o = 1'b0; cos_neg_o = 1'b0;
     end
     wire unused = &{1'b0, sraw[SIN_W-1], craw[SIN_W-1], 1'b0};

@@ -5,8 +5,8 @@
 // assembly with the correction). Same timing as rtl/harmonic.v, a = the edge on which
 // valid_i is high (the sample's arrival; t + 4 in the core):
 //   a      oct2_i, neg_i taken
-//   a + 1  the constant part 2048 oct2 + neg registered; ph_i = PH[j] is the phase
-//          table's output after this edge
+//   a + 1  the constant part 2048 oct2 + neg registered; ph_i = PH[j] (~PH[j] for
+//          neg) is the phase table's output after this edge
 //   a + 2  phase_o = phase_c_o = (2048 oct2 +- ph) mod 8192 (u13, - when neg), valid_o
 // Every stage's registers take a sample only with its valid bit (a clock enable).
 module phase (
@@ -14,7 +14,7 @@ module phase (
     input  wire        valid_i,
     input  wire [1:0]  oct2_i,      // with valid_i: base phase 2048 oct2 (rtl/octant.v)
     input  wire        neg_i,       // with valid_i: phase = base - ph
-    input  wire [11:0] ph_i,        // u12 PH[j], valid after edge a + 1
+    input  wire [11:0] ph_i,        // u12 PH[j], ~PH[j] for neg (rtl/lut.v), after a + 1
     output reg         valid_o = 1'b0,
     output reg  [12:0] phase_o = 13'd0,
     output wire [12:0] phase_c_o
@@ -35,7 +35,7 @@ module phase (
             neg2 <= neg1;
         end
         if (v2)
-            phase_o <= k0 + ({1'b0, ph_i} ^ {13{neg2}});
+            phase_o <= k0 + {neg2, ph_i};          // - ph = ~ph + 1 = {1, ~ph} + 1
     end
     assign phase_c_o = phase_o;
 endmodule

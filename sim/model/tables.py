@@ -15,10 +15,12 @@ octant-local phase. What j means depends on the table kind (rtl/octant.v):
 * ``phase_table(kind)``: 2048 entries, PHT_W = 12 bits unsigned.
     - "exact": round(atan(j/2048) * 8192 / (2 pi))   (row 2048 would be 1024, one octant)
     - "paper": round(j / (2048 sin(pi/4)) * 1024)      (uniform angle per row, Table 2)
-* ``phase_table_4k()``: the exact table in 4096 rows, addressed by the scale t of the
-  ratio product (rtl/octant.v t_o = min(4095, floor(p / 2**15)), j = (t + 1) >> 1 clipped
-  at 2047): row t holds PH[min(2047, (t + 1) >> 1)], so the address needs no rounding add
-  (rtl/lut.v OPT_PHASE_4K, for fast devices).
+* ``phase_table_4k()``: the exact table in 4096 rows per sign, addressed by the octant's
+  sign neg and the scale t of the ratio product (rtl/octant.v t_o = min(4095,
+  floor(p / 2**15)), j = (t + 1) >> 1 clipped at 2047): row t holds PH[min(2047,
+  (t + 1) >> 1)] and row 4096 + t its complement ~PH (12 bits), so the address needs no
+  rounding add and the phase sum no inversion (rtl/lut.v OPT_PHASE_4K, for fast devices:
+  8192 rows).
 * ``recip_table()``: 512 entries, RCP_W = 14 bits unsigned (u0.14, 8196 .. 16368): the
   reciprocal of the normalised large magnitude m = |large| << z / 2**14 in [1, 2), for the
   bin i = floor((m - 1) * 512) the value that minimises the largest relative error over the
@@ -26,6 +28,10 @@ octant-local phase. What j means depends on the table kind (rtl/octant.v):
 * ``sine_table(sin_w)``: quarter wave, 2048 entries, s1.(SIN_W-1) magnitudes
     T[k] = round((2**(SIN_W-1) - 1) * sin((k + 0.5) * (pi/2) / 2048)).
   The half-step offset makes the quarter wave symmetric (index ~k for the mirror).
+* ``eq12_k_table(sin_w)``: the Eq. 12 thresholds on the sine table's address side
+  (rtl/pulse.v OPT_ADDR), 2**(SIN_W-1) entries (SIN_W <= 12), 12 bits: row E holds
+  K[E] = #{k : T[k] < E} (0 .. 2048), so that T[k] >= E <=> k >= K[E] (T is
+  non-decreasing), and T[k] = 0 <=> k < K[1].
 * ``bin_thresholds(kind)``: the harmonic table's bin of a sample, phase >> 7 (64 bins of
   128 units), found from the octant address j before the phase table is read: with
   ph = PH[j] and base = 2048 oct2, (base + ph) >> 7 = 16 oct2 + floor(ph / 128) and
@@ -60,7 +66,8 @@ def phase_table(kind: str = "exact") -> list[int]:
 
 def phase_table_4k() -> list[int]:
     ph = phase_table("exact")
-    return [ph[min(ROWS - 1, (t + 1) >> 1)] for t in range(2 * ROWS)]
+    rows = [ph[min(ROWS - 1, (t + 1) >> 1)] for t in range(2 * ROWS)]
+    return rows + [~v & ((1 << PHT_W) - 1) for v in rows]
 
 
 def recip_table() -> list[int]:
@@ -73,6 +80,19 @@ def sine_table(sin_w: int) -> list[int]:
     amp = (1 << (sin_w - 1)) - 1
     return [round(amp * math.sin((k + 0.5) * (math.pi / 2) / SINE_ROWS))
             for k in range(SINE_ROWS)]
+
+
+EQ12_K_W = 12             # Eq. 12 threshold word: 0 .. 2048 (u12)
+EQ12_K_SIN_W = (8, 10, 12)  # sine widths with a threshold table (2**(SIN_W-1) rows)
+
+
+def eq12_k_table(sin_w: int) -> list[int]:
+    if sin_w not in EQ12_K_SIN_W:
+        raise ValueError(f"eq12_k_table: SIN_W must be one of {EQ12_K_SIN_W}, got {sin_w}")
+    t = sine_table(sin_w)
+    if any(b < a for a, b in zip(t, t[1:])):
+        raise ValueError(f"sine_table({sin_w}) is not non-decreasing")
+    return [sum(1 for v in t if v < e) for e in range(1 << (sin_w - 1))]
 
 
 HBIN_N = 12               # thresholds per set: the paper table's PH reaches 1447 < 12 * 128
