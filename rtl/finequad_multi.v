@@ -59,8 +59,11 @@ module finequad_multi #(
     parameter [0:0] OPT_DISTRAM = 1'b0,
     // 1: the exact phase table in 4096 rows (rtl/finequad_core.v)
     parameter [0:0] OPT_PHASE_4K = 1'b0,
-    // 1: the ratio multiply's operand registers in an ECP5 DSP block (rtl/finequad_core.v)
+    // 1: the ratio multiply's operand registers and the n-th order product's register in
+    // ECP5 DSP blocks (rtl/finequad_core.v)
     parameter [0:0] OPT_ECP5_MULT = 1'b0,
+    // 1: Eq. 12 on the sine table's address side (rtl/finequad_core.v)
+    parameter [0:0] OPT_PULSE_ADDR = 1'b0,
     // 1: every setting is a register; 0: the tuning settings keep their reset values
     parameter [0:0] OPT_TUNABLE = 1'b1,
     // 1: the signal monitor's fault checks, the jump detector; 0: none (rtl/finequad_core.v)
@@ -118,7 +121,8 @@ module finequad_multi #(
                             .COUNT_W(COUNT_W), .TABLE_EXACT(TABLE_EXACT), .G_INIT(G_INIT),
                             .OPT_NTH_DSP(OPT_NTH_DSP), .OPT_HARMONIC(OPT_HARMONIC),
                             .OPT_DISTRAM(OPT_DISTRAM), .OPT_PHASE_4K(OPT_PHASE_4K),
-                            .OPT_ECP5_MULT(OPT_ECP5_MULT), .OPT_MONITOR(OPT_MONITOR),
+                            .OPT_ECP5_MULT(OPT_ECP5_MULT), .OPT_PULSE_ADDR(OPT_PULSE_ADDR),
+                            .OPT_MONITOR(OPT_MONITOR),
                             .OPT_JUMP(OPT_JUMP),
                             .OPT_TUNABLE(OPT_TUNABLE), .ENGINE_LANES(ENGINE_LANES),
                             .OPT_EXT_ENGINE(SHARED)) u_core (

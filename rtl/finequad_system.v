@@ -35,8 +35,11 @@ module finequad_system #(
     // (rtl/finequad_core.v; 1 on the ECP5, 0 on the iCE40)
     parameter [0:0] OPT_DISTRAM = 1'b0,
     parameter [0:0] OPT_PHASE_4K = 1'b0,
-    // the ratio multiply's operand registers in an ECP5 DSP block (rtl/finequad_core.v)
+    // the ratio multiply's operand registers and the n-th order product's register in
+    // ECP5 DSP blocks (rtl/finequad_core.v)
     parameter [0:0] OPT_ECP5_MULT = 1'b0,
+    // Eq. 12 on the sine table's address side (rtl/finequad_core.v)
+    parameter [0:0] OPT_PULSE_ADDR = 1'b0,
     // the core's signal monitor and jump detector (rtl/finequad_core.v OPT_MONITOR,
     // OPT_JUMP)
     parameter [0:0] OPT_MONITOR = 1'b1,
@@ -139,6 +142,7 @@ module finequad_system #(
     finequad_core #(.TABLE_DIR(TABLE_DIR), .ADC_W(12), .OPT_NTH_DSP(OPT_NTH_DSP),
                     .OPT_HARMONIC(OPT_HARMONIC), .OPT_DISTRAM(OPT_DISTRAM),
                     .OPT_PHASE_4K(OPT_PHASE_4K), .OPT_ECP5_MULT(OPT_ECP5_MULT),
+                    .OPT_PULSE_ADDR(OPT_PULSE_ADDR),
                     .OPT_MONITOR(OPT_MONITOR), .OPT_JUMP(OPT_JUMP)) u_core (
         .clk(clk), .rst(rst),
         .s_valid(s_valid), .s_u1(s_u1), .s_u2(s_u2),

@@ -19,7 +19,8 @@
 //     phase pn = (n phase) mod 8192, its high bits the counter's fine count
 //     q = floor(n phase / 2048) = P >> 11 (u11, rtl/counter.v).
 //   sines on e + 2: cos(n a), sin(n a) as magnitude T[k] (u0.(SIN_W-1)) and sign
-//     (quadrant q = pn[12:11], k = pn[10:0], mirrored k for odd q, negative for q >= 2).
+//     (quadrant q = pn[12:11], k = pn[10:0], mirrored k for odd q, negative for q >= 2),
+//     and the addresses k themselves (for rtl/pulse.v's comparison on the address side).
 // TABLE_EXACT = 1: j = round(2048 |small| / |large|) (rtl/octant.v), rows atan(j / 2048):
 //   no linearisation error, and the angle noise of atan2 (the default);
 // TABLE_EXACT = 0: j = round(2048 |small|), the paper's uniform angle per row.
@@ -62,7 +63,9 @@ module lut #(
     output wire [SIN_W-2:0]  cos_mag_o,
     output reg               cos_neg_o,
     output wire [SIN_W-2:0]  sin_mag_o,
-    output reg               sin_neg_o
+    output reg               sin_neg_o,
+    output reg  [10:0]       cos_k_o,      // the sines' table addresses, with them
+    output reg  [10:0]       sin_k_o       // (rtl/pulse.v OPT_ADDR)
 );
     localparam PH_FILE = TABLE_EXACT ? "phase_exact.hex" : "phase_paper.hex";
     localparam [0:0] PH4K = TABLE_EXACT && OPT_PHASE_4K;
@@ -207,6 +210,8 @@ module lut #(
     always @(posedge clk) begin
         sraw      <= sin_rom_s[ks];
         craw      <= sin_rom_c[kc];
+        sin_k_o   <= ks;
+        cos_k_o   <= kc;
         sin_neg_o <= pn[12];
         cos_neg_o <= pc[12];
         pn_o      <= pn;
@@ -215,7 +220,7 @@ module lut #(
     assign sin_mag_o = sraw[SIN_W-2:0];
     assign cos_mag_o = craw[SIN_W-2:0];
     initial begin
-        nth_valid_o = 1'b0; valid_o = 1'b0; pn_o = 0;
+        nth_valid_o = 1'b0; valid_o = 1'b0; pn_o = 0; cos_k_o = 0; sin_k_o = 0;
         sin_neg_o = 1'b0; cos_neg_o = 1'b0;
     end
     wire unused = &{1'b0, sraw[SIN_W-1], craw[SIN_W-1], 1'b0};

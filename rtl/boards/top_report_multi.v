@@ -15,6 +15,7 @@ module top_report_multi #(
     parameter [0:0] OPT_DISTRAM = 1'b0,
     parameter [0:0] OPT_PHASE_4K = 1'b0,
     parameter [0:0] OPT_ECP5_MULT = 1'b0,
+    parameter [0:0] OPT_PULSE_ADDR = 1'b0,
     parameter [0:0] OPT_TUNABLE = 1'b1,
     parameter [0:0] OPT_MONITOR = 1'b1,
     parameter [0:0] OPT_JUMP = 1'b1,
@@ -45,7 +46,8 @@ module top_report_multi #(
     finequad_multi #(.AXES(AXES), .TDM_W(TDM_W), .OPT_NTH_DSP(OPT_NTH_DSP),
                      .OPT_HARMONIC(OPT_HARMONIC), .OPT_TUNABLE(OPT_TUNABLE),
                      .OPT_DISTRAM(OPT_DISTRAM), .OPT_PHASE_4K(OPT_PHASE_4K),
-                     .OPT_ECP5_MULT(OPT_ECP5_MULT), .OPT_MONITOR(OPT_MONITOR),
+                     .OPT_ECP5_MULT(OPT_ECP5_MULT), .OPT_PULSE_ADDR(OPT_PULSE_ADDR),
+                     .OPT_MONITOR(OPT_MONITOR),
                      .OPT_JUMP(OPT_JUMP), .ENGINE_LANES(ENGINE_LANES)) u_multi (
         .clk(clk), .rst(rst), .s_valid(s_valid), .s_u1(s_u1), .s_u2(s_u2),
         .reg_we(reg_we), .reg_re(reg_re), .reg_axis(reg_axis), .reg_addr(reg_addr),

@@ -27,3 +27,27 @@ def test_bin_buckets_hold_at_most_one_threshold_each():
         for thr in tables.bin_thresholds(kind):
             for n, inside in tables.bin_buckets(thr):
                 assert 0 <= n <= 15 and 0 <= inside <= 256
+
+
+@pytest.mark.parametrize("sin_w", tables.EQ12_K_SIN_W)
+def test_eq12_k_table(sin_w):
+    """The contract rtl/pulse.v's address form relies on (sim/formal/pulse.sby prf_a
+    assumes it): for every row E >= 1 and every sine-table address k, T[k] >= E <=>
+    k >= K[E], and T[k] = 0 <=> k < K[1]; rows beyond the table (E >= 2**(SIN_W-1)) are
+    reached by no k."""
+    import numpy as np
+
+    t = np.array(tables.sine_table(sin_w))
+    kt = np.array(tables.eq12_k_table(sin_w))
+    assert len(kt) == 1 << (sin_w - 1) and kt[0] == 0
+    assert t.max() < len(kt)
+    k = np.arange(len(t))
+    e = np.arange(1, len(kt))[:, None]
+    assert np.array_equal(t[None, :] >= e, k[None, :] >= kt[1:, None])
+    assert np.array_equal(t == 0, k < kt[1])
+    assert kt.max() <= len(t) < 1 << tables.EQ12_K_W
+
+
+def test_eq12_k_table_refuses_a_wide_sine():
+    with pytest.raises(ValueError, match="SIN_W must be one of"):
+        tables.eq12_k_table(16)
