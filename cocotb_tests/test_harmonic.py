@@ -20,10 +20,10 @@ into corrected signals on a circle and put through sim.model.fastpath.octant and
 neg: rtl/lut.v ph_o) and the model's bin = phase >> 7 are what the core's octant and
 phase table give (hbin(t) = bin: cocotb_tests/test_hbin.py). Both table memories: block
 RAM (OPT_DISTRAM = 0, read on a + 1 with the same-edge collision undone) and distributed
-RAM (OPT_DISTRAM = 1, read after a + 1 from copies written one edge late). Checked: phase_o equals the model's fine phase
-(Lut.phase) and phase_c_o the output of sim.model.harmonic.Harmonic.run, for every
-sample; valid_o is high after exactly the edges a + OUT_AT; the model learns (more than
-one update per 40 samples).
+RAM (OPT_DISTRAM = 1, read after a + 1 from copies written one edge late). Checked:
+phase_o equals the model's fine phase (Lut.phase) and phase_c_o the output of
+sim.model.harmonic.Harmonic.run, for every sample; valid_o is high after exactly the
+edges a + OUT_AT; the model learns (more than one update per 40 samples).
 
   directed  one stream of some 29 000 samples, the same on both simulators (DIRECTED,
             directed_stim), with the 4th-harmonic error beyond the table's range:

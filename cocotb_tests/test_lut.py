@@ -9,8 +9,9 @@ presented for edge A - 1, gives ph_o = PH[j] after edge A, or its 12-bit complem
 neg (the block RAM's output register; the complement after it); with OPT_PHASE_4K the
 scale t_i instead (rtl/octant.v t_o, j = min(2047, (t + 1) >> 1)), PH of that j (its
 complement read from the table's second half), and j_i carries garbage (t_i does
-without OPT_PHASE_4K). neg_i carries garbage on the other edges. A fine phase with n_i presented for edge E (valid_i; the
-phase is registered on t + PHASE_AT, so E = t + PHASE_AT + 1) gives nth_valid_o and
+without OPT_PHASE_4K). neg_i carries garbage on the other edges. A fine phase with n_i
+presented for edge E (valid_i; the phase is registered on t + PHASE_AT, so
+E = t + PHASE_AT + 1) gives nth_valid_o and
 prod_o = n * phase (u22) after edge E + (NTH_AT - PHASE_AT - 1), and valid_o, pn_o =
 prod mod 8192 and the sines (magnitude, and sign from pn's quadrant: cos negative for
 (pn + 2048) mod 8192 >= 4096, sin for pn >= 4096; the signed values equal Lut.nth's)

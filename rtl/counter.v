@@ -34,8 +34,9 @@
 // edges before it.
 //
 // Timing (e = the edge registering phase_i, t + 6 in the core):
-//   e + 1  B, f_prev, the step flags; prod_i = n * phase_i arrives registered (rtl/lut.v)
-//   e + 2  count_o = mode ? E : B + prod_i[21:11]; valid_o, ovs_o
+//   e + 1  B, f_prev; the step dph and whether it may flag overspeed (a trusted sample
+//          after a first one); prod_i = n * phase_i arrives registered (rtl/lut.v)
+//   e + 2  count_o = mode ? E : B + prod_i[21:11]; valid_o, ovs_o (the step's test)
 //   pulses: pv_i with a_i, b_i on edge p (t + 9); E and ill_count_o updated on p + 1
 module counter #(
     // counter width (wraps), 16..32

@@ -59,7 +59,7 @@ module finequad_core #(
     parameter [0:0] OPT_ECP5_MULT = 1'b0,
     // 1: Eq. 12 compares the sine table's address with an inverse threshold read from a
     // table (rtl/pulse.v OPT_ADDR: no comparison behind the sine table's block RAM; one
-    // more block RAM; SIN_W 8..12; for ~100 MHz); 0: the table's word
+    // more block RAM; SIN_W 8, 10 or 12; for ~100 MHz); 0: the table's word
     parameter [0:0] OPT_PULSE_ADDR = 1'b0,
     // 1: every setting is a register; 0: the tuning settings (EPS, LAMBDA_K, KAPPA,
     // PERIOD, SETTLE, GATE, HARM, JUMP, ABGEN, AB_BOUND, CLIP, RADIUS, MONITOR) keep their
@@ -113,8 +113,8 @@ module finequad_core #(
     // ---- registers ------------------------------------------------------------------------
     localparam [31:0] ID = 32'h46510004;        // "FQ", version 0.4
     reg [8:0]  r_interp = 9'd100;               // n
-    reg [15:0] r_eps = 16'd1638;                // u0.15 (0.05); the pulses take it two
-                                                // edges after a write (rtl/pulse.v)
+    reg [15:0] r_eps = 16'd1638;                // u0.15 (0.05); a write on edge w (or rst)
+                                                // decides the pulses from w + 3 (rtl/pulse.v)
     reg [4:0]  r_lam_k = 5'd8;                  // lambda = 1/(1 + 2**-k)
     reg [15:0] r_kappa = 16'h4000;              // u8.8 (64)
     // u10.4 5 max(kappa, 1/256) >> 4, the estimator's trace bound, formed with the write

@@ -57,7 +57,7 @@ module finequad_multi #(
     parameter [0:0] OPT_HARMONIC = 1'b1,
     // 1: the harmonic table in distributed RAM; 0: block RAM (rtl/finequad_core.v)
     parameter [0:0] OPT_DISTRAM = 1'b0,
-    // 1: the exact phase table in 4096 rows (rtl/finequad_core.v)
+    // 1: the exact phase table in 4096 rows per sign (rtl/finequad_core.v)
     parameter [0:0] OPT_PHASE_4K = 1'b0,
     // 1: the ratio multiply's operand registers and the n-th order product's register in
     // ECP5 DSP blocks (rtl/finequad_core.v)

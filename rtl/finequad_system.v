@@ -31,7 +31,7 @@ module finequad_system #(
     parameter [0:0] OPT_NTH_DSP = 1'b0,
     // the core's harmonic compensation (rtl/harmonic.v)
     parameter [0:0] OPT_HARMONIC = 1'b1,
-    // the core's harmonic table in distributed RAM, its exact phase table in 4096 rows
+    // the core's harmonic table in distributed RAM, its exact phase table in 4096 rows per sign
     // (rtl/finequad_core.v; 1 on the ECP5, 0 on the iCE40)
     parameter [0:0] OPT_DISTRAM = 1'b0,
     parameter [0:0] OPT_PHASE_4K = 1'b0,

@@ -64,8 +64,8 @@ module lut #(
     output reg               cos_neg_o,
     output wire [SIN_W-2:0]  sin_mag_o,
     output reg               sin_neg_o,
-    output reg  [10:0]       cos_k_o,      // the sines' table addresses, with them
-    output reg  [10:0]       sin_k_o       // (rtl/pulse.v OPT_ADDR)
+    output reg  [10:0]       cos_k_o,      // u11 the sines' table addresses, registered
+    output reg  [10:0]       sin_k_o       // with them (rtl/pulse.v OPT_ADDR)
 );
     localparam PH_FILE = TABLE_EXACT ? "phase_exact.hex" : "phase_paper.hex";
     localparam [0:0] PH4K = TABLE_EXACT && OPT_PHASE_4K;

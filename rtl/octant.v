@@ -11,8 +11,8 @@
 //   TABLE_EXACT = 0: the smaller magnitude, linear (Eq. 10), bit for bit the paper's.
 // Also the address's scale t_o, from which rtl/harmonic.v finds the bin of its table
 // before the phase table is read (so the two tables are read on the same edge), and
-// which addresses the exact phase table of 4096 rows (rtl/lut.v OPT_PHASE_4K) without
-// the rounding add.
+// which addresses the exact phase table of 4096 rows per sign (rtl/lut.v OPT_PHASE_4K)
+// without the rounding add.
 //
 // The stages' registers take a sample only with its valid bit (a clock enable; between
 // samples they hold the last one's values: j_o and t_o then too).
@@ -27,7 +27,8 @@
 //        sn      u14   (small << zl) >> 1: small on the normalised scale, t = 2 sn / ln
 //        jp      u11   paper address min(2047, (small + 4) >> 3)
 //        oct2_o  u2    base phase 2048 oct2 (u13 units, 8192 per period)
-//        neg_o   u1    phase = base - PH[j] (else base + PH[j])
+//        neg_o   u1    phase = base - PH[j] (else base + PH[j]); rtl/lut.v takes it on
+//                      e+2 for the phase table's word (read on e+3)
 //        valid_o       (octant: |u2c| <= |u1c| is the low octant 0, 3, 4 or 7; ties low)
 //   e+2  rcp_q   u0.14 rcp again, sn_q u14 sn: the block RAM's output in flip-flops (its
 //                      clock-to-output time, 5.6 ns on the ECP5, leaves no room for a

@@ -6,7 +6,8 @@
 // Latency 1; A and B start at 1. eps_i is taken two edges before the pulses it decides
 // (a pulse formed on edge p compares with eps_i as of edge p - 2: the threshold index of
 // OPT_ADDR is read from a table; both forms keep the same timing; a constant eps,
-// OPT_TUNABLE = 0, is the same on every edge).
+// OPT_TUNABLE = 0, is the same on every edge). In the core a write of EPS on edge w (or
+// its reset by rst) thus decides the pulses formed from edge w + 3 on.
 //
 // Two forms of the comparison m >= eps (m = the magnitude in u0.15):
 //   OPT_ADDR = 0: m itself, the sine table's word (cos_mag_i, sin_mag_i).
@@ -15,9 +16,10 @@
 //     block RAM: with E = ceil(eps / 2**(16 - SIN_W)) (m >= eps <=> T[k] >= E),
 //     T[k] >= E <=> k >= K[E], K[E] = #{k : T[k] < E} (eq12_k_<SIN_W>.hex, rows
 //     E = 0 .. 2**(SIN_W-1) - 1, sim/model/tables.py eq12_k_table; E beyond them: no
-//     k), and m = 0 <=> k < K[1]. For SIN_W <= 12 (the table's rows); one block RAM
-//     (ECP5: 512 x 12 at SIN_W = 10).
+//     k), and m = 0 <=> k < K[1]. For SIN_W 8, 10 or 12 (the tables generated; any
+//     other width stops elaboration); one block RAM (ECP5: 512 x 12 at SIN_W = 10).
 module pulse #(
+    // sine word width (magnitude SIN_W-1 bits, rtl/lut.v)
     parameter SIN_W = 10,
     // 1: eps_i is a register; 0: a constant (rtl/finequad_core.v OPT_TUNABLE = 0): compared
     // bit by bit in the word form, which synthesis folds into a few LUTs
@@ -25,6 +27,7 @@ module pulse #(
     // the comparison's form (above) with OPT_TUNABLE: 1 address side (for clock rates
     // near 100 MHz, e.g. ECP5), 0 the table's word
     parameter [0:0] OPT_ADDR = 1'b0,
+    // where eq12_k_<SIN_W>.hex is (OPT_ADDR)
     parameter TABLE_DIR = "rtl/tables/"
 ) (
     input  wire             clk,
@@ -32,10 +35,10 @@ module pulse #(
     input  wire             valid_i,
     input  wire [SIN_W-2:0] cos_mag_i,
     input  wire             cos_neg_i,
-    input  wire [10:0]      cos_k_i,      // its quarter-wave table address (OPT_ADDR)
+    input  wire [10:0]      cos_k_i,      // u11 its quarter-wave table address (OPT_ADDR)
     input  wire [SIN_W-2:0] sin_mag_i,
     input  wire             sin_neg_i,
-    input  wire [10:0]      sin_k_i,
+    input  wire [10:0]      sin_k_i,      // u11
     input  wire [15:0]      eps_i,        // u0.15 hysteresis threshold
     output reg              valid_o,
     output reg              a_o,
@@ -75,12 +78,16 @@ module pulse #(
             if (SIN_W == 8) begin : g_k8
                 initial
                     $readmemh({TABLE_DIR, "eq12_k_8.hex"}, krom);
+            end else if (SIN_W == 10) begin : g_k10
+                initial
+                    $readmemh({TABLE_DIR, "eq12_k_10.hex"}, krom);
             end else if (SIN_W == 12) begin : g_k12
                 initial
                     $readmemh({TABLE_DIR, "eq12_k_12.hex"}, krom);
-            end else begin : g_k10
-                initial
-                    $readmemh({TABLE_DIR, "eq12_k_10.hex"}, krom);
+            end else begin : g_kbad
+                // no threshold table for this width: an undefined module stops every
+                // tool's elaboration with this name
+                pulse_OPT_ADDR_needs_SIN_W_8_10_or_12 u_bad ();
             end
             wire [16-SH:0] e = {1'b0, eps_i[15:SH]} + {{(16-SH){1'b0}}, |eps_i[SH-1:0]};
             wire        e0 = (e == 0);
@@ -102,11 +109,6 @@ module pulse #(
             assign c_zero = ({1'b0, cos_k_i} < kth);     // with e0_2: m = 0
             assign s_zero = ({1'b0, sin_k_i} < kth);
             wire unused_m = &{1'b0, cm, sm, 1'b0};
-            initial
-                if (SIN_W > 12 || SIN_W < 8) begin
-                    $display("pulse: OPT_ADDR needs SIN_W 8..12, got %0d", SIN_W);
-                    $finish;
-                end
         end else begin : g_mag
             reg [15:0] eps_1 = 16'd0, eps_q = 16'd0;
             always @(posedge clk) begin

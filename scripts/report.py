@@ -28,8 +28,9 @@ count) go to the --build folder. Everything is measured here:
   more of its 28 DSP blocks, shorter programs), the harmonic table in distributed RAM and
   the 4096-row phase table per octant sign, the ratio multiply's operand registers and
   the n-th order product's register inside its DSP blocks, Eq. 12 on the sine table's
-  address side (OPT_DISTRAM, OPT_PHASE_4K, OPT_ECP5_MULT, OPT_PULSE_ADDR). The probe's simulations run on each
-  device's RTL (the parameters in DEVICES probe), against the model with its lanes.
+  address side (OPT_DISTRAM, OPT_PHASE_4K, OPT_ECP5_MULT, OPT_PULSE_ADDR). The probe's
+  simulations run on each device's RTL (the parameters in DEVICES probe), against the
+  model with its lanes.
 * The simulations (sim/harness/probe.cpp, Verilator): the clocks from a sample's strobe
   edge to m_valid, to m_count changing, to the A/B pins changing (paced and Eq. 12
   pulses); a sample strobed on every clock (every result must arrive, on consecutive

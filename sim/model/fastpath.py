@@ -130,7 +130,8 @@ def octant(ax, ay, xn, yn, kind="exact"):
 
 def scale(ax, ay, kind="exact"):
     """The address's scale t (rtl/octant.v t_o, u12) from which rtl/harmonic.v finds the
-    bin and which addresses the 4096-row exact phase table (tables.phase_table_4k): exact
+    bin and which addresses the exact phase table of 4096 rows per sign
+    (tables.phase_table_4k): exact
     min(4095, floor(p / 2**15)) of the ratio product (j = (t + 1) >> 1 clipped at 2047),
     paper 2 j."""
     ax, ay = np.asarray(ax, dtype=I64), np.asarray(ay, dtype=I64)

@@ -25,11 +25,11 @@ octant-local phase. What j means depends on the table kind (rtl/octant.v):
   reciprocal of the normalised large magnitude m = |large| << z / 2**14 in [1, 2), for the
   bin i = floor((m - 1) * 512) the value that minimises the largest relative error over the
   bin, 2 / (m_lo + m_hi) = 1024 / (1024 + i + 1/2), rounded: round(2**24 / (1025 + 2 i)).
-* ``sine_table(sin_w)``: quarter wave, 2048 entries, s1.(SIN_W-1) magnitudes
+* ``sine_table(sin_w)``: quarter wave, 2048 entries, u0.(SIN_W-1) magnitudes (SIN_W-bit words)
     T[k] = round((2**(SIN_W-1) - 1) * sin((k + 0.5) * (pi/2) / 2048)).
   The half-step offset makes the quarter wave symmetric (index ~k for the mirror).
 * ``eq12_k_table(sin_w)``: the Eq. 12 thresholds on the sine table's address side
-  (rtl/pulse.v OPT_ADDR), 2**(SIN_W-1) entries (SIN_W <= 12), 12 bits: row E holds
+  (rtl/pulse.v OPT_ADDR), 2**(SIN_W-1) entries (SIN_W 8, 10, 12), 12 bits: row E holds
   K[E] = #{k : T[k] < E} (0 .. 2048), so that T[k] >= E <=> k >= K[E] (T is
   non-decreasing), and T[k] = 0 <=> k < K[1].
 * ``bin_thresholds(kind)``: the harmonic table's bin of a sample, phase >> 7 (64 bins of

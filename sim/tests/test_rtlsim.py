@@ -34,7 +34,8 @@ def _make(tmp_path, target, knobs, tag=None):
                           ("exact", 256, 3, 36, 16, 0, {}), ("exact", 7, 4, 36, 16, 0, {}),
                           ("exact", 100, 5, 1, 16, 0, {}), ("paper", 50, 6, 3, 16, 0, {}),
                           ("exact", 100, 8, 36, 12, 0, {}), ("exact", 100, 9, 36, 16, 1, {}),
-                          ("exact", 100, 10, 1, 16, 0, ECP5), ("paper", 100, 11, 36, 16, 1, ECP5),
+                          ("exact", 100, 10, 1, 16, 0, ECP5), ("paper", 100, 11, 36, 16, 0, ECP5),
+                          ("exact", 100, 14, 1, 16, 1, ECP5),
                           ("exact", 100, 12, 1, 16, 0, UP5K), ("exact", 100, 13, 36, 16, 0, UP5K)],
                          ids=lambda v: {id(ECP5): "ecp5", id(UP5K): "up5k"}.get(id(v)))
 def test_rtlsim_equals_model(tmp_path, table, interp, seed, div, adc_w, count_mode, build):
@@ -43,7 +44,8 @@ def test_rtlsim_equals_model(tmp_path, table, interp, seed, div, adc_w, count_mo
     edge mode (CTRL bit 3, the paper's x4 decoder of A/B: the count follows the Eq. 12
     pulses). build: the ECP5 build's RTL (two engine lanes, the harmonic table in
     distributed RAM, the 4096-row phase table, Eq. 12 on the sine table's address side;
-    one case in edge mode) against the model with two lanes; or the UP5K build's (OPT_HARMONIC = 0: rtl/phase.v
+    one exact-table case in edge mode, a sample every clock) against the model with two
+    lanes; or the UP5K build's (OPT_HARMONIC = 0: rtl/phase.v
     assembles the phase; OPT_NTH_DSP = 0, OPT_TUNABLE = 0) against the model without the
     harmonic compensation."""
     # long enough in clocks for the estimator to calibrate (a commit needs ~330 updates
