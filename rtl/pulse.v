@@ -93,7 +93,8 @@ module pulse #(
             wire        e0 = (e == 0);
             wire        far = (e >= (1 << KW));
             wire [KW-1:0] row = e0 ? {{(KW-1){1'b0}}, 1'b1} : e[KW-1:0];
-            // edge p - 1: the row read (block RAM), edge p - 1 .. p: K in flip-flops
+            // for the pulses of edge p: the row of eps_i read on edge p - 2 (block RAM),
+            // K and the flags in flip-flops on edge p - 1
             reg  [11:0] kb = 12'd0, kth = 12'd0;
             reg         e0_1 = 1'b1, far_1 = 1'b0, e0_2 = 1'b1;
             always @(posedge clk) begin
