@@ -314,6 +314,52 @@ def _flag(v):
         return bool(s)
 
 
+# SB_MAC16 output selects (iCE40 technology library): 0 adder comb., 1 adder registered
+# (the accumulator register), 2 8x8 product comb., 3 16x16 product (registered only by
+# PIPELINE_16x16_MULT_REG2)
+def ice40_dsp_modes(netlist):
+    """Flattened iCE40 netlist -> one row per SB_MAC16: its name and the stages inside it
+    that have no register at the block's pins ('A in', 'B in' for an input fed to the
+    multiplier without its register, 'O[31:16] out (...)', 'O[15:0] out (...)' for an
+    output without its register, with what drives it: the multiplier, the sum of the
+    registered 8x8 partial products, the adder or an 8x8 product; inputs tied to
+    constants do not count). nextpnr-ice40 0.4 (and icetime) give
+    every SB_MAC16 pin a fixed 0.1 ns clock-to-output or setup, whatever the
+    configuration, so a path through such a stage is cut at the block's pins and its
+    multiplier delay is not in the reported Fmax."""
+    rows = []
+    for mod in netlist.get("modules", {}).values():
+        for name, c in mod.get("cells", {}).items():
+            if c.get("type") != "SB_MAC16":
+                continue
+            p, conn = c.get("parameters", {}), c.get("connections", {})
+
+            def par(k):
+                v = p.get(k, 0)
+                return int(str(v), 2) if set(str(v)) <= {"0", "1"} else int(v)
+
+            def used(port):                  # any bit driven by a net, not a constant
+                return any(isinstance(b, int) for b in conn.get(port, []))
+            comb = []
+            for port, reg in (("A", "A_REG"), ("B", "B_REG")):
+                if used(port) and not par(reg):
+                    comb.append(f"{port} in")
+            # the four 8x8 partial products registered: what is left is the sum of them
+            pp_reg = all(par(k) for k in ("TOP_8x8_MULT_REG", "BOT_8x8_MULT_REG",
+                                          "PIPELINE_16x16_MULT_REG1"))
+            for half, sel, mreg in (("O[31:16]", "TOPOUTPUT_SELECT", "TOP_8x8_MULT_REG"),
+                                    ("O[15:0]", "BOTOUTPUT_SELECT", "BOT_8x8_MULT_REG")):
+                s = par(sel)
+                if s == 1 or (s == 3 and par("PIPELINE_16x16_MULT_REG2")) or \
+                        (s == 2 and par(mreg)):
+                    continue
+                what = "8x8 product" if s == 2 else "adder" if s == 0 else \
+                    "product sum" if pp_reg else "multiplier"
+                comb.append(f"{half} out ({what})")
+            rows.append({"cell": name, "combinational": comb})
+    return sorted(rows, key=lambda r: r["cell"])
+
+
 def hierarchy_breakdown(netlist, cells):
     """Yosys JSON of an unflattened synthesis -> one row per instance (depth-first):
     instance path, module, own cell counts and counts including the submodules. Cell
@@ -544,6 +590,8 @@ def device_flow(dev, bdir, seeds, freq, log):
     times["synth_hier_s"] = synth(dev, cfg["params"], d / "hier.json", d / "yosys_hier.log",
                                   noflatten=True)
     rows = hierarchy_breakdown(json.loads((d / "hier.json").read_text()), cfg["cells"])
+    dsp_modes = (ice40_dsp_modes(json.loads((full / "top.json").read_text()))
+                 if dev.startswith("ice40") else None)
     instances = [r["instance"] for r in rows[1:]]
     util, _, _, text, times["pack_full_s"], err = pnr(dev, full / "top.json", full)
     if err:
@@ -606,8 +654,8 @@ def device_flow(dev, bdir, seeds, freq, log):
     fmax = median(ok) if ok else 0.0
     times["pnr_s"] = round(sum(r["seconds"] for r in runs + (variant or {}).get("runs", [])), 1)
     return {"util": util, "ffs": ffs, "fits": full_fits, "fmax": fmax, "runs": runs,
-            "variant": variant, "breakdown": rows, "times": {k: round(v, 1) for k, v in
-                                                             times.items()}}
+            "variant": variant, "breakdown": rows, "dsp_modes": dsp_modes,
+            "times": {k: round(v, 1) for k, v in times.items()}}
 
 
 # ---- simulations -----------------------------------------------------------------------------
@@ -1020,6 +1068,25 @@ def markdown(rep):
                 L.append(f"| {kind} | {dl} | `{cell}` |")
             L.append("")
 
+    for d, e in zip(devs, E):
+        modes = rep["devices"][d].get("dsp_modes")
+        if not modes:
+            continue
+        comb = [m for m in modes if m["combinational"]]
+        L.append(f"## {e['device']}: DSP blocks and the timing model\n")
+        L.append("nextpnr-ice40 0.4 (and icetime) give every SB_MAC16 pin a fixed 0.1 ns "
+                 "clock-to-output or setup time, whatever the block's configuration: a path "
+                 "through a stage of the block that has no register at its pins is cut there, "
+                 "and that stage's delay is not in the Fmax above. "
+                 f"{len(comb)} of the {len(modes)} blocks of this build have such a stage "
+                 "(from the synthesised netlist's SB_MAC16 parameters), so its Fmax is an upper "
+                 "bound for them:\n")
+        L.append("| SB_MAC16 | stages without a register at the block's pins |")
+        L.append("|---|---|")
+        for m in modes:
+            L.append(f"| `{m['cell']}` | {', '.join(m['combinational']) or 'none'} |")
+        L.append("")
+
     L.append("## Cells per module (synthesis without flattening)\n")
     L.append("Each module synthesised in place with the parameters of the report build, "
              "without optimisation across module boundaries, so the totals are a little "
@@ -1130,7 +1197,8 @@ def main(argv=None):
         "tools": tool_versions(),
         "wall_s": round(time.perf_counter() - t0, 1),
         "devices": {d: {**devices[d], "runs": flows[d]["runs"],
-                        "breakdown": flows[d]["breakdown"], "times": flows[d]["times"]}
+                        "breakdown": flows[d]["breakdown"], "dsp_modes": flows[d]["dsp_modes"],
+                        "times": flows[d]["times"]}
                     for d in devs},
         "sim": sim,
     }

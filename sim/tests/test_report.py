@@ -283,3 +283,66 @@ def test_top_report_lints_clean_against_the_core_with_every_variant():
     then removed by synthesis): report.py lints first, and so does this test."""
     for params in [{"OPT_NTH_DSP": 0}, {}] + [p for p, _ in report.VARIANTS]:
         report.lint_top(params)
+
+
+def _mac(**params):
+    """An SB_MAC16 cell of a Yosys JSON netlist: A and B driven by nets, C and D tied."""
+    p = {"A_REG": "0", "B_REG": "0", "TOP_8x8_MULT_REG": "0", "BOT_8x8_MULT_REG": "0",
+         "PIPELINE_16x16_MULT_REG1": "0", "PIPELINE_16x16_MULT_REG2": "0",
+         "TOPOUTPUT_SELECT": "11", "BOTOUTPUT_SELECT": "11"}
+    p.update({k: format(v, "b") for k, v in params.items()})
+    conn = {"A": list(range(2, 18)), "B": list(range(18, 34)), "C": ["0"] * 16,
+            "D": ["0"] * 16}
+    return {"type": "SB_MAC16", "parameters": p, "connections": conn}
+
+
+def test_ice40_dsp_modes_names_every_stage_without_a_register():
+    cells = {
+        "full": _mac(A_REG=1, B_REG=1, TOPOUTPUT_SELECT=1, BOTOUTPUT_SELECT=1),
+        "reg2": _mac(A_REG=1, B_REG=1, PIPELINE_16x16_MULT_REG2=1),
+        "a_comb": _mac(B_REG=1, TOPOUTPUT_SELECT=1, BOTOUTPUT_SELECT=1),
+        "sum": _mac(A_REG=1, B_REG=1, TOP_8x8_MULT_REG=1, BOT_8x8_MULT_REG=1,
+                    PIPELINE_16x16_MULT_REG1=1),
+        "mixed": _mac(A_REG=1, B_REG=1, BOTOUTPUT_SELECT=1),
+        "adder": _mac(TOPOUTPUT_SELECT=0, BOTOUTPUT_SELECT=0),
+        "x8": _mac(A_REG=1, B_REG=1, TOPOUTPUT_SELECT=2, BOTOUTPUT_SELECT=2,
+                   TOP_8x8_MULT_REG=1),
+        "lut": {"type": "SB_LUT4", "parameters": {}, "connections": {}},
+    }
+    cells["a_const"] = _mac(TOPOUTPUT_SELECT=1, BOTOUTPUT_SELECT=1, B_REG=1)
+    cells["a_const"]["connections"]["A"] = ["1"] + ["0"] * 15
+    got = {r["cell"]: r["combinational"]
+           for r in report.ice40_dsp_modes({"modules": {"top": {"cells": cells}}})}
+    assert got == {
+        "full": [], "reg2": [], "a_comb": ["A in"], "a_const": [],
+        "sum": ["O[31:16] out (product sum)", "O[15:0] out (product sum)"],
+        "mixed": ["O[31:16] out (multiplier)"],
+        "adder": ["A in", "B in", "O[31:16] out (adder)", "O[15:0] out (adder)"],
+        "x8": ["O[15:0] out (8x8 product)"]}
+
+
+MULS = """
+module mul_reg(input clk, input [15:0] a, input [15:0] b, output reg [31:0] p);
+    reg [15:0] ar, br;
+    always @(posedge clk) begin ar <= a; br <= b; p <= ar * br; end
+endmodule
+module mul_comb(input clk, input [15:0] a, input [15:0] b, output reg [31:0] p);
+    always @(posedge clk) p <= a * b;
+endmodule
+"""
+
+
+# Yosys maps the register behind a product to the block's 8x8 product and 16x16 pipeline
+# registers (not the output register): the sum of those partial products reaches O
+# without a register
+SUM = ["O[31:16] out (product sum)", "O[15:0] out (product sum)"]
+
+
+@pytest.mark.skipif(shutil.which("yosys") is None, reason="needs yosys")
+@pytest.mark.parametrize("top, comb", [("mul_reg", SUM), ("mul_comb", ["A in", "B in"] + SUM)])
+def test_ice40_dsp_modes_on_real_yosys_output(tmp_path, top, comb):
+    (tmp_path / "m.v").write_text(MULS)
+    subprocess.run(["yosys", "-q", "-p", f"read_verilog m.v; synth_ice40 -dsp -top {top} "
+                    "-json m.json"], cwd=tmp_path, check=True)
+    rows = report.ice40_dsp_modes(json.loads((tmp_path / "m.json").read_text()))
+    assert [r["combinational"] for r in rows] == [comb]
