@@ -1079,8 +1079,8 @@ def markdown(rep):
                  "through a stage of the block that has no register at its pins is cut there, "
                  "and that stage's delay is not in the Fmax above. "
                  f"{len(comb)} of the {len(modes)} blocks of this build have such a stage "
-                 "(from the synthesised netlist's SB_MAC16 parameters), so its Fmax is an upper "
-                 "bound for them:\n")
+                 "(from the synthesised netlist's SB_MAC16 parameters): on the paths through "
+                 "them the Fmax above is an upper bound.\n")
         L.append("| SB_MAC16 | stages without a register at the block's pins |")
         L.append("|---|---|")
         for m in modes:
