@@ -231,6 +231,111 @@ def failing_endpoints(text):
     return least, most
 
 
+def sdf_endpoints(text):
+    """Static timing of a routed design from the SDF nextpnr writes (--sdf), with the
+    largest of a (min:typ:max) delay as nextpnr's own report: every pin
+    with a setup check, its latest arrival plus the setup time (ns), and the cell its
+    longest path starts from. Arcs: INTERCONNECT (routing) and IOPATH (through a cell; one
+    from a clock pin starts a path at the clock edge); pins that no clocked arc reaches
+    (constants, unregistered inputs) start nothing. Returns [(ns, end pin, start cell)],
+    the longest first."""
+    m = re.search(r"\(TIMESCALE\s+(\d+)\s*(ps|ns)\)", text)
+    if not m:
+        raise ReportError("SDF without a TIMESCALE")
+    unit = int(m.group(1)) * (1e-3 if m.group(2) == "ps" else 1.0)
+
+    def pin(ref, inst=None):
+        ref = ref.replace("\\", "")
+        return ref if inst is None else f"{inst}/{ref}"
+    succ, npred, start, setup = {}, {}, {}, {}
+
+    def arc(a, b, d):
+        succ.setdefault(a, []).append((b, d))
+        npred[b] = npred.get(b, 0) + 1
+        npred.setdefault(a, 0)
+    val = r"\(\s*(?:-?[\d.]*:){0,2}(-?[\d.]+)\)"     # (v) or (min:typ:max): the max
+    for a, b, d in re.findall(r"\(INTERCONNECT\s+(\S+)\s+(\S+)\s+" + val, text):
+        arc(pin(a), pin(b), float(d) * unit)
+    for chunk in re.split(r"\(CELL\s", text)[1:]:
+        cm = re.match(r"\s*\(CELLTYPE\s+\"[^\"]*\"\)\s*\(INSTANCE\s*([^)\n]*)\)", chunk)
+        if not cm:
+            raise ReportError("SDF cell without CELLTYPE and INSTANCE")
+        inst = cm.group(1).strip().replace("\\", "")
+        for i, o, d in re.findall(r"\(IOPATH\s+(?:\((?:posedge|negedge)\s+)?(\S+?)\)?\s+"
+                                  r"(\S+)\s+" + val, chunk):
+            if i in ("CLK", "RCLK", "WCLK", "CLKA", "CLKB", "CLK0", "CLK1", "CLK2", "CLK3",
+                     "CLKI", "CLKO"):
+                k = pin(o, inst)
+                start[k] = max(start.get(k, 0.0), float(d) * unit)
+                npred.setdefault(k, 0)
+            else:
+                arc(pin(i, inst), pin(o, inst), float(d) * unit)
+        for p, d in re.findall(r"\((?:SETUPHOLD|SETUP)\s+\((?:posedge|negedge)\s+(\S+?)\)\s+"
+                               r"\((?:posedge|negedge)\s+\S+?\)\s+" + val, chunk):
+            k = pin(p, inst)
+            setup[k] = max(setup.get(k, 0.0), float(d) * unit)
+    # longest arrival in topological order (Kahn); -inf: no clocked start reaches the pin
+    arr = {k: start.get(k, float("-inf")) for k in npred}
+    origin = {k: k.rsplit("/", 1)[0] for k in start}
+    todo = [k for k, n in npred.items() if n == 0]
+    left = dict(npred)
+    while todo:
+        a = todo.pop()
+        for b, d in succ.get(a, ()):
+            if arr[a] + d > arr[b] and b not in start:
+                arr[b] = arr[a] + d
+                origin[b] = origin[a]
+            left[b] -= 1
+            if left[b] == 0:
+                todo.append(b)
+    if any(n > 0 for n in left.values()):
+        raise ReportError("SDF timing graph has a combinational loop")
+    ends = [(round(arr[k] + s, 3), k, origin[k]) for k, s in setup.items()
+            if k in arr and arr[k] > float("-inf")]
+    return sorted(ends, reverse=True)
+
+
+def over_target(sdf, period_ns, instances=(), keep=20):
+    """The path classes of a routed seed (its SDF) longer than the target period: the
+    worst `keep` classes and the number of endpoints over it, or the error that stopped
+    the analysis (the report goes on without it)."""
+    try:
+        ends = sdf_endpoints(sdf.read_text())
+    except (OSError, ReportError) as e:
+        return {"error": str(e)}
+    cls = path_classes(ends, period_ns, instances)
+    return {"period_ns": round(period_ns, 3), "endpoints": sum(c["endpoints"] for c in cls),
+            "worst_ns": ends[0][0] if ends else None, "classes": cls[:keep],
+            "classes_total": len(cls)}
+
+
+def signal_of(cell):
+    """The signal a flattened cell is named after: its last name component up to the
+    suffixes synthesis and nextpnr append ('u_core.u_correct.zl_o_SB_DFFE_Q_3_D_LC' ->
+    'zl_o'); the whole component if nothing is left."""
+    last = cell.split(".")[-1] if not cell.startswith("$") else cell
+    base = re.split(r"_SB_|_TRELLIS|_DFF|_LUT4|_CCU2C|_PFUMX|_L6MUX|_DP16KD|_MULT18|"
+                    r"_DSP$|_RAM$|_LC$|_DFFLC$|\$", last)[0]
+    return base or last
+
+
+def path_classes(ends, over_ns, instances=()):
+    """Endpoints (sdf_endpoints) whose arrival exceeds over_ns, grouped by the signal and
+    instance their longest path starts from and the signal and instance it ends at:
+    [{"worst_ns", "endpoints", "from", "to"}], the worst class first."""
+    classes = {}
+    for ns, end, origin in ends:
+        if ns <= over_ns:
+            break
+        cell = end.rsplit("/", 1)[0]
+        key = tuple(f"{instance_of(c, instances) or 'top'}: {signal_of(c)}"
+                    for c in (origin, cell))
+        c = classes.setdefault(key, {"worst_ns": ns, "endpoints": 0, "from": key[0],
+                                     "to": key[1]})
+        c["endpoints"] += 1
+    return sorted(classes.values(), key=lambda c: -c["worst_ns"])
+
+
 def instance_of(cell, instances=()):
     """Instance path of a flattened cell name: the longest known instance prefix, else the
     leading components named like instances in this code (u_*, g_*); '' is the top."""
@@ -539,8 +644,9 @@ def pnr(dev, netlist, outdir, seed=None, freq=None):
     if seed is None:
         cmd += ["--pack-only"]
     else:
-        cmd += ["--freq", f"{freq:g}", "--timing-allow-fail", "--seed", str(seed)]
-    for f in (rep, log):
+        cmd += ["--freq", f"{freq:g}", "--timing-allow-fail", "--seed", str(seed),
+                "--sdf", rel(outdir / f"{tag}.sdf")]
+    for f in (rep, log, outdir / f"{tag}.sdf"):
         if f.exists():
             f.unlink()
     p, dt = run(cmd, log, f"{dev} nextpnr {tag}", check=False, timeout=cfg["pnr_timeout_s"])
@@ -607,7 +713,9 @@ def device_flow(dev, bdir, seeds, freq, log):
             runs.append({"seed": s, "fmax_mhz": None if f is None else round(f, 2),
                          "seconds": round(dt, 1), "error": err,
                          "failing_endpoints": None if err else failing_endpoints(text),
-                         "critical_path": summarise_path(crit, instances) if crit else None})
+                         "critical_path": summarise_path(crit, instances) if crit else None,
+                         "over_target": None if err else over_target(
+                             netdir / f"seed{s}.sdf", 1000.0 / freq, instances)})
             if err:
                 log(f"{dev}:   seed {s}: {err}")
             else:
@@ -1067,6 +1175,29 @@ def markdown(rep):
             for kind, dl, cell in w["critical_path"]["steps"]:
                 L.append(f"| {kind} | {dl} | `{cell}` |")
             L.append("")
+            # the seed whose Fmax is the median: every path class over the target period
+            mf = median([r["fmax_mhz"] for r in placed])
+            med = min(placed, key=lambda r: abs(r["fmax_mhz"] - mf))
+            ot = med.get("over_target")
+            if ot and "error" in ot:
+                L.append(f"Paths over the target period (seed {med['seed']}): not analysed "
+                         f"({ot['error']}).\n")
+            elif ot:
+                L.append(f"Paths over the target period, {ot['period_ns']} ns (seed "
+                         f"{med['seed']}, the median; static timing of its SDF, "
+                         f"`scripts/report.py` `sdf_endpoints`): {ot['endpoints']} endpoints "
+                         f"in {ot['classes_total']} classes (by the signal and instance a "
+                         "path starts from and ends at, as the cells are named after "
+                         "packing)" + (f", the worst {len(ot['classes'])} below" if
+                                      ot["classes_total"] > len(ot["classes"]) else "") +
+                         (":\n" if ot["classes"] else ".\n"))
+                if ot["classes"]:
+                    L.append("| worst ns | endpoints | from | to |")
+                    L.append("|---:|---:|---|---|")
+                    for c in ot["classes"]:
+                        L.append(f"| {c['worst_ns']} | {c['endpoints']} | `{c['from']}` | "
+                                 f"`{c['to']}` |")
+                    L.append("")
 
     for d, e in zip(devs, E):
         modes = rep["devices"][d].get("dsp_modes")

@@ -238,7 +238,8 @@ def test_real_tiny_design_through_yosys_and_nextpnr(tmp_path):
                     "-json tiny.json"], cwd=tmp_path, check=True)
     subprocess.run(["nextpnr-ice40", "--up5k", "--package", "sg48", "--json", "tiny.json",
                     "--freq", "50", "--seed", "1", "--report", "rep.json", "-l", "pnr.log",
-                    "-q", "--timing-allow-fail"], cwd=tmp_path, check=True)
+                    "-q", "--timing-allow-fail", "--sdf", "tiny.sdf"], cwd=tmp_path,
+                   check=True)
     util, fmax, crit = report.parse_pnr_report(tmp_path / "rep.json")
     assert fmax > 50 and util["ICESTORM_LC"][1] == 5280
     assert 8 <= util["ICESTORM_LC"][0] < 40
@@ -246,6 +247,11 @@ def test_real_tiny_design_through_yosys_and_nextpnr(tmp_path):
     s = report.summarise_path(crit)
     assert s["total_ns"] == pytest.approx(1000.0 / fmax, rel=0.02)
     assert s["logic_levels"] >= 1 and len(s["through"]) == 1   # no hierarchy: all top
+    # the static timing of the SDF finds nextpnr's critical path
+    ends = report.sdf_endpoints((tmp_path / "tiny.sdf").read_text())
+    assert ends[0][0] == pytest.approx(1000.0 / fmax, rel=0.02)
+    over = report.over_target(tmp_path / "tiny.sdf", ends[0][0] - 0.001)
+    assert over["endpoints"] >= 1 and over["classes"][0]["worst_ns"] == ends[0][0]
 
 
 def test_summarise_path_names_cells_the_placer_inserted():
@@ -346,3 +352,71 @@ def test_ice40_dsp_modes_on_real_yosys_output(tmp_path, top, comb):
                     "-json m.json"], cwd=tmp_path, check=True)
     rows = report.ice40_dsp_modes(json.loads((tmp_path / "m.json").read_text()))
     assert [r["combinational"] for r in rows] == [comb]
+
+
+SDF = """(DELAYFILE
+  (SDFVERSION "3.0")
+  (TIMESCALE 1ps)
+  (CELL
+    (CELLTYPE "top")
+    (INSTANCE )
+    (DELAY
+      (ABSOLUTE
+        (INTERCONNECT u_a.x_SB_DFF_Q_LC/O u_b.g_l\\[0\\].y_LC/I0 (2000:2000:2000) (2000:2000:2000))
+        (INTERCONNECT u_a.z_SB_DFF_Q_LC/O u_b.g_l\\[0\\].y_LC/I1 (500:500:500) (500:500:500))
+        (INTERCONNECT u_b.g_l\\[0\\].y_LC/O u_c.q_SB_DFFE_Q_LC/I2 (1000:1000:1000) (1000:1000:1000))
+        (INTERCONNECT const_LC/O u_c.k_LC/I0 (300:300:300) (300:300:300))
+      )
+    )
+  )
+  (CELL
+    (CELLTYPE "ICESTORM_LC")
+    (INSTANCE u_a.x_SB_DFF_Q_LC)
+    (DELAY (ABSOLUTE (IOPATH CLK O (1400:1400:1400) (1400:1400:1400))))
+  )
+  (CELL
+    (CELLTYPE "ICESTORM_LC")
+    (INSTANCE u_a.z_SB_DFF_Q_LC)
+    (DELAY (ABSOLUTE (IOPATH CLK O (1400:1400:1400) (1400:1400:1400))))
+  )
+  (CELL
+    (CELLTYPE "ICESTORM_LC")
+    (INSTANCE u_b.g_l\\[0\\].y_LC)
+    (DELAY (ABSOLUTE
+      (IOPATH I0 O (450:450:450) (450:450:450))
+      (IOPATH I1 O (600:600:600) (600:600:600))))
+  )
+  (CELL
+    (CELLTYPE "ICESTORM_LC")
+    (INSTANCE u_c.q_SB_DFFE_Q_LC)
+    (TIMINGCHECK
+      (SETUPHOLD (posedge I2) (posedge CLK) (200:200:200) (0:0:0))
+      (SETUPHOLD (negedge I2) (posedge CLK) (250:250:250) (0:0:0)))
+  )
+  (CELL
+    (CELLTYPE "ICESTORM_LC")
+    (INSTANCE u_c.k_LC)
+    (TIMINGCHECK (SETUPHOLD (posedge I0) (posedge CLK) (200:200:200) (0:0:0)))
+  )
+)
+"""
+
+
+def test_sdf_endpoints_longest_arrival_plus_setup_from_clocked_starts_only():
+    ends = report.sdf_endpoints(SDF)
+    # x: 1.4 + 2.0 + 0.45 + 1.0 + 0.25 = 5.1; z: 1.4 + 0.5 + 0.6 + 1.0 + 0.25 = 3.75; the
+    # constant's pin has no clocked start
+    assert ends == [(5.1, "u_c.q_SB_DFFE_Q_LC/I2", "u_a.x_SB_DFF_Q_LC")]
+    cls = report.path_classes(ends, 5.0, ["u_a", "u_c"])
+    assert cls == [{"worst_ns": 5.1, "endpoints": 1, "from": "u_a: x", "to": "u_c: q"}]
+    assert report.path_classes(ends, 5.1, ["u_a", "u_c"]) == []
+    with pytest.raises(report.ReportError, match="TIMESCALE"):
+        report.sdf_endpoints(SDF.replace("(TIMESCALE 1ps)", ""))
+    assert "error" in report.over_target(pathlib.Path("/nonexistent.sdf"), 10.0)
+
+
+def test_signal_of_strips_what_synthesis_and_packing_append():
+    assert report.signal_of("u_core.u_correct.zl_o_SB_DFFE_Q_3_D_SB_LUT4_O_LC") == "zl_o"
+    assert report.signal_of("u_core.u_est.cwin_TRELLIS_FF_Q_3") == "cwin"
+    assert report.signal_of("$nextpnr_ICESTORM_LC_27") == "$nextpnr_ICESTORM_LC_27"
+    assert report.signal_of("u_core.u_correct.p12_SB_MAC16_O_DSP") == "p12"
