@@ -8,7 +8,10 @@
 //   t    u_r  = u << (16 - ADC_W)                            s1.15 aligned code (raw_o)
 //        x    = u_r * 2**g                                    s4.15 (exact)
 //        d    = sat16(x - m)                                  s1.15
-//        c1, c12, c2 registered with d (the DSP blocks' input registers)
+//        d and c1, c12, c2 registered: the DSP blocks' input registers (iCE40: A_REG and
+//        B_REG of each SB_MAC16, d1 in two of them; nextpnr-ice40 times an SB_MAC16 only
+//        at its pins, so an input without its register would leave the multiplier's
+//        delay out of the reported Fmax; scripts/report.py lists such stages)
 //   t+1  p1 = d1 c1, p12 = d1 c12, p2 = d2 c2                 s5.27 (three DSP products)
 //   t+2  v1 = p1, v2 = p12 + p2                               s6.27
 //        ax = min(32767, (v1 ^ s1) >> 13), xn = s1 = v1 < 0    u15 magnitude (s2.14
@@ -125,7 +128,7 @@ module correct #(
             clipped = u[15] ? (cm[16] || ({1'b0, ~u} >= cm)) : (u >= clip);
         end
     endfunction
-    (* keep *) reg signed [15:0] d1 = 0, d2 = 0;
+    reg signed [15:0] d1 = 0, d2 = 0;
     reg signed [15:0] c1q = 0, c12q = 0, c2q = 0;
     always @(posedge clk) begin
         valid0_o <= valid_i;
