@@ -231,49 +231,85 @@ def failing_endpoints(text):
     return least, most
 
 
+# pins that clock a cell (its timing checks' reference pins are added per cell)
+CLOCK_PINS = ("CLK", "RCLK", "WCLK", "CLKA", "CLKB", "CLK0", "CLK1", "CLK2", "CLK3",
+              "INPUT_CLK", "OUTPUT_CLK")
+
+
 def sdf_endpoints(text):
-    """Static timing of a routed design from the SDF nextpnr writes (--sdf), with the
-    largest of a (min:typ:max) delay as nextpnr's own report: every pin
-    with a setup check, its latest arrival plus the setup time (ns), and the cell its
-    longest path starts from. Arcs: INTERCONNECT (routing) and IOPATH (through a cell; one
-    from a clock pin starts a path at the clock edge); pins that no clocked arc reaches
-    (constants, unregistered inputs) start nothing. Returns [(ns, end pin, start cell)],
-    the longest first."""
-    m = re.search(r"\(TIMESCALE\s+(\d+)\s*(ps|ns)\)", text)
+    """Static timing of a routed design from the SDF nextpnr writes (--sdf), as nextpnr's
+    own report (one clock, rising edges; of a delay's rise and fall triples, min:typ:max,
+    the largest value): every pin with a setup check, its latest arrival plus the setup
+    time (ns), and the cell its longest path starts from. Arcs: INTERCONNECT (routing) and
+    IOPATH (through a cell); an IOPATH from a clock pin starts a path, unless a constant
+    ($PACKER_GND/VCC) drives that pin (nextpnr gives an SB_MAC16 used without registers
+    such arcs). Pins that no clocked arc reaches (constants, unregistered inputs) start
+    nothing. Returns [(ns, end pin, start cell)], the longest first. An arc or check it
+    cannot read, or a loop, is an error."""
+    m = re.search(r"\(TIMESCALE\s+(\d+(?:\.\d*)?)\s*(fs|ps|ns|us)\s*\)", text)
     if not m:
-        raise ReportError("SDF without a TIMESCALE")
-    unit = int(m.group(1)) * (1e-3 if m.group(2) == "ps" else 1.0)
+        raise ReportError("SDF without a readable TIMESCALE (n fs|ps|ns|us)")
+    unit = float(m.group(1)) * {"fs": 1e-6, "ps": 1e-3, "ns": 1.0, "us": 1e3}[m.group(2)]
+    num = r"-?\d+(?:\.\d*)?(?:[eE][-+]?\d+)?"
+    tri = rf"\(\s*(?:(?:{num})?:){{0,2}}({num})?\s*\)"      # (v) or (min:typ:max): max
+
+    def delay(*vals):                                      # the largest of rise and fall
+        vs = [float(v) for v in vals if v]
+        if not vs:
+            raise ReportError("SDF delay without a value")
+        return max(vs) * unit
 
     def pin(ref, inst=None):
         ref = ref.replace("\\", "")
         return ref if inst is None else f"{inst}/{ref}"
-    succ, npred, start, setup = {}, {}, {}, {}
+    succ, npred, start, setup, drv = {}, {}, {}, {}, {}
 
     def arc(a, b, d):
         succ.setdefault(a, []).append((b, d))
         npred[b] = npred.get(b, 0) + 1
         npred.setdefault(a, 0)
-    val = r"\(\s*(?:-?[\d.]*:){0,2}(-?[\d.]+)\)"     # (v) or (min:typ:max): the max
-    for a, b, d in re.findall(r"\(INTERCONNECT\s+(\S+)\s+(\S+)\s+" + val, text):
-        arc(pin(a), pin(b), float(d) * unit)
-    for chunk in re.split(r"\(CELL\s", text)[1:]:
-        cm = re.match(r"\s*\(CELLTYPE\s+\"[^\"]*\"\)\s*\(INSTANCE\s*([^)\n]*)\)", chunk)
+    n_ic = 0
+    for a, b, r, f in re.findall(rf"\(INTERCONNECT\s+(\S+)\s+(\S+)\s+{tri}\s*(?:{tri})?",
+                                 text):
+        arc(pin(a), pin(b), delay(r, f))
+        drv[pin(b)] = pin(a)
+        n_ic += 1
+    if n_ic != text.count("(INTERCONNECT"):
+        raise ReportError(f"SDF: read {n_ic} of {text.count('(INTERCONNECT')} "
+                          "INTERCONNECT arcs")
+    const = re.compile(r"PACKER_(GND|VCC)")
+    cells = re.split(r"\(CELL\s", text)[1:]
+    n_io = n_ck = 0
+    for chunk in cells:
+        cm = re.match(r"\s*\(CELLTYPE\s+\"[^\"]*\"\)\s*\(INSTANCE\s*((?:[^)\\\n]|\\.)*)\)",
+                      chunk)
         if not cm:
             raise ReportError("SDF cell without CELLTYPE and INSTANCE")
         inst = cm.group(1).strip().replace("\\", "")
-        for i, o, d in re.findall(r"\(IOPATH\s+(?:\((?:posedge|negedge)\s+)?(\S+?)\)?\s+"
-                                  r"(\S+)\s+" + val, chunk):
-            if i in ("CLK", "RCLK", "WCLK", "CLKA", "CLKB", "CLK0", "CLK1", "CLK2", "CLK3",
-                     "CLKI", "CLKO"):
+        checks = re.findall(r"\((?:SETUPHOLD|SETUP)\s+(?:\((?:posedge|negedge)\s+)?([^\s()]+)"
+                            rf"\)?\s+\((?:posedge|negedge)\s+([^\s()]+)\)\s+{tri}", chunk)
+        n_ck += len(checks)
+        clocks = set(CLOCK_PINS) | {ref for _, ref, _ in checks}
+        for i, o, r, f in re.findall(r"\(IOPATH\s+(?:\((?:posedge|negedge)\s+)?([^\s()]+)"
+                                     rf"\)?\s+([^\s()]+)\s+{tri}\s*(?:{tri})?", chunk):
+            n_io += 1
+            if i in clocks:
+                src = drv.get(pin(i, inst))
+                if src is None or const.search(src):
+                    continue                  # a constant clocks it: nothing starts here
                 k = pin(o, inst)
-                start[k] = max(start.get(k, 0.0), float(d) * unit)
+                start[k] = max(start.get(k, float("-inf")), delay(r, f))
                 npred.setdefault(k, 0)
             else:
-                arc(pin(i, inst), pin(o, inst), float(d) * unit)
-        for p, d in re.findall(r"\((?:SETUPHOLD|SETUP)\s+\((?:posedge|negedge)\s+(\S+?)\)\s+"
-                               r"\((?:posedge|negedge)\s+\S+?\)\s+" + val, chunk):
-            k = pin(p, inst)
-            setup[k] = max(setup.get(k, 0.0), float(d) * unit)
+                arc(pin(i, inst), pin(o, inst), delay(r, f))
+        for p_, _, v in checks:
+            k = pin(p_, inst)
+            setup[k] = max(setup.get(k, float("-inf")), delay(v))
+    for what, n in (("IOPATH", n_io), ("SETUP", n_ck)):
+        total = len(re.findall(rf"\({what}(?:HOLD)?\s", text)) if what == "SETUP" else \
+            text.count("(IOPATH")
+        if n != total:
+            raise ReportError(f"SDF: read {n} of {total} {what} entries")
     # longest arrival in topological order (Kahn); -inf: no clocked start reaches the pin
     arr = {k: start.get(k, float("-inf")) for k in npred}
     origin = {k: k.rsplit("/", 1)[0] for k in start}
@@ -301,7 +337,7 @@ def over_target(sdf, period_ns, instances=(), keep=20):
     the analysis (the report goes on without it)."""
     try:
         ends = sdf_endpoints(sdf.read_text())
-    except (OSError, ReportError) as e:
+    except (OSError, ValueError, ReportError) as e:
         return {"error": str(e)}
     cls = path_classes(ends, period_ns, instances)
     return {"period_ns": round(period_ns, 3), "endpoints": sum(c["endpoints"] for c in cls),
@@ -310,19 +346,24 @@ def over_target(sdf, period_ns, instances=(), keep=20):
 
 
 def signal_of(cell):
-    """The signal a flattened cell is named after: its last name component up to the
-    suffixes synthesis and nextpnr append ('u_core.u_correct.zl_o_SB_DFFE_Q_3_D_LC' ->
-    'zl_o'); the whole component if nothing is left."""
-    last = cell.split(".")[-1] if not cell.startswith("$") else cell
+    """The signal a flattened cell is named after: its last name component that is not a
+    number (a memory's block index, '0', '14$RAMW_BLOCK1') up to the suffixes synthesis
+    and nextpnr append ('u_core.u_correct.zl_o_SB_DFFE_Q_3_D_LC' -> 'zl_o',
+    'u_core.u_lut.ph_rom.0.1_RAM' -> 'ph_rom'); the whole component if nothing is left."""
+    if cell.startswith("$"):
+        return cell
+    parts = [x for x in cell.split(".") if not re.match(r"\d+(_RAM|\$|$)", x)]
+    last = parts[-1] if parts else cell
     base = re.split(r"_SB_|_TRELLIS|_DFF|_LUT4|_CCU2C|_PFUMX|_L6MUX|_DP16KD|_MULT18|"
-                    r"_DSP$|_RAM$|_LC$|_DFFLC$|\$", last)[0]
+                    r"_DSP$|_RAM$|_LC$|\$", last)[0]
     return base or last
 
 
 def path_classes(ends, over_ns, instances=()):
-    """Endpoints (sdf_endpoints) whose arrival exceeds over_ns, grouped by the signal and
-    instance their longest path starts from and the signal and instance it ends at:
-    [{"worst_ns", "endpoints", "from", "to"}], the worst class first."""
+    """Endpoints (sdf_endpoints, the longest first) whose arrival exceeds over_ns, grouped
+    by the signal and instance their longest path starts from and the signal and instance
+    it ends at: [{"worst_ns", "endpoints", "from", "to"}], the worst class first. An
+    endpoint counts once, under its longest path's start."""
     classes = {}
     for ns, end, origin in ends:
         if ns <= over_ns:
@@ -419,47 +460,69 @@ def _flag(v):
         return bool(s)
 
 
-# SB_MAC16 output selects (iCE40 technology library): 0 adder comb., 1 adder registered
-# (the accumulator register), 2 8x8 product comb., 3 16x16 product (registered only by
-# PIPELINE_16x16_MULT_REG2)
 def ice40_dsp_modes(netlist):
     """Flattened iCE40 netlist -> one row per SB_MAC16: its name and the stages inside it
-    that have no register at the block's pins ('A in', 'B in' for an input fed to the
-    multiplier without its register, 'O[31:16] out (...)', 'O[15:0] out (...)' for an
-    output without its register, with what drives it: the multiplier, the sum of the
-    registered 8x8 partial products, the adder or an 8x8 product; inputs tied to
-    constants do not count). nextpnr-ice40 0.4 (and icetime) give
-    every SB_MAC16 pin a fixed 0.1 ns clock-to-output or setup, whatever the
-    configuration, so a path through such a stage is cut at the block's pins and its
-    multiplier delay is not in the reported Fmax."""
+    that have no register at the block's pins. nextpnr-ice40 0.4 (and icetime) give every
+    SB_MAC16 pin a fixed 0.1 ns clock-to-output or setup, whatever the configuration, so a
+    path through such a stage is cut at the block's pins and the stage's delay is not in
+    the reported Fmax. Stages (the SB_MAC16 model, Yosys's ice40/cells_sim.v): 'A in',
+    'B in', 'C in', 'D in' for an input driven by a net (not a constant) and used without
+    its register; 'O[31:16] out (...)', 'O[15:0] out (...)' for an output half that some
+    cell or port reads and that leaves without a register, with what drives it: the
+    multiplier, the sum of the registered 8x8 partial products ('product sum'), an 8x8
+    product, the adder on its own inputs or the adder behind the multiplier
+    ('multiplier+adder')."""
     rows = []
     for mod in netlist.get("modules", {}).values():
-        for name, c in mod.get("cells", {}).items():
+        cells = mod.get("cells", {})
+        # every net bit something reads: a cell's input or the module's output ports
+        read = {b for c in cells.values()
+                for port, bits in c.get("connections", {}).items()
+                if c.get("port_directions", {}).get(port, "input") == "input"
+                for b in bits if isinstance(b, int)}
+        read |= {b for pt in mod.get("ports", {}).values() if pt.get("direction") != "input"
+                 for b in pt.get("bits", []) if isinstance(b, int)}
+        for name, c in cells.items():
             if c.get("type") != "SB_MAC16":
                 continue
             p, conn = c.get("parameters", {}), c.get("connections", {})
 
             def par(k):
-                v = p.get(k, 0)
-                return int(str(v), 2) if set(str(v)) <= {"0", "1"} else int(v)
+                v = str(p.get(k, 0))
+                try:
+                    return int(v, 2) if v and set(v) <= {"0", "1"} else int(v)
+                except ValueError:
+                    raise ReportError(f"SB_MAC16 {name}: parameter {k} = {v!r} is not a "
+                                      "number") from None
 
-            def used(port):                  # any bit driven by a net, not a constant
+            def driven(port):               # any bit driven by a net, not a constant
                 return any(isinstance(b, int) for b in conn.get(port, []))
-            comb = []
-            for port, reg in (("A", "A_REG"), ("B", "B_REG")):
-                if used(port) and not par(reg):
-                    comb.append(f"{port} in")
+            comb = [f"{port} in" for port in "ABCD"
+                    if driven(port) and not par(f"{port}_REG")]
             # the four 8x8 partial products registered: what is left is the sum of them
             pp_reg = all(par(k) for k in ("TOP_8x8_MULT_REG", "BOT_8x8_MULT_REG",
                                           "PIPELINE_16x16_MULT_REG1"))
-            for half, sel, mreg in (("O[31:16]", "TOPOUTPUT_SELECT", "TOP_8x8_MULT_REG"),
-                                    ("O[15:0]", "BOTOUTPUT_SELECT", "BOT_8x8_MULT_REG")):
-                s = par(sel)
-                if s == 1 or (s == 3 and par("PIPELINE_16x16_MULT_REG2")) or \
-                        (s == 2 and par(mreg)):
+            o = conn.get("O", [])
+            for half, lo, sel, mreg, lower in (
+                    ("O[31:16]", 16, "TOPOUTPUT_SELECT", "TOP_8x8_MULT_REG",
+                     "TOPADDSUB_LOWERINPUT"),
+                    ("O[15:0]", 0, "BOTOUTPUT_SELECT", "BOT_8x8_MULT_REG",
+                     "BOTADDSUB_LOWERINPUT")):
+                if not any(b in read for b in o[lo:lo + 16]):
                     continue
-                what = "8x8 product" if s == 2 else "adder" if s == 0 else \
-                    "product sum" if pp_reg else "multiplier"
+                # select 1: the accumulator register; 2: the 8x8 product, registered by
+                # its 8x8 register; 3: the 16x16 product, registered by REG2; 0: the
+                # adder, whose lower input is the input register (0), the 8x8 (1) or the
+                # 16x16 (2) product, or a sign extension (3)
+                sv = par(sel)
+                if sv == 1 or (sv == 3 and par("PIPELINE_16x16_MULT_REG2")) or \
+                        (sv == 2 and par(mreg)):
+                    continue
+                if sv == 0:
+                    what = "multiplier+adder" if par(lower) in (1, 2) else "adder"
+                else:
+                    what = "8x8 product" if sv == 2 else \
+                        "product sum" if pp_reg else "multiplier"
                 comb.append(f"{half} out ({what})")
             rows.append({"cell": name, "combinational": comb})
     return sorted(rows, key=lambda r: r["cell"])
