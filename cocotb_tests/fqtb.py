@@ -57,8 +57,9 @@ def core_sources():
     return [REPO / ln.strip() for ln in lines if ln.strip() and not ln.startswith("#")]
 
 
-# include folder of the RTL (generated headers: rtl/tables/*.vh)
-INCLUDES = [RTL / "tables"]
+# include folders of the RTL: generated headers (rtl/tables/*.vh) and hand-written ones
+# (rtl/*.vh)
+INCLUDES = [RTL / "tables", RTL]
 
 
 def param_tag(params: dict) -> str:

@@ -42,19 +42,7 @@ module abgen #(
     output reg                       ovf_o,        // |target - pos| > bound (registered)
     output reg                       ovf_sticky_o  // ovf seen since rst
 );
-    // a >= b (unsigned, up to 32 bits), bit by bit from the LSB: with b constant it folds
-    // to an AND/OR chain that synthesis maps to a few LUTs (yosys maps a comparison with a
-    // constant to a whole carry chain)
-    function automatic geu(input [31:0] a, input [31:0] b);
-        integer i;
-        reg r;
-        begin
-            r = 1'b1;
-            for (i = 0; i < 32; i = i + 1)
-                r = (a[i] & ~b[i]) | (~(a[i] ^ b[i]) & r);
-            geu = r;
-        end
-    endfunction
+`include "geu.vh"                          // geu(a, b): a >= b, unsigned, bit by bit
     // d = target - pos, s(COUNT_W).0 modular; whether it is zero comes from an equality
     // tree beside the subtraction
     wire signed [COUNT_W-1:0] d = target_i - pos_o;

@@ -59,19 +59,7 @@ module counter #(
     output reg                       ill_o,      // an illegal A/B step (pulse, edge p + 1)
     output reg  [15:0]               ill_count_o // u16 illegal A/B steps since rst, wraps
 );
-    // a >= b (unsigned, up to 32 bits), bit by bit from the LSB: with b constant it folds
-    // to an AND/OR chain that synthesis maps to a few LUTs (yosys maps a comparison with a
-    // constant to a whole carry chain)
-    function automatic geu(input [31:0] a, input [31:0] b);
-        integer i;
-        reg r;
-        begin
-            r = 1'b1;
-            for (i = 0; i < 32; i = i + 1)
-                r = (a[i] & ~b[i]) | (~(a[i] ^ b[i]) & r);
-            geu = r;
-        end
-    endfunction
+`include "geu.vh"                          // geu(a, b): a >= b, unsigned, bit by bit
     // ---- e + 1: wrap, B ------------------------------------------------------------------
     reg  [12:0] ph_prev = 13'd0;
     reg         primed = 1'b0;

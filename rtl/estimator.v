@@ -121,18 +121,7 @@ module estimator #(
     input  wire [114:0]       eng_rsp_i
 );
 `include "rls_entries.vh"                  // ENTRY_RESET, _UPDATE, _EXTRACT (program.py)
-    // a >= b (unsigned, up to 32 bits), bit by bit from the LSB: with b constant it folds
-    // to an AND/OR chain that synthesis maps to a few LUTs
-    function automatic geu(input [31:0] a, input [31:0] b);
-        integer i;
-        reg r;
-        begin
-            r = 1'b1;
-            for (i = 0; i < 32; i = i + 1)
-                r = (a[i] & ~b[i]) | (~(a[i] ^ b[i]) & r);
-            geu = r;
-        end
-    endfunction
+`include "geu.vh"                          // geu(a, b): a >= b, unsigned, bit by bit
     reg [1:0]  g_eng = G_INIT;
     reg [14:0] peak = 0;
     reg        reset_pend = 1'b1;

