@@ -559,7 +559,15 @@ module rls_engine #(
             // ---- multiply: four registered 16x16 partial products --------------------------------
             // (the low halves are unsigned: {1'b0, x[15:0]} makes each product a signed 17x16
             // that still fits one DSP block); a SEED forms its table address from the
-            // registered operand A normalised by its dz (m = A << dz: the mantissa's top bits)
+            // registered operand A normalised by its dz (m = A << dz: the mantissa's top bits).
+            // The products are loaded for a valid instruction only (v2: their one reader,
+            // prod_q, loads on v3). With that clock enable Yosys 0.23 (synth_ice40 -dsp) puts
+            // pp_ll and pp_hh in the SB_MAC16's output register (OHOLD), so the block is
+            // registered at both ends and nextpnr times every path into and out of it;
+            // without it Yosys used the block's middle pipeline register and the partial
+            // products' sum left the block unregistered, a delay the timing model leaves
+            // out. pp_lh and pp_hl (unsigned x signed) keep their upper half in fabric
+            // flip-flops behind the multiplier (scripts/report.py lists such stages)
             reg signed [31:0] pp_ll = 0, pp_lh = 0, pp_hl = 0, pp_hh = 0;
             reg [7:0]  sa3_q = 0;                // seed table address
             reg [IW-1:0] i3 = 0;
@@ -568,10 +576,12 @@ module rls_engine #(
             // (seed_addr, above; sa3_q is loaded for a valid instruction only, v2: its one
             // reader, the seed, counts for an accumulating instruction only)
             always @(posedge clk) begin
-                pp_ll <= $signed({1'b0, opa_q[15:0]}) * $signed({1'b0, opb_q[15:0]});
-                pp_lh <= $signed({1'b0, opa_q[15:0]}) * $signed(opb_q[31:16]);
-                pp_hl <= $signed(opa_q[31:16]) * $signed({1'b0, opb_q[15:0]});
-                pp_hh <= $signed(opa_q[31:16]) * $signed(opb_q[31:16]);
+                if (v2) begin
+                    pp_ll <= $signed({1'b0, opa_q[15:0]}) * $signed({1'b0, opb_q[15:0]});
+                    pp_lh <= $signed({1'b0, opa_q[15:0]}) * $signed(opb_q[31:16]);
+                    pp_hl <= $signed(opa_q[31:16]) * $signed({1'b0, opb_q[15:0]});
+                    pp_hh <= $signed(opa_q[31:16]) * $signed(opb_q[31:16]);
+                end
                 if (v2)
                     sa3_q <= seed_addr(opa_q, dz2, op2 == OP_SEEDS);
                 dz3 <= dz2;                      // for the write-back's dyn shift
