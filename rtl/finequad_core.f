@@ -1,5 +1,5 @@
 # Sources of finequad_core, in the order tools read them (paths from the repository
-# root; include folder: rtl/tables). The Makefile, scripts/bitstream.sh and the cocotb
+# root; include folders: rtl, rtl/tables). The Makefile, scripts/bitstream.sh and the cocotb
 # tests (cocotb_tests/fqtb.py core_sources) all read this list.
 rtl/finequad_core.v
 rtl/correct.v
