@@ -35,6 +35,16 @@ Scenarios (one simulator process each, from power-up):
              channel 1 stuck, single-sample glitches (a point at a random angle), a short
              over-range (amplitude x 1.6) and clipped samples (FAULT_EVENTS); the monitor's
              registers written to non-default values
+  upsets     the estimator's exceptions (Verilator only): KAPPA at its maximum (0xffff,
+             5 kappa = 1280: the trace bound's full range), a step in amplitudes and
+             offsets during the move (the jump detector fires), then a stretch where
+             channel 2 shrinks to 12 % (UPSETS: the estimate is no longer a usable
+             ellipse, the extraction fails and the last bundle is held, fault bit 5,
+             until the signal returns) but for two short spikes back to full size (the
+             residual saturates: invalid updates, each resetting P), with the radius
+             checks opened and the glitch test off so those samples reach the
+             estimator; the engine saturates a register (STATUS bit 2). The model must
+             see each of these, or the test fails
   faults_lean  the faults recording through the UP5K report build's options (OPT_MONITOR=0:
              no fault checks, OPT_JUMP=0: no jump detector; Verilator only): nothing is
              flagged or held while the full model flags the faults; RADIUS and MONITOR
@@ -50,8 +60,8 @@ slips) from calibration on (check_truth), so every fault is ridden through.
 After the last sample the bench reads the registers back through the registered read
 port (reg_re with reg_addr for one edge, reg_rdata after it): ID (0x1f), the run-time
 registers (0x01..0x07, HARM 0x12, JUMP 0x13, ABGEN 0x15, AB_BOUND 0x16), count (0x08),
-illegal count (0x09), updates (0x11), jumps (0x14), status (0x00: counter mode, uncal and
-hold, loaded), gain and coefficients (0x0b..0x10), the A/B backlog (0x17), CLIP, RADIUS,
+illegal count (0x09), updates (0x11), jumps (0x14), status (0x00: counter mode, uncal,
+hold, engine saturated, loaded), gain and coefficients (0x0b..0x10), the A/B backlog (0x17), CLIP, RADIUS,
 MONITOR (0x18..0x1a) and the travel (0x1c) must equal the model's final state, a capture
 (CTRL bit 2) the final count (0x1b), and the sticky faults (0x0a) the OR of all fault
 words (11 bits); writing ones to 0x0a clears those bits (0x15, then 0, then 0x40 for the
@@ -127,6 +137,11 @@ SCENARIOS = {
                            settle=16, gate=40, ab_sep=12, ab_bound=6, jump_min=60),
                  build=dict(ENGINE_LANES=2, OPT_DISTRAM=1, OPT_PHASE_4K=1,
                             OPT_PULSE_ADDR=1), like="gaps"),
+    # the estimator's exceptions: jumps, a failed extraction (hold), engine saturation,
+    # KAPPA at its maximum (UPSETS)
+    "upsets": dict(exact=1, n={"icarus": 0, "verilator": 20000},
+                   regs=dict(interp=100, kappa=0xFFFF, lam_k=7, period=0, settle=16,
+                             gate=32, loss=800, over=65535, glitch_k=0)),
     # the UP5K report build's (scripts/report.py) options: no fault checks in the monitor,
     # no jump detector (OPT_MONITOR=0, OPT_JUMP=0); the signal and registers of "faults":
     # nothing is flagged or held (the model with the same options), RADIUS and MONITOR
@@ -142,6 +157,12 @@ SCENARIOS = {
 # travel to call a channel stuck), the glitches 10 samples spread over 1000
 FAULT_EVENTS = ((0.30, "loss", 300), (0.45, "stuck", 300), (0.55, "glitch", 1000),
                 (0.72, "over", 150), (0.80, "clip", 60))
+
+# upsets: where the step comes and where the flattened stretch lies (fractions of the
+# recording); amplitudes and offsets (A1, A2, m1, m2, full scale) before and after the
+# step; channel 2's amplitude in the stretch (12 % of A1)
+UPSETS = dict(step=0.30, flat=(0.55, 0.72), before=(0.5, 0.45, 0.01, -0.01),
+              after=(0.6, 0.5, 0.05, -0.01), flat_a2=0.06, spikes=(0.62, 0.66), spike_len=30)
 
 # highspeed: (start, end) of each phase as fractions of the recording, and the signal
 # frequency (f / fs) there: calibration at 0.02 fs, linear ramps, 0.4 fs, stop, dwell
@@ -262,7 +283,7 @@ def recording(scenario, n):
     T = n / fs
     sc = n / 20000          # distances scale with the length: the same speeds for any n
     seed = {"uniform": 1, "gaps": 2, "paper": 3, "reset_req": 4, "highspeed": 5,
-            "faults": 6}[scenario]
+            "faults": 6, "upsets": 7}[scenario]
     moves = []
     if scenario == "uniform":
         moves = [(160, 0.5, 0.05), (-120, 0.25, 0.6)]       # (um, duration, start) / T
@@ -280,6 +301,17 @@ def recording(scenario, n):
         moves = [(200, 0.9, 0.05)]
         span = {what: (int(at * n), int(at * n) + ln) for at, what, ln in FAULT_EVENTS}
         sig = siggen.Signal(dropout=(span["loss"] + (0.03,), span["over"] + (1.6,)))
+    elif scenario == "upsets":
+        moves = [(200, 0.9, 0.05)]
+        amp = np.array([UPSETS["before"]] * n, dtype=float)      # A1, A2, m1, m2
+        amp[int(UPSETS["step"] * n):] = UPSETS["after"]
+        a, b = (int(f * n) for f in UPSETS["flat"])
+        amp[a:b, 1] = UPSETS["flat_a2"]
+        for f in UPSETS["spikes"]:                               # channel 2 back, briefly
+            k = int(f * n)
+            amp[k:k + UPSETS["spike_len"], 1] = UPSETS["after"][1]
+        sig = siggen.Signal(A1=amp[:, 0], A2=amp[:, 1], m1=amp[:, 2], m2=amp[:, 3],
+                            phi=0.06)
     else:
         sig = siggen.Signal()
     x = highspeed_motion(n) if scenario == "highspeed" else np.zeros(n)
@@ -514,6 +546,16 @@ async def core_run(dut):
     log = dut._log
     log.info("scenario %s: %d samples, last strobe on edge %d, %d model updates",
              scenario, n, int(t[-1]), res["n_updates"])
+    if scenario == "upsets":
+        # the recording must reach every exception it is there for (in the model)
+        hold = (res["fault"][:n] >> core_model.FAULT_BITS["hold"]) & 1
+        cfg0 = _config(scenario, [], n)
+        assert res["jumps"], "upsets: the jump detector never fired"
+        assert res["invalid_updates"] >= 2, "upsets: fewer than two invalid updates"
+        assert hold.any() and not hold[-1], \
+            "upsets: no failed extraction held the bundle, or the hold never ended"
+        assert res["sat"], "upsets: the engine saturated no register"
+        assert (5 * cfg0.kappa) >> 4 >= 1 << 14, "upsets: 5 kappa fits 14 bits"
 
     # ---- schedule: slot e = between edge e and e + 1 -------------------------------------
     strobe = {int(e): k for k, e in enumerate(t)}
@@ -669,9 +711,9 @@ async def core_run(dut):
     check("illegal count 0x09", await rd(0x09), int(np.sum(res["ill"][:n])) & 0xFFFF)
     check("updates 0x11", await rd(0x11), u32(res["n_updates"]))
     fault_ph = int(res["fault"][ph])
-    check("status 0x00 [4, 3, 1:0] (loaded, counter mode, uncal, hold)",
-          (await rd(0x00)) & 0x1B, ctrl_word(cfg) | ((fault_ph >> 4) & 1)
-          | (((fault_ph >> 5) & 1) << 1) | int(res["loaded"][ph]) << 4)
+    check("status 0x00 [4:0] (loaded, counter mode, engine saturated, hold, uncal)",
+          await rd(0x00), ctrl_word(cfg) | ((fault_ph >> 4) & 1)
+          | (((fault_ph >> 5) & 1) << 1) | int(res["sat"]) << 2 | int(res["loaded"][ph]) << 4)
     check("CLIP 0x18", await rd(0x18), cfg.clip)
     check("RADIUS 0x19", await rd(0x19), radius_word(cfg) if cfg.OPT_MONITOR else 0)
     check("MONITOR 0x1a", await rd(0x1A), monitor_word(cfg) if cfg.OPT_MONITOR else 0)

@@ -7,7 +7,10 @@ Every axis gets a different recording (sim/siggen.py: its own signal imperfectio
 motion, noise seed and interpolation factor) at a different pacing (strobes every 36, 24
 or 50 clocks, or random gaps of 1..60 clocks), and its own register settings, written
 through the shared register port with reg_axis before the first strobe (interp, lam_k,
-period, settle, gate, HARM, ABGEN); axis 1 gets a covariance reset request (CTRL bit 0)
+kappa, period, settle, gate, HARM, ABGEN); recording 1 runs KAPPA at its maximum, with
+which P / lambda reaches the limit of its s9.23 format, so the engine saturates a
+register of that axis only (STATUS bit 2 per axis; the test checks that the model sees
+this); axis 1 gets a covariance reset request (CTRL bit 0)
 during its move, written on the latest edge its sample k's arrival decision sees
 (t_k + RESET_STAGE - 1, as cocotb_tests/test_finequad_core.py). The pacing with gaps and
 the periodic resets (PERIOD) exercise the reset decision in the window. count, a, b and
@@ -41,7 +44,8 @@ AXIS_SPECS = [
          regs=dict(interp=100)),
     dict(sig=dict(A1=0.3, A2=0.33, m1=-0.02, m2=0.03, phi=-0.12), div="gaps", seed=2,
          moves=[(90, 0.35, 0.05), (-70, 0.3, 0.5)],
-         regs=dict(interp=64, lam_k=7, period=700, settle=24, gate=48), reset_at=0.55),
+         regs=dict(interp=64, lam_k=7, kappa=0xFFFF, period=700, settle=24, gate=48),
+         reset_at=0.55),
     dict(sig=dict(A1=0.7, A2=0.62, m1=0.01, m2=-0.035, phi=0.15), div=24, seed=3,
          moves=[(260, 0.8, 0.1)], regs=dict(interp=200, harm_mu=5)),
     dict(sig=dict(A1=0.5, A2=0.5, m1=0.02, m2=0.0, phi=0.05, noise=0.01), div=50, seed=4,
@@ -52,8 +56,8 @@ CASES = {
     "other": dict(axes=2, specs=[0, 3], n=40000),
     "four": dict(axes=4, specs=[0, 1, 2, 3], n=20000),
 }
-REG_FIELDS = ((0x01, "interp"), (0x03, "lam_k"), (0x05, "period"), (0x06, "settle"),
-              (0x07, "gate"))
+REG_FIELDS = ((0x01, "interp"), (0x03, "lam_k"), (0x04, "kappa"), (0x05, "period"),
+              (0x06, "settle"), (0x07, "gate"))
 
 
 def multi_sources():
@@ -183,6 +187,10 @@ async def multi_run(dut):
     assert any((r["count"][:n] != f["count"][:n]).any() or
                (r["fault"][:n] != f["fault"][:n]).any() for r, f in zip(res, free)), \
         f"{case}: the windows change no output; the case cannot check them"
+    # the per-axis saturation bit: set on some axis and clear on another
+    sats = {int(r["sat"]) for r in res}
+    assert case == "other" or sats == {0, 1}, \
+        f"{case}: the engine's saturation bit is {sats} on every axis; the case cannot check it"
     log.info("%s: %d axes x %d samples, updates per axis %s (without windows %s)", case,
              axes, n, [r["n_updates"] for r in res], [f["n_updates"] for f in free])
 

@@ -88,7 +88,7 @@ module estimator #(
     input  wire               req_reset_i, // reset P before the next update
     input  wire [4:0]         lam_k_i,     // lambda = 1/(1 + 2**-k)
     input  wire [15:0]        kappa_i,     // u8.8 (0 is taken as 1/256)
-    input  wire [13:0]        kappa5_i,    // u10.4 5 max(kappa_i, 1/256) >> 4 (a register)
+    input  wire [14:0]        kappa5_i,    // u11.4 5 max(kappa_i, 1/256) >> 4 (a register)
     input  wire [15:0]        period_i,    // updates between resets, 0 = never
     input  wire [9:0]         settle_i,    // updates after a reset before a commit (taken
                                            // one edge before the decision)
@@ -347,8 +347,8 @@ module estimator #(
     // value after a reset, 5 kappa (kappa5_i, formed where kappa is written), holds the
     // forgetting off for the next update
     wire signed [15:0] tr_out = outs[111:96];
-    wire        tr_hi = !tr_out[15] && (OPT_TUNABLE ? {3'b000, tr_out[14:0]} >= {4'd0, kappa5_i}
-                                                    : geu({17'd0, tr_out[14:0]}, {18'd0, kappa5_i}));
+    wire        tr_hi = !tr_out[15] && (OPT_TUNABLE ? tr_out[14:0] >= kappa5_i
+                                                    : geu({17'd0, tr_out[14:0]}, {17'd0, kappa5_i}));
 
     // ---- jump detector (sim/model/core.py) -----------------------------------------------
     //   eabs  u15.5  |e| of the running update (OUT e, s3.13), saturated, 5 fraction bits
@@ -364,7 +364,7 @@ module estimator #(
     wire [15:0] e_mag = e_out[15] ? -e_out : e_out;
     reg  [19:0] eabs = 0;
     reg  [19:0] jf_next = 0, jl_next = 0;
-    reg  [22:0] jthr = 0;                // u17.5 4 jl + jump_min (<= 0x40FF60: 23 bits)
+    reg  [22:0] jthr = 0;                // u18.5 4 jl + jump_min (<= 0x40FF60: 23 bits)
     reg         trig_q = 1'b0;
     assign trig = trig_q;
     wire signed [20:0] df = $signed({1'b0, eabs}) - $signed({1'b0, jf});
@@ -568,7 +568,7 @@ module estimator #(
         assert (gate_chk(travel_i, s_last, gate_i) ==
                 (($signed(travel_i - s_last) >= $signed({7'd0, gate_i})) ||
                  ($signed(travel_i - s_last) <= -$signed({7'd0, gate_i}))));
-        assert (tr_hi == (!tr_out[15] && ({3'b000, tr_out[14:0]} >= {4'd0, kappa5_i})));
+        assert (tr_hi == (!tr_out[15] && (tr_out[14:0] >= kappa5_i)));
         assert (geu({15'd0, upd1}, WARMUP) == (upd1 >= WARMUP));
         // 4 jl + jump_min never wraps jthr (it did in 22 bits with jl near its top)
         assert ({2'b00, jl, 2'b00} + {8'd0, jump_min_i, 5'd0} < 24'h800000);

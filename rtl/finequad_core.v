@@ -117,9 +117,10 @@ module finequad_core #(
                                                 // decides the pulses from w + 3 (rtl/pulse.v)
     reg [4:0]  r_lam_k = 5'd8;                  // lambda = 1/(1 + 2**-k)
     reg [15:0] r_kappa = 16'h4000;              // u8.8 (64)
-    // u10.4 5 max(kappa, 1/256) >> 4, the estimator's trace bound, formed with the write
-    // (rtl/estimator.v; a register, so no adder lies between kappa and the comparison)
-    reg [13:0] r_kappa5 = 14'd5120;
+    // u11.4 5 max(kappa, 1/256) >> 4, the estimator's trace bound, formed with the write
+    // (rtl/estimator.v; a register, so no adder lies between kappa and the comparison);
+    // 5 * 255.996 = 1279.98 needs the 11 integer bits
+    reg [14:0] r_kappa5 = 15'd5120;
     reg [15:0] r_period = 16'd0;                // updates between resets (0: never)
     reg [9:0]  r_settle = 10'd32;               // updates after a reset before a commit
     reg [12:0] r_gate = 13'd64;                 // u13 phase progress between updates
@@ -140,13 +141,13 @@ module finequad_core #(
     reg [3:0]  r_glitch = 4'd10;                // MONITOR [3:0]: max |phase accel.| 2^K
     reg [7:0]  r_stuckn = 8'd8;                 // MONITOR [23:16]: stuck after n samples
     /* verilator lint_off UNUSEDSIGNAL */
-    function automatic [13:0] kappa5(input [15:0] k);
+    function automatic [14:0] kappa5(input [15:0] k);
         reg [15:0] kk;
-        reg [17:0] k5;
+        reg [18:0] k5;
         begin
             kk = (k == 16'd0) ? 16'd1 : k;
-            k5 = {2'b00, kk} + {kk, 2'b00};
-            kappa5 = k5[17:4];
+            k5 = {3'b000, kk} + {1'b0, kk, 2'b00};        // u19: 5 * 65535 = 327675
+            kappa5 = k5[18:4];
         end
     endfunction
     /* verilator lint_on UNUSEDSIGNAL */
@@ -222,7 +223,7 @@ module finequad_core #(
                     | (m_valid ? m_fault : 11'd0);
         if (rst) begin
             r_interp <= 9'd100; r_eps <= 16'd1638; r_lam_k <= 5'd8; r_kappa <= 16'h4000;
-            r_kappa5 <= 14'd5120;
+            r_kappa5 <= 15'd5120;
             r_period <= 16'd0; r_settle <= 10'd32; r_gate <= 13'd64;
             r_jump_off <= 1'b0; r_jump_min <= 11'd41;
             r_sticky <= 11'd0; req_reset <= 1'b0; req_load <= 1'b0; req_cap <= 1'b0;

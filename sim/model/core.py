@@ -125,7 +125,8 @@ COVER_WIN = 255      # updates within which a hand-over needs all eight octants 
 G_MAX = 3            # input gain 2**g, g in 0..3 (amplitudes down to ~6 % of full scale)
 ID = 0x46510004      # register 0x1f: "FQ" and the version (0.4), rtl/finequad_core.v
 FAULT_BITS = {
-    "clip": 0,       # an input code at or near an ADC rail (|u| >= CLIP): held
+    "clip": 0,       # an input code at or near an ADC rail (|u| >= CLIP): kept from the
+                     # estimator (the counter holds only with "over" beside it)
     "nsat": 1,       # u << g leaves s1.15 in the fast path
     "csat": 2,       # offset removal or correction saturated
     "ovs": 3,        # overspeed: |phase step| >= 3/4 pi per sample
@@ -289,6 +290,7 @@ class Core:
         self.mon = Monitor(enabled=bool(cfg.OPT_MONITOR))
         self.s_last = 0               # the travel at the last update (estimator's gate)
         self.n_updates = 0
+        self.n_invalid = 0          # updates that ended invalid (each resets P)
         self.sched = []               # the estimator's programs, for the float reference
         self.decided = []             # (kind, edge on which each program was decided)
         self.jf = self.jl = 0         # jump detector: fast and slow mean |e|, u15.5
@@ -458,7 +460,8 @@ class Core:
             if keep > 0:
                 del self.ev_edge[:keep], self.ev_delta[:keep], self.ev_state[:keep]
         res = dict(jumps=list(self.jumps), count=count, a=a_pin, b=b_pin, fault=fault,
-                   n_updates=self.n_updates, illegal_count=self.ill_count)
+                   n_updates=self.n_updates, invalid_updates=self.n_invalid,
+                   illegal_count=self.ill_count)
         if trace:
             g, m1, m2, c1, c12, c2 = bund.T
             res.update({k: fr[k] for k in ("u1c", "u2c", "ax", "ay", "xn", "yn", "phase",
@@ -616,6 +619,7 @@ class Core:
             if self.armed or self.uncal:
                 self.jl += (eabs - self.jl) >> 6
         if not ok:
+            self.n_invalid += 1
             self._pend_reset(done)    # s' <= 0 (P no longer positive) or e saturated
         xdone = None
         if ok and self.settle >= cfg.settle and self.cover == 0xFF and not trig:
@@ -662,4 +666,5 @@ def run(u1_code, u2_code, cfg: Config = Config(), strobes=None, trace=False):
     c = Core(cfg)
     res = c.feed(u1_code, u2_code, strobes=strobes, trace=trace)
     res["sched"] = c.schedule_samples()
+    res["sat"] = c.est.sat          # the engine saturated a register (STATUS bit 2, sticky)
     return res
