@@ -34,7 +34,7 @@ module finequad_core #(
     parameter ADC_W = 16,
     // sine table word width: 8, 10, 12 or 16
     parameter SIN_W = 10,
-    // counter width
+    // counter width, 17..32
     parameter COUNT_W = 32,
     // 1: exact table (address |small|/|large|, atan rows), 0: the paper's uniform table
     parameter [0:0] TABLE_EXACT = 1'b1,
@@ -109,6 +109,23 @@ module finequad_core #(
     localparam LATENCY = 8;
     localparam CORR_AT = 2;       // magnitudes registered on edge t + CORR_AT
     localparam PHASE_AT = 6;      // fine phase registered on edge t + PHASE_AT
+
+    // ---- parameter checks: a value out of range instantiates an undefined module named
+    // after the rule, which stops every tool's elaboration with that name (as rtl/pulse.v)
+    generate
+        if (ADC_W < 12 || ADC_W > 16) begin : g_bad_adc_w
+            finequad_core_ADC_W_must_be_12_to_16 u_bad ();
+        end
+        if (SIN_W != 8 && SIN_W != 10 && SIN_W != 12 && SIN_W != 16) begin : g_bad_sin_w
+            finequad_core_SIN_W_must_be_8_10_12_or_16 u_bad ();
+        end
+        if (COUNT_W < 17 || COUNT_W > 32) begin : g_bad_count_w
+            finequad_core_COUNT_W_must_be_17_to_32 u_bad ();
+        end
+        if (ENGINE_LANES != 1 && ENGINE_LANES != 2) begin : g_bad_lanes
+            finequad_core_ENGINE_LANES_must_be_1_or_2 u_bad ();
+        end
+    endgenerate
 
     // ---- registers ------------------------------------------------------------------------
     localparam [31:0] ID = 32'h46510004;        // "FQ", version 0.4

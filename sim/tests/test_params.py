@@ -1,0 +1,61 @@
+"""finequad_core's parameter checks (rtl/finequad_core.v): a value out of range stops
+elaboration in Icarus and in Yosys with the rule's name, and the values at the ends of
+each range elaborate."""
+import pathlib
+import shutil
+import subprocess
+
+import pytest
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+SOURCES = [ROOT / ln.strip() for ln in (ROOT / "rtl/finequad_core.f").read_text().splitlines()
+           if ln.strip() and not ln.startswith("#")]
+INCLUDES = ["-I", str(ROOT / "rtl"), "-I", str(ROOT / "rtl/tables")]
+
+# (parameter, value, the rule's module name or None for a legal value)
+CASES = [
+    ("ADC_W", 11, "finequad_core_ADC_W_must_be_12_to_16"),
+    ("ADC_W", 17, "finequad_core_ADC_W_must_be_12_to_16"),
+    ("ADC_W", 12, None),
+    ("SIN_W", 9, "finequad_core_SIN_W_must_be_8_10_12_or_16"),
+    ("SIN_W", 16, None),
+    ("COUNT_W", 16, "finequad_core_COUNT_W_must_be_17_to_32"),
+    ("COUNT_W", 33, "finequad_core_COUNT_W_must_be_17_to_32"),
+    ("COUNT_W", 17, None),
+    ("ENGINE_LANES", 3, "finequad_core_ENGINE_LANES_must_be_1_or_2"),
+    ("ENGINE_LANES", 2, None),
+]
+
+
+def _icarus(name, value, tmp_path):
+    return subprocess.run(["iverilog", "-g2005", *INCLUDES, "-s", "finequad_core",
+                           f"-Pfinequad_core.{name}={value}",
+                           f"-Pfinequad_core.TABLE_DIR=\"{ROOT / 'rtl/tables'}/\"",
+                           "-o", str(tmp_path / "a.vvp"), *map(str, SOURCES)],
+                          capture_output=True, text=True)
+
+
+def _yosys(name, value, _tmp_path):
+    script = (f"read_verilog {' '.join(INCLUDES[i] + INCLUDES[i + 1] for i in (0, 2))} "
+              + " ".join(map(str, SOURCES))
+              + f"; chparam -set {name} {value} finequad_core"
+              + "; hierarchy -check -top finequad_core")
+    # (from the repository root: TABLE_DIR's default, rtl/tables/, is relative to it)
+    return subprocess.run(["yosys", "-q", "-p", script], capture_output=True, text=True,
+                          cwd=ROOT)
+
+
+@pytest.mark.parametrize("tool", ["icarus", "yosys"])
+@pytest.mark.parametrize("name,value,rule", CASES, ids=lambda v: str(v))
+def test_parameter_range(tool, name, value, rule, tmp_path):
+    exe = {"icarus": "iverilog", "yosys": "yosys"}[tool]
+    if shutil.which(exe) is None:
+        pytest.skip(f"needs {exe}")
+    r = {"icarus": _icarus, "yosys": _yosys}[tool](name, value, tmp_path)
+    out = r.stdout + r.stderr
+    if rule is None:
+        assert r.returncode == 0, f"{name}={value} should elaborate:\n{out[-2000:]}"
+        assert "must_be" not in out
+    else:
+        assert r.returncode != 0, f"{name}={value} elaborated"
+        assert rule in out, f"{name}={value}: the error does not name {rule}:\n{out[-2000:]}"
