@@ -41,6 +41,10 @@ $(foreach v,DISTRAM PH4K PULSEK HARMONIC NTH_DSP TUNABLE MONITOR JUMP,\
         $(error $(v)='$($(v))': must be 0 or 1)))
 $(if $(and $(filter 1,$(words $(LANES))),$(filter 1 2,$(LANES))),,\
     $(error LANES='$(LANES)': must be 1 or 2))
+$(if $(and $(filter 1,$(words $(TABLE))),$(filter exact paper,$(TABLE))),,\
+    $(error TABLE='$(TABLE)': must be exact or paper))
+$(if $(and $(filter 1,$(words $(ADC_W))),$(filter 12 13 14 15 16,$(ADC_W))),,\
+    $(error ADC_W='$(ADC_W)': must be 12..16))
 RTL     := $(shell grep -v '^\#' rtl/finequad_core.f)
 # what the sources read: the tables and the included headers (generated and hand-written)
 RTL_INC := $(wildcard rtl/tables/*.hex rtl/tables/*.vh rtl/*.vh)
@@ -145,7 +149,7 @@ model: deps      ## run the bit-true model: IN=in.csv OUT=out.csv INTERP=n [TABL
 	    --monitor $(MONITOR) --jump $(JUMP) $(AB_ARGS) \
 	    $(if $(VCD),--vcd $(VCD))
 
-harnesses:       # the ones scripts and tests call directly (demo.py's VCD: the exact traced one)
+harnesses:       ## build the Verilator harnesses scripts and tests call (the exact, its traced twin, the paper)
 	$(MAKE) --no-print-directory $(BUILD)/rtlsim_exact_adc16/Vfinequad_core TABLE=exact ADC_W=16
 	$(MAKE) --no-print-directory $(BUILD)/rtlsim_exact_adc16_vcd/Vfinequad_core TABLE=exact ADC_W=16
 	$(MAKE) --no-print-directory $(BUILD)/rtlsim_paper_adc16/Vfinequad_core TABLE=paper ADC_W=16
@@ -184,6 +188,8 @@ VCDCMP_IN = $(if $(SAMPLES),$(VCDCMP)/in.csv,$(IN))
 vcdcompare: deps ## RTL VCD vs the model's reference VCD: IN=in.csv INTERP=n [TABLE=paper] [DIV=d] [SAMPLES=n (empty: all) SKIP=k]
 	@mkdir -p $(VCDCMP)
 	@test -f $(IN) || { echo "vcdcompare: error: input '$(IN)' not found (run make demo or give IN=)" >&2; exit 2; }
+	@echo "$(SAMPLES)" | grep -qxE '([1-9][0-9]*)?' || { echo "vcdcompare: error: SAMPLES='$(SAMPLES)': must be a positive integer (or empty: every sample)" >&2; exit 2; }
+	@echo "$(SKIP)" | grep -qxE '[0-9]+' || { echo "vcdcompare: error: SKIP='$(SKIP)': must be a non-negative integer" >&2; exit 2; }
 	$(if $(SAMPLES),{ head -n 1 $(IN); tail -n +$$(( $(SKIP) + 2 )) $(IN) | head -n $(SAMPLES); } > $(VCDCMP_IN))
 	$(MAKE) --no-print-directory rtlsim IN=$(VCDCMP_IN) OUT=$(VCDCMP)/rtl.csv VCD=$(VCDCMP)/rtl.vcd
 	$(MAKE) --no-print-directory model IN=$(VCDCMP_IN) OUT=$(VCDCMP)/model.csv VCD=$(VCDCMP)/ref.vcd

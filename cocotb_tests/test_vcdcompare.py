@@ -118,6 +118,29 @@ def test_missing_file_is_bad_input(tmp_path):
     assert rc == 2 and "junk.vcd" in err
 
 
+def test_truncated_files_are_bad_input(tmp_path):
+    """A VCD cut short is an error (exit 2) that says so, not an OK on what was read nor a
+    design mismatch: cut inside the header (either file), cut between lines before the
+    reference's last change, cut inside a line."""
+    b = write_vcd(tmp_path / "ref.vcd", BASE)
+    full = open(write_vcd(tmp_path / "rtl.vcd", BASE)).read()
+    head = full[:full.index("$enddefinitions")]
+    (tmp_path / "hdr.vcd").write_text(head)
+    rc, out, err = run(tmp_path / "hdr.vcd", b, "--signals", "m_count")
+    assert rc == 2 and "ends before $enddefinitions" in err and "hdr.vcd" in err, out + err
+    rc, out, err = run(b, tmp_path / "hdr.vcd")
+    assert rc == 2 and "reference VCD" in err and "ends before $enddefinitions" in err, err
+    lines = full.splitlines(keepends=True)
+    cut = next(k for k, ln in enumerate(lines) if ln.startswith("#200"))
+    (tmp_path / "lines.vcd").write_text("".join(lines[:cut]))
+    rc, out, err = run(tmp_path / "lines.vcd", b)
+    assert rc == 2 and "ends at #110, before the reference's last change (#210)" in err, \
+        out + err
+    (tmp_path / "mid.vcd").write_text(full[:full.index("#200") + 2])
+    rc, out, err = run(tmp_path / "mid.vcd", b)
+    assert rc == 2 and "middle of a line" in err, out + err
+
+
 def test_signal_subset(tmp_path):
     a = write_vcd(tmp_path / "rtl.vcd", changed(BASE, 200, "m_a", 1))
     b = write_vcd(tmp_path / "ref.vcd", BASE)

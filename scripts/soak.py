@@ -37,6 +37,7 @@ faults, the RMS error while moving and at rest, the estimator's updates and jump
 """
 import argparse
 import json
+import os
 import pathlib
 import queue
 import subprocess
@@ -235,12 +236,14 @@ def main():
                     help="save situations K, K+1, ... sample by sample (codes, truth, count, "
                          "fault) to OUT/situation_<i>.npz (for debugging)")
     a = ap.parse_args()
-    if a.samples < 1e4:
-        sys.exit("soak: error: --samples must be at least 10000")
+    if not (1e4 <= a.samples < 1e15):        # (also rejects nan and inf)
+        sys.exit(f"soak: error: --samples must be a number from 10000 to 1e15, got {a.samples}")
     if a.div < 1:
         sys.exit("soak: error: --div must be >= 1")
     if not pathlib.Path(a.harness).is_file():
         sys.exit(f"soak: error: harness {a.harness} not found (make harnesses)")
+    if not os.access(a.harness, os.X_OK):
+        sys.exit(f"soak: error: harness {a.harness} is not executable")
     out = pathlib.Path(a.out)
     out.mkdir(parents=True, exist_ok=True)
 

@@ -61,6 +61,9 @@ class Vcd:
             raise BadInput(f"{role} VCD '{path}' does not exist or is not a file")
         if not os.access(path, os.R_OK):
             raise BadInput(f"{role} VCD '{path}' is not readable")
+        if not self._has_enddefinitions():
+            raise BadInput(f"{role} VCD '{path}' ends before $enddefinitions (a truncated "
+                           "file, or not a VCD)")
         hdr = self._parse(only_sigs=True)
         self.names = {}                       # base name -> full reference
         self.width = {}                       # full reference -> bits
@@ -84,6 +87,41 @@ class Vcd:
                     else hdr.timescale["factor"] / _FS)
         self.tv = {}
 
+    def _has_enddefinitions(self):
+        """The header is complete (read in blocks up to the keyword: the header comes
+        first, so a complete file is not read through)."""
+        key, tail = b"$enddefinitions", b""
+        with open(self.path, "rb") as f:
+            while True:
+                block = f.read(1 << 20)
+                if not block:
+                    return False
+                if key in tail + block:
+                    return True
+                tail = block[-len(key):]
+
+    def last_time(self):
+        """The file's last timestamp (#t) in its own units, from its tail; None if the
+        tail has none."""
+        with open(self.path, "rb") as f:
+            f.seek(0, os.SEEK_END)
+            f.seek(max(0, f.tell() - (1 << 16)))
+            for line in reversed(f.read().split(b"\n")):
+                if line.startswith(b"#"):
+                    try:
+                        return int(line[1:].strip())
+                    except ValueError:
+                        return None
+        return None
+
+    def _ends_mid_line(self):
+        with open(self.path, "rb") as f:
+            f.seek(0, os.SEEK_END)
+            if f.tell() == 0:
+                return False
+            f.seek(-1, os.SEEK_END)
+            return f.read(1) != b"\n"
+
     def _parse(self, **kw):
         try:
             return VCDVCD(self.path, **kw)
@@ -92,7 +130,9 @@ class Vcd:
         except (OSError, UnicodeDecodeError) as e:
             raise BadInput(f"cannot read {self.role} VCD '{self.path}': {e}")
         except Exception as e:   # vcdvcd raises plain exceptions on malformed input
-            raise BadInput(f"cannot parse {self.role} VCD '{self.path}': "
+            cut = (" (the file ends in the middle of a line: truncated?)"
+                   if self._ends_mid_line() else "")
+            raise BadInput(f"cannot parse {self.role} VCD '{self.path}'{cut}: "
                            f"{type(e).__name__}: {e}")
 
     def find(self, name):
@@ -457,10 +497,14 @@ def run(args):
     comps = [Comparison(r, q, ref.tv[r], max(rtl.width[q], ref.width[r]), args.strict_x)
              for r, q in pairs]
     st = rtl.stream(comps, m_rtl, early=not args.all)
-    tmax = st.tmax
-    for ts, _ in ref.tv.values():
-        if ts:
-            tmax = max(tmax, ts[-1])
+    ref_last = max((int(ts[-1]) for ts, _ in ref.tv.values() if len(ts)), default=None)
+    tmax = st.tmax if ref_last is None else max(st.tmax, ref_last)
+    rtl_end = rtl.last_time()
+    if ref_last is not None and rtl_end is not None and rtl_end * m_rtl < ref_last:
+        mid = " in the middle of a line," if rtl._ends_mid_line() else ""
+        raise BadInput(f"RTL VCD '{rtl.path}' ends{mid} at #{rtl_end}, before the "
+                       f"reference's last change (#{ref_last // m_ref}): a truncated file, or "
+                       "a run that stopped early")
 
     def when(t):
         """Time t (in units of `base` fs, or raw ticks) as text in the RTL's time unit."""

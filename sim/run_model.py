@@ -6,7 +6,8 @@
         [--ab-bound B] [--vcd ref.vcd]
 """
 import argparse
-import csv
+import os
+import re
 import sys
 
 import numpy as np
@@ -20,33 +21,57 @@ def die(msg: str):
     raise SystemExit(2)
 
 
+# a field as the harness's strtol takes it (sim/harness/harness.cpp parse_field): C
+# white space, an optional sign, decimal digits, nothing after them
+_FIELD = re.compile(rb"[ \t\n\v\f\r]*[+-]?[0-9]+")
+
+
+def _trim(line: bytes) -> bytes:
+    """The harness's line rule: trailing CR, space and LF and leading spaces do not count."""
+    return line.rstrip(b"\r \n").lstrip(b" ")
+
+
 def read_codes(path: str, adc_w: int = 16):
-    """Read a `u1,u2` CSV of signed ADC codes; errors name the file and line."""
+    """Read a `u1,u2` CSV of signed ADC codes by the rules of the RTL harness
+    (sim/harness/harness.cpp read_csv: the same files are accepted and the same errors
+    named, with the file and line)."""
     lo, hi = -(1 << (adc_w - 1)), (1 << (adc_w - 1)) - 1
+    if not os.path.exists(path):
+        die(f"cannot open input '{path}': no such file")
+    if not os.path.isfile(path):
+        die(f"input '{path}' is not a regular file")
     try:
-        f = open(path, newline="")
+        with open(path, "rb") as f:
+            lines = f.read().split(b"\n")
     except OSError as e:
         die(f"cannot open input '{path}': {e.strerror}")
-    with f:
-        rows = csv.reader(f)
-        header = next(rows, None)
-        if header is None or [h.strip() for h in header] != ["u1", "u2"]:
-            die(f"{path}:1: header is {header!r}, expected 'u1,u2'")
-        u1, u2 = [], []
-        for ln, row in enumerate(rows, start=2):
-            if not row or all(not c.strip() for c in row):
-                continue
-            if len(row) != 2:
-                die(f"{path}:{ln}: expected two values 'u1,u2', got {row!r}")
-            try:
-                a, b = int(row[0]), int(row[1])
-            except ValueError:
-                die(f"{path}:{ln}: not a decimal integer: {row!r}")
-            if not (lo <= a <= hi and lo <= b <= hi):
-                die(f"{path}:{ln}: code out of the signed {adc_w}-bit "
-                         f"range [{lo}, {hi}]: {row!r}")
-            u1.append(a)
-            u2.append(b)
+    if lines[-1] == b"":
+        lines.pop()                              # the final newline ends the last line
+    if not lines:
+        die(f"{path}:1: empty file (expected header 'u1,u2')")
+    show = lambda b: b.decode("latin-1")        # noqa: E731 (bytes as the harness prints them)
+    if _trim(lines[0]) != b"u1,u2":
+        die(f"{path}:1: header is '{show(_trim(lines[0]))}', expected 'u1,u2'")
+    u1, u2 = [], []
+    for ln, raw in enumerate(lines[1:], start=2):
+        line = _trim(raw)
+        if not line:
+            continue
+        fields = line.split(b",")
+        if len(fields) != 2:
+            die(f"{path}:{ln}: expected two values 'u1,u2', got '{show(line)}'")
+        vals = []
+        for name, fld in zip(("u1", "u2"), fields):
+            fld = _trim(fld)
+            if not _FIELD.fullmatch(fld):
+                die(f"{path}:{ln}: {name}: not a decimal integer: '{show(fld)}'")
+            vals.append(int(fld))
+        a, b = vals
+        if not (lo <= a <= hi and lo <= b <= hi):
+            die(f"{path}:{ln}: code out of the signed {adc_w}-bit range [{lo}, {hi}]: "
+                f"'{show(line)}'")
+        u1.append(a)
+        u2.append(b)
     if not u1:
         die(f"{path}: no samples after the header")
     return np.array(u1, dtype=np.int64), np.array(u2, dtype=np.int64)
@@ -118,7 +143,10 @@ def main(argv=None):
         die(f"cannot write '{args.out}': {e.strerror}")
     if args.vcd:
         from sim import vcdref
-        vcdref.write(args.vcd, res, cfg)
+        try:
+            vcdref.write(args.vcd, res, cfg)
+        except OSError as e:
+            die(f"cannot write the VCD '{args.vcd}': {e.strerror}")
 
 
 if __name__ == "__main__":

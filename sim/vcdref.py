@@ -24,9 +24,11 @@ rising edges.
     u_correct.ax_o, ay_o, xn_o, yn_o    CORR_AT       window  |u1c|, |u2c| (s2.14), signs
     u_octant.valid_o                    OCT_AT        valid
     u_octant.oct2_o, neg_o              OCT_AT        window  octant (base / 2048), sign
-    u_octant.j_o, bin_o                 ADDR_AT - 1   window  table address, harmonic bin
-                                                              (combinational, read on
-                                                              edge t_k + ADDR_AT)
+    u_octant.j_o                        ADDR_AT - 1   window  table address (combinational,
+                                                              read on edge t_k + ADDR_AT)
+    g_harm.u_harmonic.u_bin2.bin_o      ADDR_AT       window  harmonic bin (combinational
+                                                              from the registers of that
+                                                              edge, rtl/harmonic.v)
     g_harm.u_harmonic.valid_o           PHASE_AT      valid
     g_harm.u_harmonic.phase_o           PHASE_AT      window  u13 fine phase
     g_harm.u_harmonic.phase_c_o         PHASE_AT      window  u13 corrected fine phase
@@ -70,9 +72,8 @@ kinds:
           these signals are checked exactly on the cycles that carry a sample, and
           ignored in between.
 
-Harness quirk reproduced: the harness dumps at time 0 before edge 0 and Verilator ignores
-the second dump at time 0 (after edge 0), so a change on edge 0 first shows at
-PERIOD_PS / 2. Only s_valid with t0 = 0 can be affected.
+The harness's first dump is the state after edge 0, at time 0 (the power-up values are
+the ones declared here).
 """
 
 import numpy as np
@@ -133,7 +134,7 @@ SIGNALS = [
     ("u_octant.oct2_o", 2, "window", "OCT_AT", lambda r: np.asarray(r["base"]) >> 11),
     ("u_octant.neg_o", 1, "window", "OCT_AT", "neg"),
     ("u_octant.j_o", 11, "window", ("ADDR_AT", -1), "j"),
-    ("u_octant.bin_o", 6, "window", ("ADDR_AT", -1), "bin"),
+    (f"{HARM}.u_bin2.bin_o", 6, "window", "ADDR_AT", "bin"),
     (f"{HARM}.valid_o", 1, "valid", "PHASE_AT", None),
     (f"{HARM}.phase_o", 13, "window", "PHASE_AT", "phase"),
     (f"{HARM}.phase_c_o", 13, "window", "PHASE_AT", "phase_c"),
@@ -153,7 +154,7 @@ SIGNALS = [
     ("u_counter.ovs_o", 1, "pulse", "LATENCY", _bit("ovs")),
     ("m_valid", 1, "valid", "LATENCY", None),
     ("m_count", "COUNT_W", "hold", "LATENCY", "count"),
-    ("m_fault", 7, "window", "LATENCY", "fault"),
+    ("m_fault", core.FAULT_W, "window", "LATENCY", "fault"),
     ("u_abgen.a_o", 1, "edges", 0, "count"),
     ("u_abgen.b_o", 1, "edges", 0, "count"),
     ("u_abgen.pos_o", "COUNT_W", "edges", 0, "count"),
@@ -292,7 +293,6 @@ def write(path, res, cfg, t0=T0, period_ps=PERIOD_PS, strobes=None, signals=None
     v = np.concatenate(all_v) if all_v else np.zeros(0, np.int64)
     order = np.lexsort((s, e))
     ts = e[order] * period_ps
-    ts[e[order] == 0] = period_ps // 2      # see the module docstring (harness quirk)
     s, v = s[order], v[order]
 
     comment = ("finequad_core reference from the bit-true model (sim/vcdref.py); "

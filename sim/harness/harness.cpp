@@ -39,6 +39,7 @@
 #include <string>
 #include <vector>
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "Vfinequad_core.h"
@@ -89,8 +90,9 @@ static long parse_long(const std::string &s, const std::string &what) {
     errno = 0;
     char *end = nullptr;
     long v = std::strtol(s.c_str(), &end, 10);
-    if (errno || end == s.c_str() || *end != '\0')
+    if (end == s.c_str() || *end != '\0')
         die(what + ": not a decimal integer: '" + s + "'");
+    if (errno == ERANGE) die(what + ": out of range: '" + s + "'");
     return v;
 }
 
@@ -121,9 +123,17 @@ static long parse_field(const char *p, const char *q, const std::string &path, l
 // The whole file is read at once and split into lines in place (std::getline and
 // std::string per line were about 2 % of a run); messages name the file and line.
 static void read_csv(const std::string &path, std::vector<int> &u1, std::vector<int> &u2) {
+    struct stat st;
+    if (stat(path.c_str(), &st) != 0) die("cannot open input '" + path + "': " + std::strerror(errno));
+    if (!S_ISREG(st.st_mode)) die("input '" + path + "' is not a regular file");
     std::ifstream f(path, std::ios::binary);
     if (!f) die("cannot open input '" + path + "'");
-    std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    std::string text;
+    try {
+        text.assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+    } catch (const std::exception &e) {
+        die("cannot read input '" + path + "': " + e.what());
+    }
     const char *s = text.data(), *const end = s + text.size();
     auto next_line = [&](const char *&p, const char *&q) {
         if (s >= end) return false;
@@ -171,9 +181,13 @@ struct Source {
     bool get(int &a, int &b) {
         if (raw) {
             int16_t v[2];
-            size_t got = std::fread(v, sizeof v[0], 2, stdin);
+            // (counted in bytes: a stream cut inside a code is an error, not the end)
+            size_t got = std::fread(v, 1, sizeof v, stdin);
             if (got == 0) return false;
-            if (got != 2) die("--raw: stdin ended in the middle of sample " + std::to_string(count));
+            if (got != sizeof v)
+                die("--raw: stdin ended in the middle of sample " + std::to_string(count) +
+                    " (" + std::to_string(got) + " of its " + std::to_string(sizeof v) +
+                    " bytes)");
             const int lo = -(1 << (ADC_W - 1)), hi = (1 << (ADC_W - 1)) - 1;
             if (v[0] < lo || v[0] > hi || v[1] < lo || v[1] > hi)
                 die("--raw: sample " + std::to_string(count) + ": code out of the signed " +
@@ -323,6 +337,7 @@ int main(int argc, char **argv) {
         tfp = std::make_unique<VerilatedVcdC>();
         top->trace(tfp.get(), 99);
         tfp->open(vcd.c_str());
+        if (!tfp->isOpen()) die("cannot write the VCD '" + vcd + "'");
     }
     // the traced build: eval() at both edges (the VCD needs both)
     auto rise = [&]() { top->eval(); };
@@ -355,11 +370,12 @@ int main(int argc, char **argv) {
     long last_edge = -1;                 // set when the source runs dry
     int a = 0, b = 0;
     bool have = src.get(a, b);
-    if (!have && !raw) die("no samples");
+    if (!have) die(raw ? "--raw: stdin has no samples" : "no samples");
     top->clk = 0;
     top->rst = 0;
     top->eval();                         // the first eval also initialises the model
-    if (tfp) tfp->dump(0);
+    // (no dump before edge 0: the VCD's time 0 is the state after edge 0, and every edge e
+    // dumps at e * PERIOD_PS; a second dump at one time is dropped by Verilator)
     CsvOut csv;
     if (!raw) csv.f = fo;
     auto edge = [&](long e) {

@@ -113,7 +113,8 @@ def test_lean_build_equals_model_through_faults(tmp_path, div):
 
 
 @pytest.mark.parametrize("knob,value", [("MONITOR", "2"), ("JUMP", ""), ("LANES", "3"),
-                                        ("HARMONIC", "0 1")])
+                                        ("HARMONIC", "0 1"), ("TABLE", "Paper"),
+                                        ("ADC_W", "11")])
 def test_build_knob_outside_its_values_is_refused(knob, value):
     """A knob that Verilator would truncate (and whose build would share the default's
     folder) stops make before anything runs, naming the knob and its values."""
@@ -129,11 +130,64 @@ def test_build_knob_outside_its_values_is_refused(knob, value):
     ("u1,u2\n1,2\n0x10,5\n", 3, "not a decimal integer"),
     ("u1,u2\n1,2,3\n", 2, "expected two values"),
     ("a,b\n1,2\n", 1, "expected 'u1,u2'"),
+    # the model reads by the harness's rules: what one refuses, the other does too
+    ("u1, u2\n1,2\n", 1, "expected 'u1,u2'"),
+    ("u1,u2\n1,2\n,\n", 3, "not a decimal integer"),
+    ("u1,u2\n1\t,2\n", 2, "not a decimal integer"),
+    ("u1,u2\n1_000,2\n", 2, "not a decimal integer"),
+    ('u1,u2\n"1","2"\n', 2, "not a decimal integer"),
+    ("u1,u2\n1,\xff\n", 2, "not a decimal integer"),
 ])
 def test_bad_input_is_rejected_with_file_line_and_reason(tmp_path, target, text, line, reason):
     bad = tmp_path / "bad.csv"
-    bad.write_text(text)
+    bad.write_bytes(text.encode("latin-1"))
     p = subprocess.run(["make", "-s", "-C", str(ROOT), target, f"IN={bad}",
-                        f"OUT={tmp_path / 'o.csv'}"], capture_output=True, text=True)
+                        f"OUT={tmp_path / 'o.csv'}"], capture_output=True, text=True,
+                       errors="replace")            # (the harness echoes the bytes)
     assert p.returncode != 0
     assert f"bad.csv:{line}" in p.stderr and reason in p.stderr, p.stderr
+
+
+@pytest.mark.parametrize("target", ["rtlsim", "model"])
+def test_unreadable_input_and_unwritable_vcd_are_named(tmp_path, target):
+    """A folder as the input, and a VCD path that cannot be written: a one-line error with
+    the path (no crash, no silent success)."""
+    p = subprocess.run(["make", "-s", "-C", str(ROOT), target, f"IN={tmp_path}",
+                        f"OUT={tmp_path / 'o.csv'}"], capture_output=True, text=True)
+    assert p.returncode != 0 and f"'{tmp_path}' is not a regular file" in p.stderr, p.stderr
+    good = tmp_path / "in.csv"
+    good.write_text("u1,u2\n100,200\n")
+    vcd = tmp_path / "no_such_folder" / "x.vcd"
+    p = subprocess.run(["make", "-s", "-C", str(ROOT), target, f"IN={good}",
+                        f"OUT={tmp_path / 'o.csv'}", f"VCD={vcd}"], capture_output=True,
+                       text=True)
+    assert p.returncode != 0 and f"cannot write the VCD '{vcd}'" in p.stderr, p.stderr
+
+
+@pytest.mark.parametrize("data,reason", [(b"", "stdin has no samples"),
+                                         (b"\x01\x00\x02\x00\x03",
+                                          "stdin ended in the middle of sample 1")])
+def test_raw_stream_cut_or_empty_is_an_error(data, reason):
+    """--raw (scripts/soak.py's stream): an empty stdin and one ending inside a sample's
+    four bytes stop the harness with an error (they used to spin forever, or drop the
+    bytes)."""
+    harness = ROOT / "build/rtlsim_exact_adc16/Vfinequad_core"
+    if not harness.exists():
+        pytest.skip("make harnesses first")
+    p = subprocess.run([str(harness), "--raw"], input=data, capture_output=True, timeout=60)
+    assert p.returncode == 2 and reason in p.stderr.decode(), p.stderr
+
+
+def test_make_vcdcompare_end_to_end(tmp_path):
+    """`make vcdcompare` as the README gives it (the default build, every signal of
+    sim/vcdref.py) on a recording long enough for a hand-over: the RTL's VCD equals the
+    model's reference, so the reference follows the RTL's current pipeline."""
+    n = 40000
+    x = siggen.s_curve(n, 1e6, 60e3, 0.03, t_start=0.003)
+    u1, u2, _ = siggen.encode(x, 4000.0, siggen.Signal(), seed=3)
+    write_codes(tmp_path / "in.csv", u1, u2)
+    out = tmp_path / "cmp"
+    p = subprocess.run(["make", "-s", "-C", str(ROOT), "vcdcompare", f"IN={tmp_path / 'in.csv'}",
+                        "SAMPLES=", f"VCDCMP={out}"], capture_output=True, text=True)
+    assert p.returncode == 0, p.stdout[-3000:] + p.stderr[-3000:]
+    assert "vcdcompare: OK:" in p.stdout and "warning" not in p.stderr, p.stdout + p.stderr
