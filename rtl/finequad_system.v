@@ -11,7 +11,7 @@
 //   uart_tx_o <-'
 //
 // AXI address map (byte addresses, 32-bit words): 0x0000 + 4 k = finequad_core register k
-// for k = 0 .. ADDR_TOP (README.md "Parameters and registers"; e.g. 0x7C = ID, 0x20 =
+// for k = 0 .. ADDR_TOP (README.md "Register map"; e.g. 0x7C = ID, 0x20 =
 // COUNT); words above ADDR_TOP answer SLVERR; partial writes (WSTRB != 4'hF) SLVERR.
 // UART: 8N1 at f_clk / BAUD_DIV, protocol in rtl/uart_axil.v and scripts/fqhost.py.
 //

@@ -2,7 +2,8 @@
 """The main job: a recording like the paper's slider, through the RTL and the model.
 
     python3 scripts/demo.py [--build build/demo] [--interp 100] [--seconds 0.5] [--seed 1]
-        [--rtlsim path/to/harness] [--no-rtl]
+        [--amp 0.6] [--adc-bits 16] [--rtlsim exact=PATH] [--rtlsim paper=PATH]
+        [--vcd-samples 4000]   (no --rtlsim: the model only)
 
 Generates 4 um pitch, 1 MS/s encoder signals with amplitude mismatch, offsets, phase
 error and 0.5 % noise (16-bit ADC) for an S-curve move with dwells; runs the RTL (the
@@ -13,6 +14,7 @@ RTL, a plot and summary.json.
 """
 import argparse
 import json
+import os
 import pathlib
 import subprocess
 import sys
@@ -86,9 +88,23 @@ def main():
     d.mkdir(parents=True, exist_ok=True)
     if not 0.01 <= args.amp <= 0.99:
         raise SystemExit(f"demo: error: --amp must be within 0.01..0.99, got {args.amp}")
+    if not 1 <= args.interp <= 511:
+        raise SystemExit(f"demo: error: --interp must be 1..511 (INTERP), got {args.interp}")
+    if not 0.05 <= args.seconds <= 100:
+        raise SystemExit(f"demo: error: --seconds must be within 0.05..100, got {args.seconds}")
+    if args.vcd_samples < 1:
+        raise SystemExit(f"demo: error: --vcd-samples must be >= 1, got {args.vcd_samples}")
+    harness = {}
+    for h in args.rtlsim:
+        table, sep, path = h.partition("=")
+        if not sep or table not in ("exact", "paper") or not path:
+            raise SystemExit(f"demo: error: --rtlsim '{h}': expected exact=PATH or paper=PATH")
+        if not (os.path.isfile(path) and os.access(path, os.X_OK)):
+            raise SystemExit(f"demo: error: --rtlsim {table}: no executable harness at '{path}' "
+                             "(make harnesses)")
+        harness[table] = path
     x, u1, u2, a, sig = recording(args.seconds, args.seed, args.amp, args.adc_bits)
     write_codes(d / "in.csv", u1, u2)
-    harness = dict(h.split("=", 1) for h in args.rtlsim)
     summary = {"signal": siggen.describe(sig), "pitch_nm": PITCH_NM, "fs_hz": FS,
                "samples": len(u1), "interp": args.interp}
     print(f"demo: {len(u1)} samples, 4 um pitch, 1 MS/s, {sig.adc_bits}-bit ADC, "

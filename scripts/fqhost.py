@@ -26,7 +26,7 @@ import argparse
 import sys
 import time
 
-# finequad_core register words (README.md, "Parameters and registers", and
+# finequad_core register words (README.md, "Register map", and
 # rtl/finequad_core.v's read-back: 0x18..0x1c are the signal monitor's CLIP, RADIUS,
 # MONITOR, the count captured by CTRL bit 2, the travel); numbers are accepted for any
 # other word
@@ -119,8 +119,8 @@ class FqHost:
             try:
                 import serial
             except ImportError:
-                raise SystemExit("fqhost: error: pyserial is not installed "
-                                 "(pip install pyserial)")
+                raise SystemExit("fqhost: error: pyserial is not installed (run it with the "
+                                 "project's .venv/bin/python, or pip install pyserial)")
             try:
                 ser = serial.Serial(port, baud, timeout=timeout)
             except (serial.SerialException, ValueError) as e:
@@ -212,6 +212,9 @@ def main(argv=None):
     wa.add_argument("--interval", type=float, default=0.2)
     wa.add_argument("--count", type=int, default=0, help="reads (0: until Ctrl-C)")
     a = ap.parse_args(argv)
+    if a.cmd == "watch" and not (a.interval >= 0 and a.count >= 0):     # (and not nan)
+        ap.error(f"watch: --interval must be >= 0 s and --count >= 0, got {a.interval} "
+                 f"and {a.count}")
 
     host = FqHost(a.port, a.baud)
     try:
@@ -235,6 +238,8 @@ def main(argv=None):
                 time.sleep(a.interval)
     except (ProtocolError, BusError) as e:
         sys.exit(f"fqhost: error: {e}")
+    except OSError as e:            # the port went away (pyserial's SerialException too)
+        sys.exit(f"fqhost: error: {a.port}: {e}")
     except KeyboardInterrupt:
         pass
 
