@@ -11,6 +11,7 @@ cd "$(dirname "$0")/.."
 out=${1:-build/bitstream}
 seed=${2:-1}
 board=${3:-icebreaker}
+[[ "$seed" =~ ^[0-9]+$ ]] || { echo "bitstream: error: seed '$seed' is not a non-negative integer" >&2; exit 2; }
 srcs() { grep -v '^#' "$1" | tr '\n' ' '; }
 rtl="rtl/boards/top_$board.v $(srcs rtl/finequad_system.f) $(srcs rtl/finequad_core.f)"
 mkdir -p "$out"

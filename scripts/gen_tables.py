@@ -80,6 +80,8 @@ def main():
     ap.add_argument("--check", action="store_true")
     args = ap.parse_args()
     d = pathlib.Path(args.out)
+    if args.check and not d.is_dir():
+        sys.exit(f"gen_tables: error: --out {d}: no such folder to check")
     stale = []
     for name, text in files().items():
         p = d / name

@@ -50,7 +50,12 @@ def main(argv=None):
     a = ap.parse_args(argv)
     bad = [f"--{k} must be > 0, got {v}" for k, v in
            (("pitch", a.pitch), ("fs", a.fs), ("edge-sep", a.edge_sep), ("fclk", a.fclk),
-            ("v", a.v), ("interp", a.interp)) if v is not None and v <= 0]
+            ("v", a.v), ("interp", a.interp)) if v is not None and not v > 0]   # (nan too)
+    bad += [f"--{k} must be finite, got {v}" for k, v in
+            (("pitch", a.pitch), ("fs", a.fs), ("fclk", a.fclk), ("v", a.v))
+            if v is not None and v == float("inf")]
+    if a.edge_sep > 255:
+        bad.append(f"--edge-sep must be 1..255 (ABGEN[7:0]), got {a.edge_sep}")
     if a.interp is not None and a.interp > N_MAX:
         bad.append(f"--interp must be 1..{N_MAX} (the core's INTERP), got {a.interp}")
     if a.fs is not None and a.fclk is not None and a.fs > a.fclk > 0:

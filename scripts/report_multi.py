@@ -177,6 +177,8 @@ def main(argv=None):
         axes = [int(x) for x in a.axes.split(",")]
     except ValueError:
         rp.die(f"--axes: a comma-separated list of integers, got {a.axes!r}")
+    if any(n < 1 for n in axes):
+        rp.die(f"--axes: every count must be >= 1 (rtl/finequad_multi.v AXES), got {a.axes!r}")
     devs = a.devices.split(",")
     for dv in devs:
         if dv not in rp.DEVICES:

@@ -41,3 +41,9 @@ def test_cli_prints_the_limits_and_rejects_bad_input():
     assert p.returncode == 2 and "--pitch must be > 0" in p.stderr
     p = run("--pitch", "4", "--fs", "1e9")
     assert p.returncode == 2 and "cannot exceed --fclk" in p.stderr
+    p = run("--pitch", "nan", "--fs", "1e6")
+    assert p.returncode == 2 and "--pitch must be > 0" in p.stderr
+    p = run("--pitch", "4", "--fs", "inf")
+    assert p.returncode == 2 and "--fs must be finite" in p.stderr
+    p = run("--pitch", "4", "--fs", "1e6", "--edge-sep", "256")
+    assert p.returncode == 2 and "--edge-sep must be 1..255" in p.stderr
