@@ -237,7 +237,8 @@ def main():
                          "fault) to OUT/situation_<i>.npz (for debugging)")
     a = ap.parse_args()
     if not (1e4 <= a.samples < 1e15):        # (also rejects nan and inf)
-        sys.exit(f"soak: error: --samples must be a number from 10000 to 1e15, got {a.samples}")
+        sys.exit(f"soak: error: --samples must be at least 10000 and below 1e15, got "
+                 f"{a.samples}")
     if a.div < 1:
         sys.exit("soak: error: --div must be >= 1")
     if not pathlib.Path(a.harness).is_file():

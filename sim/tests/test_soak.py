@@ -58,3 +58,7 @@ def test_short_soak_through_the_rtl(tmp_path):
     p = subprocess.run([sys.executable, str(ROOT / "scripts" / "soak.py"), "--samples", "10",
                         "--out", str(tmp_path)], capture_output=True, text=True)
     assert p.returncode != 0 and "--samples must be at least 10000" in p.stderr
+    for bad in ("nan", "inf"):                  # (a traceback and an orphan harness before)
+        p = subprocess.run([sys.executable, str(ROOT / "scripts" / "soak.py"), "--samples", bad,
+                            "--out", str(tmp_path)], capture_output=True, text=True)
+        assert p.returncode != 0 and "--samples must be at least 10000" in p.stderr, p.stderr
