@@ -23,7 +23,8 @@
 //                           engine is free, else on the edge its program ends (an EXTRACT
 //                           due then goes first); the slot is held until then
 // After WARMUP updates from power-up the gain is checked (a reset only if it changes);
-// then a reset every period_i updates (0: never) or when the jump detector fires.
+// until then an update whose candidate's peak asks for another gain hands nothing over.
+// Then a reset every period_i updates (0: never) or when the jump detector fires.
 // Samples that arrive while the engine is busy are skipped by the estimator (they still
 // pass the fast path). With OPT_EXT_ENGINE (an engine shared by several axes,
 // rtl/finequad_multi.v) a RESET or an UPDATE is decided only on an edge with tdm_ok_i
@@ -283,8 +284,12 @@ module estimator #(
     always @(posedge clk)
         settled <= OPT_TUNABLE ? settle >= settle_i
                                : geu({22'd0, settle}, {22'd0, settle_i});
+    // gain_pend: the running update was decided before the warm-up's gain check was done
+    // (or on it) and its candidate's peak asks for another input gain: its theta is not
+    // handed over (fitted at a gain whose coefficients may not fit s4.12)
+    reg  gain_pend = 1'b0;
     wire do_extract = done && running_update && valid && settled &&
-                      oct_seen == 8'hff && !trig;
+                      oct_seen == 8'hff && !trig && !gain_pend;
     assign eng_free = !busy || (done && !do_extract);
     reg        start_q = 1'b0;
     reg  [7:0] entry_q = 0;
@@ -411,6 +416,7 @@ module estimator #(
         if (do_skip)
             skip <= skip - 1'b1;
         if (do_update) begin
+            gain_pend <= first && (g_chk != g_eng);
             s_last <= u_s;
             skip <= lfsr[3:0];
             lfsr <= {1'b0, lfsr[15:1]} ^ (lfsr[0] ? 16'hB400 : 16'h0000);
@@ -475,6 +481,7 @@ module estimator #(
             peak <= 0;
             reset_pend <= 1'b1;
             first <= 1'b1;
+            gain_pend <= 1'b0;
             upd <= 0;
             settle <= 0;
             s_last <= 0;

@@ -594,6 +594,10 @@ class Core:
         self.freeze = int(self.est.out[6] >= (5 * kappa) >> 4)
         self.n_updates += 1
         self.upd += 1
+        # before the warm-up's gain check, a theta fitted at a gain the peak does not want
+        # is not handed over (at 10 % of full scale it would map the signal to a radius
+        # near 0.27: the coefficients it needs at that gain exceed s4.12)
+        gain_pending = self.first and gsel(cand["peak"], self.g_eng) != self.g_eng
         if self.first and self.upd >= WARMUP:
             # the gain check after the warm-up: reset only if the input gain changes
             if gsel(cand["peak"], self.g_eng) != self.g_eng:
@@ -622,7 +626,8 @@ class Core:
             self.n_invalid += 1
             self._pend_reset(done)    # s' <= 0 (P no longer positive) or e saturated
         xdone = None
-        if ok and self.settle >= cfg.settle and self.cover == 0xFF and not trig:
+        if ok and self.settle >= cfg.settle and self.cover == 0xFF and not trig \
+                and not gain_pending:
             # EXTRACT, decided on the update's last edge; it hands the new bundle over on
             # its own last edge if theta is an ellipse
             okx = self.est.run("extract")

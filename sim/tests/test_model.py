@@ -1,10 +1,14 @@
 """The bit-true model against the float reference (tolerances live only here)."""
+import pathlib
+
 import numpy as np
 import pytest
 
 from sim import metrics, reference, siggen
 from sim.model import program
 from sim.model.estimator import Estimator
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
 
 
 @pytest.mark.parametrize("amp", [0.1, 0.3, 0.6, 0.95])
@@ -85,6 +89,26 @@ def test_core_works_from_10_to_95_percent_of_full_scale(amp, bits):
     cal = np.nonzero(((r["fault"] >> core.FAULT_BITS["uncal"]) & 1) == 0)[0]
     assert len(cal), "never calibrated"
     assert_near_floor(r, x, a, sig, int(cal[0]) + 20000)
+
+
+@pytest.mark.parametrize("bits", [12, 16])
+def test_first_hand_over_waits_for_the_input_gain(bits):
+    """At 10 % of full scale the warm-up's gain check raises the gain to 4; a theta fitted
+    before it, at gain 1, needs coefficients near 10 (beyond s4.12), and its bundle mapped
+    the signal to a radius near 0.27. It is not handed over: from the first hand-over on,
+    the paper's table, whose index assumes the unit radius, counts without a slip within
+    its linearisation error (the demo's recording, scripts/demo.py --amp 0.1)."""
+    import importlib.util
+    from sim.model import core
+    spec = importlib.util.spec_from_file_location("demo", ROOT / "scripts" / "demo.py")
+    demo = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(demo)
+    x, u1, u2, a, sig = demo.recording(0.5, 1, 0.1, bits)
+    r = core.run(u1, u2, core.Config(TABLE="paper", ADC_W=bits), trace=True)
+    cal = np.nonzero(((r["fault"] >> core.FAULT_BITS["uncal"]) & 1) == 0)[0]
+    assert len(cal), "never calibrated"
+    assert r["g"][cal[0]] == 2, "the first hand-over is at gain 4"
+    assert_near_floor(r, x, a, sig, int(cal[0]), limit=3.5)
 
 
 @pytest.mark.parametrize("f_over_fs", [1 / 56, 1 / 42, 1 / 28, 3 / 56, 1 / 14])
