@@ -280,16 +280,18 @@ module estimator #(
     // program runs for at least three edges, so at a decision settle has held for two
     // edges and the flag is its comparison; settle_i, a register, is taken one edge
     // before the decision. No carry chain in front of the decision)
-    reg  settled = 1'b0;
-    always @(posedge clk)
-        settled <= OPT_TUNABLE ? settle >= settle_i
-                               : geu({22'd0, settle}, {22'd0, settle_i});
     // gain_pend: the running update was decided before the warm-up's gain check was done
     // (or on it) and its candidate's peak asks for another input gain: its theta is not
-    // handed over (fitted at a gain whose coefficients may not fit s4.12)
+    // handed over (fitted at a gain whose coefficients may not fit s4.12). Set on the
+    // decision, so it has held for two edges at the END too, and it is folded into the
+    // same register (no further term in front of the decision)
     reg  gain_pend = 1'b0;
+    reg  settled = 1'b0;
+    always @(posedge clk)
+        settled <= (OPT_TUNABLE ? settle >= settle_i
+                                : geu({22'd0, settle}, {22'd0, settle_i})) && !gain_pend;
     wire do_extract = done && running_update && valid && settled &&
-                      oct_seen == 8'hff && !trig && !gain_pend;
+                      oct_seen == 8'hff && !trig;
     assign eng_free = !busy || (done && !do_extract);
     reg        start_q = 1'b0;
     reg  [7:0] entry_q = 0;
@@ -582,9 +584,11 @@ module estimator #(
     end
     always @(posedge clk) if (f_past_valid && !$past(rst)) begin
         // E6: at an update's END (where settled is read) the settle count is the one
-        // compared, with settle_i of one edge before
-        if (done && running_update)
-            assert (settled == (settle >= $past(settle_i)));
+        // compared, with settle_i of one edge before, and gain_pend is the update's
+        if (done && running_update) begin
+            assert (settled == ((settle >= $past(settle_i)) && !gain_pend));
+            assert (gain_pend == $past(gain_pend));
+        end
         assert (jf_next == $past(f_jfn[19:0]) && jl_next == $past(f_jln[19:0]));
         // the threshold register holds the exact sum (a narrower jthr would fail here)
         assert ({1'b0, jthr} == $past({2'b00, jl, 2'b00} + {8'd0, jump_min_i, 5'd0}));
