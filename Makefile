@@ -189,7 +189,7 @@ vcdcompare: deps ## RTL VCD vs the model's reference VCD: IN=in.csv INTERP=n [TA
 	@mkdir -p $(VCDCMP)
 	@test -f $(IN) || { echo "vcdcompare: error: input '$(IN)' not found (run make demo or give IN=)" >&2; exit 2; }
 	@echo "$(SAMPLES)" | grep -qxE '([1-9][0-9]*)?' || { echo "vcdcompare: error: SAMPLES='$(SAMPLES)': must be a positive integer (or empty: every sample)" >&2; exit 2; }
-	@echo "$(SKIP)" | grep -qxE '[0-9]+' || { echo "vcdcompare: error: SKIP='$(SKIP)': must be a non-negative integer" >&2; exit 2; }
+	$(if $(SAMPLES),@echo "$(SKIP)" | grep -qxE '[0-9]+' || { echo "vcdcompare: error: SKIP='$(SKIP)': must be a non-negative integer" >&2; exit 2; })
 	$(if $(SAMPLES),{ head -n 1 $(IN); tail -n +$$(( $(SKIP) + 2 )) $(IN) | head -n $(SAMPLES); } > $(VCDCMP_IN))
 	$(MAKE) --no-print-directory rtlsim IN=$(VCDCMP_IN) OUT=$(VCDCMP)/rtl.csv VCD=$(VCDCMP)/rtl.vcd
 	$(MAKE) --no-print-directory model IN=$(VCDCMP_IN) OUT=$(VCDCMP)/model.csv VCD=$(VCDCMP)/ref.vcd

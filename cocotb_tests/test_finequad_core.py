@@ -38,7 +38,7 @@ Scenarios (one simulator process each, from power-up):
   upsets     the estimator's exceptions (Verilator only): KAPPA at its maximum (0xffff,
              5 kappa = 1280: the trace bound's full range), a step in amplitudes and
              offsets during the move (the jump detector fires), then a stretch where
-             channel 2 shrinks to 12 % (UPSETS: the estimate is no longer a usable
+             channel 2 shrinks to 10 % of A1 (UPSETS: the estimate is no longer a usable
              ellipse, the extraction fails and the last bundle is held, fault bit 5,
              until the signal returns) but for two short spikes back to full size (the
              residual saturates: invalid updates, each resetting P), with the radius
@@ -160,7 +160,7 @@ FAULT_EVENTS = ((0.30, "loss", 300), (0.45, "stuck", 300), (0.55, "glitch", 1000
 
 # upsets: where the step comes and where the flattened stretch lies (fractions of the
 # recording); amplitudes and offsets (A1, A2, m1, m2, full scale) before and after the
-# step; channel 2's amplitude in the stretch (12 % of A1)
+# step; channel 2's amplitude in the stretch (10 % of A1 after the step)
 UPSETS = dict(step=0.30, flat=(0.55, 0.72), before=(0.5, 0.45, 0.01, -0.01),
               after=(0.6, 0.5, 0.05, -0.01), flat_a2=0.06, spikes=(0.62, 0.66), spike_len=30)
 

@@ -611,7 +611,7 @@ module estimator #(
         // octants covered by updates first, deeper than z3 reaches in CI time (unreached
         // at 36 edges): both are simulated instead (the hand-overs of every scenario of
         // cocotb_tests/test_finequad_core.py, the LOAD of `faults`; the jump trigger in
-        // make bench-accuracy's drift_jump, RTL == model, outside CI)
+        // its `upsets`, and in make bench-accuracy's drift_jump, RTL == model)
     end
 `endif
 endmodule

@@ -212,8 +212,8 @@ def main(argv=None):
     wa.add_argument("--interval", type=float, default=0.2)
     wa.add_argument("--count", type=int, default=0, help="reads (0: until Ctrl-C)")
     a = ap.parse_args(argv)
-    if a.cmd == "watch" and not (a.interval >= 0 and a.count >= 0):     # (and not nan)
-        ap.error(f"watch: --interval must be >= 0 s and --count >= 0, got {a.interval} "
+    if a.cmd == "watch" and not (0 <= a.interval <= 3600 and a.count >= 0):   # (not nan)
+        ap.error(f"watch: --interval must be 0..3600 s and --count >= 0, got {a.interval} "
                  f"and {a.count}")
 
     host = FqHost(a.port, a.baud)

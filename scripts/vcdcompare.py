@@ -180,6 +180,14 @@ class Vcd:
         return cb
 
 
+def _last_known_time(ts, vs):
+    """Time of the last change to a known value (not an x/z bit string), or None."""
+    for k in range(len(ts) - 1, -1, -1):
+        if not isinstance(vs[k], str):
+            return int(ts[k])
+    return None
+
+
 def _norm(v, width):
     """VCD value string -> int if all bits known, else the bit string left-extended to the
     width (IEEE 1364 18.2.1: extend with 0 after 0/1, with x/z after x/z)."""
@@ -499,6 +507,10 @@ def run(args):
     st = rtl.stream(comps, m_rtl, early=not args.all)
     ref_last = max((int(ts[-1]) for ts, _ in ref.tv.values() if len(ts)), default=None)
     tmax = st.tmax if ref_last is None else max(st.tmax, ref_last)
+    # the reference's last change to a known value (a change to x/z asks nothing of the
+    # RTL, so a complete file may end before it)
+    ref_last = max((_last_known_time(ts, vs) for ts, vs in ref.tv.values()),
+                   default=None, key=lambda t: -1 if t is None else t)
     rtl_end = rtl.last_time()
     if ref_last is not None and rtl_end is not None and rtl_end * m_rtl < ref_last:
         mid = " in the middle of a line," if rtl._ends_mid_line() else ""

@@ -90,7 +90,7 @@ static long parse_long(const std::string &s, const std::string &what) {
     errno = 0;
     char *end = nullptr;
     long v = std::strtol(s.c_str(), &end, 10);
-    if (end == s.c_str() || *end != '\0')
+    if (end == s.c_str() || end != s.c_str() + s.size())
         die(what + ": not a decimal integer: '" + s + "'");
     if (errno == ERANGE) die(what + ": out of range: '" + s + "'");
     return v;
@@ -114,7 +114,8 @@ static long parse_field(const char *p, const char *q, const std::string &path, l
         errno = 0;
         char *end = nullptr;
         long v = std::strtol(tmp, &end, 10);
-        if (!errno && end != tmp && *end == '\0') return v;
+        // (every byte taken: a NUL inside the field would end strtol's string early)
+        if (!errno && end != tmp && end == tmp + (q - p)) return v;
     }
     // long fields and every error
     return parse_long(std::string(p, q), path + ":" + std::to_string(ln) + ": " + name);
@@ -318,6 +319,11 @@ int main(int argc, char **argv) {
     Source src;
     src.raw = raw;
     FILE *fo = stdout;
+    if (!vcd.empty()) {                 // before OUT is opened (and emptied)
+        FILE *t = std::fopen(vcd.c_str(), "w");
+        if (!t) die("cannot write the VCD '" + vcd + "'");
+        std::fclose(t);
+    }
     if (!raw) {
         read_csv(in, u1, u2);
         src.u1 = &u1;

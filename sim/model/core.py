@@ -56,8 +56,10 @@ Clock-edge timing (the RTL implements exactly this; edges are numbered from 0):
   (one axis, rtl/finequad_core.v). At the end of an
   UPDATE, if theta was valid, at least `settle` updates have ended since the last reset,
   and the updates since the last commit and the last reset covered all eight octants (so
-  the fit is constrained all round, not by a short arc) within one coverage window, an
-  EXTRACT is decided on that edge, and the new bundle {g, m1, m2, c1, c12, c2} is
+  the fit is constrained all round, not by a short arc) within one coverage window, and
+  the update was not decided before the warm-up's gain check with a candidate whose peak
+  asks for another input gain (gain_pending; rtl/estimator.v gain_pend), an EXTRACT is
+  decided on that edge, and the new bundle {g, m1, m2, c1, c12, c2} is
   committed on its end. Coverage window: an update that finds COVER_WIN updates counted
   since the coverage last restarted restarts it (the octants seen so far are dropped,
   its own is kept, the count is 1). So the eight octants must come within COVER_WIN
@@ -291,6 +293,7 @@ class Core:
         self.s_last = 0               # the travel at the last update (estimator's gate)
         self.n_updates = 0
         self.n_invalid = 0          # updates that ended invalid (each resets P)
+        self.n_gain_held = 0        # hand-overs held for the warm-up's gain check
         self.sched = []               # the estimator's programs, for the float reference
         self.decided = []             # (kind, edge on which each program was decided)
         self.jf = self.jl = 0         # jump detector: fast and slow mean |e|, u15.5
@@ -461,6 +464,7 @@ class Core:
                 del self.ev_edge[:keep], self.ev_delta[:keep], self.ev_state[:keep]
         res = dict(jumps=list(self.jumps), count=count, a=a_pin, b=b_pin, fault=fault,
                    n_updates=self.n_updates, invalid_updates=self.n_invalid,
+                   gain_held=self.n_gain_held,
                    illegal_count=self.ill_count)
         if trace:
             g, m1, m2, c1, c12, c2 = bund.T
@@ -626,8 +630,9 @@ class Core:
             self.n_invalid += 1
             self._pend_reset(done)    # s' <= 0 (P no longer positive) or e saturated
         xdone = None
-        if ok and self.settle >= cfg.settle and self.cover == 0xFF and not trig \
-                and not gain_pending:
+        handover = ok and self.settle >= cfg.settle and self.cover == 0xFF and not trig
+        self.n_gain_held += int(handover and gain_pending)
+        if handover and not gain_pending:
             # EXTRACT, decided on the update's last edge; it hands the new bundle over on
             # its own last edge if theta is an ellipse
             okx = self.est.run("extract")

@@ -18,10 +18,12 @@ CASES = [
     ("ADC_W", 17, "finequad_core_ADC_W_must_be_12_to_16"),
     ("ADC_W", 12, None),
     ("SIN_W", 9, "finequad_core_SIN_W_must_be_8_10_12_or_16"),
+    ("SIN_W", 8, None),
     ("SIN_W", 16, None),
     ("COUNT_W", 16, "finequad_core_COUNT_W_must_be_17_to_32"),
     ("COUNT_W", 33, "finequad_core_COUNT_W_must_be_17_to_32"),
     ("COUNT_W", 17, None),
+    ("ENGINE_LANES", 0, "finequad_core_ENGINE_LANES_must_be_1_or_2"),
     ("ENGINE_LANES", 3, "finequad_core_ENGINE_LANES_must_be_1_or_2"),
     ("ENGINE_LANES", 2, None),
 ]
