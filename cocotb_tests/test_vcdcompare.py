@@ -139,6 +139,8 @@ def test_truncated_files_are_bad_input(tmp_path):
     (tmp_path / "mid.vcd").write_text(full[:full.index("#200") + 2])
     rc, out, err = run(tmp_path / "mid.vcd", b)
     assert rc == 2 and "middle of a line" in err, out + err
+    rc, out, err = run(tmp_path / "rtl.vcd", tmp_path / "mid.vcd")      # the reference too
+    assert rc == 2 and "reference VCD" in err and "middle of a line" in err, out + err
     # a complete file that ends before a reference change to x (nothing to compare
     # there) is not truncated
     bx = write_vcd(tmp_path / "ref_x.vcd", BASE + [(300, "m_count", "x")])

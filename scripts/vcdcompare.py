@@ -64,6 +64,9 @@ class Vcd:
         if not self._has_enddefinitions():
             raise BadInput(f"{role} VCD '{path}' ends before $enddefinitions (a truncated "
                            "file, or not a VCD)")
+        if self._ends_mid_line():
+            raise BadInput(f"{role} VCD '{path}' ends in the middle of a line (a truncated "
+                           "file)")
         hdr = self._parse(only_sigs=True)
         self.names = {}                       # base name -> full reference
         self.width = {}                       # full reference -> bits
@@ -130,9 +133,7 @@ class Vcd:
         except (OSError, UnicodeDecodeError) as e:
             raise BadInput(f"cannot read {self.role} VCD '{self.path}': {e}")
         except Exception as e:   # vcdvcd raises plain exceptions on malformed input
-            cut = (" (the file ends in the middle of a line: truncated?)"
-                   if self._ends_mid_line() else "")
-            raise BadInput(f"cannot parse {self.role} VCD '{self.path}'{cut}: "
+            raise BadInput(f"cannot parse {self.role} VCD '{self.path}': "
                            f"{type(e).__name__}: {e}")
 
     def find(self, name):
@@ -513,8 +514,7 @@ def run(args):
                    default=None, key=lambda t: -1 if t is None else t)
     rtl_end = rtl.last_time()
     if ref_last is not None and rtl_end is not None and rtl_end * m_rtl < ref_last:
-        mid = " in the middle of a line," if rtl._ends_mid_line() else ""
-        raise BadInput(f"RTL VCD '{rtl.path}' ends{mid} at #{rtl_end}, before the "
+        raise BadInput(f"RTL VCD '{rtl.path}' ends at #{rtl_end}, before the "
                        f"reference's last change (#{ref_last // m_ref}): a truncated file, or "
                        "a run that stopped early")
 
