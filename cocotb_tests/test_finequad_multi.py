@@ -164,7 +164,6 @@ def model_runs(case, n, tdm=True):
                               [k for k, _ in req] + [n]))
         r = cm.feed(np.append(u1, u1[-1]), np.append(u2, u2[-1]),
                     strobes=np.append(t, t_ph), trace=True)
-        r["sat"] = cm.est.sat
         res.append(r)
     return stim, t_ph, res
 

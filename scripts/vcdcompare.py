@@ -506,17 +506,16 @@ def run(args):
     comps = [Comparison(r, q, ref.tv[r], max(rtl.width[q], ref.width[r]), args.strict_x)
              for r, q in pairs]
     st = rtl.stream(comps, m_rtl, early=not args.all)
-    ref_last = max((int(ts[-1]) for ts, _ in ref.tv.values() if len(ts)), default=None)
-    tmax = st.tmax if ref_last is None else max(st.tmax, ref_last)
+    tmax = max([st.tmax] + [int(ts[-1]) for ts, _ in ref.tv.values() if len(ts)])
     # the reference's last change to a known value (a change to x/z asks nothing of the
     # RTL, so a complete file may end before it)
-    ref_last = max((_last_known_time(ts, vs) for ts, vs in ref.tv.values()),
-                   default=None, key=lambda t: -1 if t is None else t)
+    ref_known = max((t for t in (_last_known_time(ts, vs) for ts, vs in ref.tv.values())
+                     if t is not None), default=None)
     rtl_end = rtl.last_time()
-    if ref_last is not None and rtl_end is not None and rtl_end * m_rtl < ref_last:
+    if ref_known is not None and rtl_end is not None and rtl_end * m_rtl < ref_known:
         raise BadInput(f"RTL VCD '{rtl.path}' ends at #{rtl_end}, before the "
-                       f"reference's last change (#{ref_last // m_ref}): a truncated file, or "
-                       "a run that stopped early")
+                       f"reference's last change (#{ref_known // m_ref}): a truncated file, "
+                       "or a run that stopped early")
 
     def when(t):
         """Time t (in units of `base` fs, or raw ticks) as text in the RTL's time unit."""

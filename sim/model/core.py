@@ -465,6 +465,7 @@ class Core:
         res = dict(jumps=list(self.jumps), count=count, a=a_pin, b=b_pin, fault=fault,
                    n_updates=self.n_updates, invalid_updates=self.n_invalid,
                    gain_held=self.n_gain_held,
+                   sat=self.est.sat,      # the engine saturated a register (STATUS bit 2)
                    illegal_count=self.ill_count)
         if trace:
             g, m1, m2, c1, c12, c2 = bund.T
@@ -601,10 +602,11 @@ class Core:
         # before the warm-up's gain check, a theta fitted at a gain the peak does not want
         # is not handed over (at 10 % of full scale it would map the signal to a radius
         # near 0.27: the coefficients it needs at that gain exceed s4.12)
-        gain_pending = self.first and gsel(cand["peak"], self.g_eng) != self.g_eng
+        gain_wrong = gsel(cand["peak"], self.g_eng) != self.g_eng
+        gain_pending = self.first and gain_wrong
         if self.first and self.upd >= WARMUP:
             # the gain check after the warm-up: reset only if the input gain changes
-            if gsel(cand["peak"], self.g_eng) != self.g_eng:
+            if gain_wrong:
                 self._pend_reset(d)
             self.first = False
         elif not self.first and cfg.period and self.upd >= cfg.period:
@@ -676,5 +678,4 @@ def run(u1_code, u2_code, cfg: Config = Config(), strobes=None, trace=False):
     c = Core(cfg)
     res = c.feed(u1_code, u2_code, strobes=strobes, trace=trace)
     res["sched"] = c.schedule_samples()
-    res["sat"] = c.est.sat          # the engine saturated a register (STATUS bit 2, sticky)
     return res

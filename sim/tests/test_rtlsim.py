@@ -1,6 +1,7 @@
 """`make rtlsim` (compiled Verilator harness) and `make model` give identical files."""
 import pathlib
 import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -10,6 +11,7 @@ from sim.model import core
 from sim.run_model import write_codes
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "scripts"))       # scripts/demo.py (its recording)
 
 
 # the ECP5 build's parameters (scripts/report.py)
@@ -184,10 +186,7 @@ def test_hand_over_waits_for_the_input_gain_in_the_rtl(tmp_path):
     samples, the paper's table) the model holds 14 hand-overs for the warm-up's gain
     check (rtl/estimator.v gain_pend); the RTL's outputs equal the model's through them."""
     table = "paper"
-    import importlib.util
-    spec = importlib.util.spec_from_file_location("demo", ROOT / "scripts" / "demo.py")
-    demo = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(demo)
+    import demo
     _, u1, u2, _, _ = demo.recording(0.08, 1, 0.1, 16)
     r = core.run(u1, u2, core.Config(TABLE=table))
     assert r["gain_held"] > 0, "no hand-over waited for the gain: the case checks nothing"
