@@ -87,6 +87,9 @@ DEVICES = {
                   "OPT_JUMP": 0},
         "model": {"LANES": 1, "HARMONIC": 0, "MONITOR": 0, "JUMP": 0},
         "freq": 36.0,
+        # the fast path's DSP blocks locked in one column, p12 next to p2 (a nextpnr-ice40
+        # --pre-place script; placement only, so --pack-only runs without it)
+        "preplace": "constraints/up5k_dsp.py",
         # a seed routes in well under a minute; a router that does not converge (as
         # nextpnr-ice40 0.4 did on a carry cell with one net on both inputs, see
         # rtl/rls_engine.v gs_dec) is stopped and the seed reported as not routed
@@ -611,6 +614,7 @@ def entry(dev, util, ffs, fits, fmax, sim, freq, seeds, variant=None):
         "lut_unit": cfg["lut_unit"],
         "freq_target_mhz": freq,
         "seeds": list(seeds),
+        "preplace": cfg.get("preplace"),
     }
     if variant is not None:
         out["placed_variant"] = variant
@@ -659,12 +663,14 @@ def rtl_sources():
 
 
 def fingerprint():
-    """SHA-256 over the design's sources and tables: the report must measure one design."""
+    """SHA-256 over the design's sources, tables and placement scripts: the report must
+    measure one design."""
     import hashlib
     h = hashlib.sha256()
     files = rtl_sources() + sorted(rel(p) for p in (ROOT / "rtl" / "tables").iterdir())
     files += sorted(rel(p) for p in (ROOT / "rtl").glob("*.vh"))        # included headers
     files += ["rtl/finequad_core.f", "sim/harness/probe.cpp"]
+    files += sorted({c["preplace"] for c in DEVICES.values() if c.get("preplace")})
     for f in files:
         h.update(f.encode() + b"\0" + (ROOT / f).read_bytes())
     return h.hexdigest()[:16]
@@ -710,6 +716,8 @@ def pnr(dev, netlist, outdir, seed=None, freq=None, sdf=None):
         cmd += ["--pack-only"]
     else:
         cmd += ["--freq", f"{freq:g}", "--timing-allow-fail", "--seed", str(seed)]
+        if cfg.get("preplace"):
+            cmd += ["--pre-place", cfg["preplace"]]
     if sdf is not None:
         cmd += ["--sdf", rel(sdf)]
     for f in (rep, log) + ((sdf,) if sdf is not None else ()):
@@ -1111,8 +1119,9 @@ def markdown(rep):
         runs = e["runs"] if e["fits"] else (e.get("placed_variant") or {}).get("runs", [])
         ok = [str(r["seed"]) for r in runs if not r["error"]]
         routed = "" if len(ok) == len(runs) else f" (routed: {', '.join(ok) or 'none'})"
-        return f"{', '.join(map(str, e['seeds']))}{routed}; {e['freq_target_mhz']:g} MHz"
-    row("nextpnr seeds, --freq", seeds_cell)
+        pre = f"; --pre-place {e['preplace']}" if e.get("preplace") else ""
+        return f"{', '.join(map(str, e['seeds']))}{routed}; {e['freq_target_mhz']:g} MHz{pre}"
+    row("nextpnr seeds, --freq, placement script", seeds_cell)
     row("`fast_path_samples_per_clock`", lambda e: f"{e['fast_path_samples_per_clock']:g}")
     row("`max_sample_rate_msps`", lambda e: f"{e['max_sample_rate_msps']:.2f}")
     row("`rls_updates_msps`", lambda e: f"{e['rls_updates_msps']:.4f}")

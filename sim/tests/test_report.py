@@ -3,6 +3,7 @@ tiny design through Yosys and nextpnr-ice40 (a few seconds; skipped without the 
 import importlib.util
 import json
 import pathlib
+import re
 import shutil
 import subprocess
 
@@ -472,3 +473,109 @@ def test_signal_of_strips_what_synthesis_and_packing_append():
     assert report.signal_of("u_core.u_correct.p12_SB_MAC16_O_DSP") == "p12"
     assert report.signal_of("u_core.u_lut.g_ph4k.ph_rom.0.1_RAM") == "ph_rom"
     assert report.signal_of("u_core.u_est.mem.0.14$RAMW_BLOCK1") == "mem"
+
+
+# ---- constraints/up5k_dsp.py: the UP5K's DSP floorplan (a nextpnr --pre-place script) ----
+_fspec = importlib.util.spec_from_file_location("up5k_dsp", ROOT / "constraints" / "up5k_dsp.py")
+up5k_dsp = importlib.util.module_from_spec(_fspec)
+_fspec.loader.exec_module(up5k_dsp)
+
+
+class _Cell:
+    def __init__(self, type_):
+        self.type = type_
+
+
+def _dsp_cells(*regs, other=()):
+    return ([(f"{r}_SB_MAC16_O_DSP", _Cell("ICESTORM_DSP")) for r in regs]
+            + [(n, _Cell("ICESTORM_LC")) for n in other])
+
+
+def test_floorplan_locks_each_named_block_and_ignores_the_rest():
+    regs = ["u_core.u_correct.p1", "u_core.u_correct.p12", "u_core.u_correct.p2",
+            "u_core.u_octant.psum", "u_core.u_est.g_int.u_engine.g_lane[0].pp_ll"]
+    got = up5k_dsp.floorplan(_dsp_cells(*regs, other=["u_core.u_correct.p12_SB_DFF_LC"]))
+    assert got == {"u_core.u_correct.p1_SB_MAC16_O_DSP": "X25/Y23/mac16_0",
+                   "u_core.u_correct.p12_SB_MAC16_O_DSP": "X25/Y10/mac16_0",
+                   "u_core.u_correct.p2_SB_MAC16_O_DSP": "X25/Y15/mac16_0",
+                   "u_core.u_octant.psum_SB_MAC16_O_DSP": "X25/Y5/mac16_0"}
+    # p1 is not a prefix match of p12 (nor u_xcorrect of u_correct); a top without u_core
+    assert up5k_dsp.floorplan(_dsp_cells("u_correct.p1", "u_correct.p12", "u_correct.p2",
+                                         "u_octant.psum"))["u_correct.p1_SB_MAC16_O_DSP"] \
+        == "X25/Y23/mac16_0"
+
+
+def test_floorplan_names_a_block_missing_or_found_twice():
+    with pytest.raises(ValueError, match=r"u_octant.psum: no DSP blocks$"):
+        up5k_dsp.floorplan(_dsp_cells("u_core.u_correct.p1", "u_core.u_correct.p12",
+                                      "u_core.u_correct.p2", "u_core.u_xoctant.psum"))
+    with pytest.raises(ValueError, match=r"u_correct.p2: 2 DSP blocks \(a.u_correct.p2_SB"):
+        up5k_dsp.floorplan(_dsp_cells("a.u_correct.p1", "a.u_correct.p12", "a.u_correct.p2",
+                                      "b.u_correct.p2", "a.u_octant.psum"))
+
+
+def test_floorplan_names_registers_of_the_core():
+    """Each entry is a register of the module its instance is (rtl/finequad_core.v): a
+    renamed register or instance fails here, not only in `make report`."""
+    core = (ROOT / "rtl" / "finequad_core.v").read_text()
+    for key in up5k_dsp.FLOORPLAN:
+        inst, reg = key.split(".")
+        m = re.search(r"\b(\w+)\s*(?:#\s*\((?:[^()]|\([^()]*\))*\))?\s*" + inst + r"\s*\(", core)
+        assert m, f"no instance {inst} in rtl/finequad_core.v"
+        src = (ROOT / "rtl" / f"{m.group(1)}.v").read_text()
+        assert re.search(r"\b(reg|wire)\b[^;]*\b" + reg + r"\b\s*(=|;|,)", src), \
+            f"{reg} is not declared in rtl/{m.group(1)}.v"
+
+
+# four products under the core's instance names (flattened by synth_ice40, as top_report)
+FLOOR_V = """
+module prod (input wire clk, input wire signed [15:0] a, b, output reg signed [31:0] p = 0);
+    always @(posedge clk) p <= a * b;
+endmodule
+module cor (input wire clk, input wire signed [15:0] a, b, c, output wire signed [31:0] s);
+    reg signed [15:0] aq = 0, bq = 0, cq = 0;
+    reg signed [31:0] p1 = 0, p12 = 0, p2 = 0;
+    always @(posedge clk) begin
+        aq <= a; bq <= b; cq <= c;
+        p1 <= aq * bq; p12 <= aq * cq; p2 <= bq * cq;
+    end
+    assign s = p1 ^ p12 ^ p2;
+endmodule
+module floor (input wire clk, input wire din, output wire y);    // operands: a shift
+    reg [79:0] sr = 0;                                             // register (few pins)
+    wire signed [31:0] s, q;
+    always @(posedge clk) sr <= {sr[78:0], din};
+    cor u_correct (.clk(clk), .a(sr[15:0]), .b(sr[31:16]), .c(sr[47:32]), .s(s));
+    oct u_octant (.clk(clk), .a(sr[63:48]), .b(sr[79:64]), .q(q));
+    assign y = ^(s ^ q);
+endmodule
+module oct (input wire clk, input wire signed [15:0] a, b, output wire signed [31:0] q);
+    reg signed [15:0] aq = 0, bq = 0;
+    reg signed [31:0] psum = 0;
+    always @(posedge clk) begin aq <= a; bq <= b; psum <= aq * bq; end
+    assign q = psum;
+endmodule
+"""
+
+
+@pytest.mark.skipif(not (shutil.which("yosys") and shutil.which("nextpnr-ice40")),
+                    reason="yosys / nextpnr-ice40 not installed")
+def test_floorplan_places_the_blocks_through_nextpnr(tmp_path):
+    (tmp_path / "floor.v").write_text(FLOOR_V)
+    subprocess.run(["yosys", "-q", "-p", "read_verilog floor.v; synth_ice40 -dsp -top floor "
+                    "-json floor.json"], cwd=tmp_path, check=True)
+    pnr = ["nextpnr-ice40", "--up5k", "--package", "sg48", "--json", "floor.json", "-q",
+           "--pre-place", str(ROOT / "constraints" / "up5k_dsp.py")]
+    subprocess.run(pnr + ["--write", "placed.json"], cwd=tmp_path, check=True,
+                   capture_output=True)
+    cells = json.loads((tmp_path / "placed.json").read_text())["modules"]["top"]["cells"]
+    bels = {up5k_dsp.register_of(n): c["attributes"]["NEXTPNR_BEL"]
+            for n, c in cells.items() if c["type"] == "ICESTORM_DSP"}
+    assert bels == up5k_dsp.FLOORPLAN
+    # a block the design does not have stops nextpnr with its name
+    (tmp_path / "floor.v").write_text(FLOOR_V.replace("psum", "qsum"))
+    subprocess.run(["yosys", "-q", "-p", "read_verilog floor.v; synth_ice40 -dsp -top floor "
+                    "-json floor.json"], cwd=tmp_path, check=True)
+    p = subprocess.run(pnr, cwd=tmp_path, capture_output=True, text=True)
+    assert p.returncode != 0
+    assert "u_octant.psum: no DSP blocks" in p.stdout + p.stderr
