@@ -127,14 +127,14 @@ RTLSIM_VFLAGS = --cc --exe --build -O3 -Wno-fatal -j 2 -Irtl -Irtl/tables \
 # RTLSIM_SKIP_NEGEDGE: the fast harness clears the clock's trigger state instead of
 # evaluating the falling edge (harness.cpp), defined only if every event control of the
 # core is @(posedge clk) or @(*): then nothing can happen on a falling edge.
-$(HARNESS): $(RTL) sim/harness/harness.cpp $(RTL_INC) | deps
+$(HARNESS): $(RTL) sim/harness/harness.cpp sim/harness/input.h $(RTL_INC) | deps
 	@mkdir -p $(HDIR)
 	$(VERILATOR) $(RTLSIM_VFLAGS) \
 	    $$(grep -ohE '@[[:space:]]*\([^)]*\)' $(RTL) | tr -d ' \t' | \
 	       grep -qvxE '@\((posedgeclk|\*)\)' || echo -CFLAGS -DRTLSIM_SKIP_NEGEDGE) \
 	    --Mdir $(HDIR) $(RTL) sim/harness/harness.cpp >/dev/null
 
-$(HARNESS_VCD): $(RTL) sim/harness/harness.cpp $(RTL_INC) | deps
+$(HARNESS_VCD): $(RTL) sim/harness/harness.cpp sim/harness/input.h $(RTL_INC) | deps
 	@mkdir -p $(HDIR)_vcd
 	$(VERILATOR) $(RTLSIM_VFLAGS) --trace --Mdir $(HDIR)_vcd $(RTL) sim/harness/harness.cpp >/dev/null
 

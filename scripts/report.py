@@ -669,7 +669,7 @@ def fingerprint():
     h = hashlib.sha256()
     files = rtl_sources() + sorted(rel(p) for p in (ROOT / "rtl" / "tables").iterdir())
     files += sorted(rel(p) for p in (ROOT / "rtl").glob("*.vh"))        # included headers
-    files += ["rtl/finequad_core.f", "sim/harness/probe.cpp"]
+    files += ["rtl/finequad_core.f", "sim/harness/probe.cpp", "sim/harness/input.h"]
     files += sorted({c["preplace"] for c in DEVICES.values() if c.get("preplace")})
     for f in files:
         h.update(f.encode() + b"\0" + (ROOT / f).read_bytes())

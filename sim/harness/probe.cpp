@@ -38,6 +38,9 @@
 
 #include "Vfinequad_core.h"
 #include "verilated.h"
+
+#define HARNESS_TOOL "probe"
+#include "input.h"
 #ifdef PROBE_INTERNALS
 // built with --public-flat-rw: the estimator's program starts and the engine's busy
 // clocks, per program, go into the trace (the breakdown of the clocks per update)
@@ -46,53 +49,6 @@
 #endif
 
 static const long T0 = 16;
-
-static void die(const std::string &msg) {
-    std::cerr << "probe: error: " << msg << std::endl;
-    std::exit(2);
-}
-
-static long parse_long(const std::string &s, const std::string &what) {
-    errno = 0;
-    char *end = nullptr;
-    long v = std::strtol(s.c_str(), &end, 10);
-    if (errno || end == s.c_str() || *end != '\0')
-        die(what + ": not a decimal integer: '" + s + "'");
-    return v;
-}
-
-static std::string trim(std::string s) {
-    while (!s.empty() && (s.back() == '\r' || s.back() == ' ' || s.back() == '\n')) s.pop_back();
-    size_t i = 0;
-    while (i < s.size() && s[i] == ' ') i++;
-    return s.substr(i);
-}
-
-static void read_csv(const std::string &path, std::vector<int> &u1, std::vector<int> &u2) {
-    std::ifstream f(path);
-    if (!f) die("cannot open input '" + path + "'");
-    std::string line;
-    if (!std::getline(f, line) || trim(line) != "u1,u2")
-        die(path + ":1: expected the header 'u1,u2'");
-    const long lo = -(1L << (ADC_W - 1)), hi = (1L << (ADC_W - 1)) - 1;
-    long ln = 1;
-    while (std::getline(f, line)) {
-        ln++;
-        line = trim(line);
-        if (line.empty()) continue;
-        size_t c = line.find(',');
-        std::string where = path + ":" + std::to_string(ln);
-        if (c == std::string::npos || line.find(',', c + 1) != std::string::npos)
-            die(where + ": expected two values 'u1,u2', got '" + line + "'");
-        long a = parse_long(trim(line.substr(0, c)), where + ": u1");
-        long b = parse_long(trim(line.substr(c + 1)), where + ": u2");
-        if (a < lo || a > hi || b < lo || b > hi)
-            die(where + ": code out of the signed " + std::to_string(ADC_W) + "-bit range");
-        u1.push_back((int)a);
-        u2.push_back((int)b);
-    }
-    if (u1.empty()) die(path + ": no samples after the header");
-}
 
 struct Core {
     std::unique_ptr<VerilatedContext> ctx;
