@@ -14,7 +14,9 @@ count) go to the --build folder. Everything is measured here:
   synth_ice40 -dsp, OPT_NTH_DSP=0: the 8 DSP blocks are taken) and the ECP5 LFE5U-25F
   (YoWASP Yosys, synth_ecp5), then nextpnr: first --pack-only (the resources), then place
   and route with each seed, sequentially (Fmax: the median over the seeds; the worst
-  register-to-register path of each run). If the full core does not fit a device, its
+  register-to-register path of each run). The UP5K's seeds are placed with the fast
+  path's DSP blocks locked (--pre-place constraints/up5k_dsp.py); its blocks are checked
+  against the netlist before nextpnr runs. If the full core does not fit a device, its
   resources are still those of the full core, `fits` is false and `fmax_mhz` (and the
   rates derived from it) are 0: no clock is reached on that device. The seeds are then
   placed with a reduced variant (OPT_HARMONIC=0, read-back not observed), reported apart
@@ -45,6 +47,7 @@ Exit status: 0 when the report was written (targets met or not: the report says 
 """
 import argparse
 import collections
+import importlib.util
 import json
 import os
 import pathlib
@@ -662,16 +665,22 @@ def rtl_sources():
         ln.strip() for ln in f.read_text().splitlines() if ln.strip() and not ln.startswith("#")]
 
 
-def fingerprint():
-    """SHA-256 over the design's sources, tables and placement scripts: the report must
-    measure one design."""
-    import hashlib
-    h = hashlib.sha256()
+def measured_files():
+    """What the report's numbers depend on: the design's sources and tables, the harnesses
+    that measure it (the probe, `make rtlsim`'s harness) and the placement scripts."""
     files = rtl_sources() + sorted(rel(p) for p in (ROOT / "rtl" / "tables").iterdir())
     files += sorted(rel(p) for p in (ROOT / "rtl").glob("*.vh"))        # included headers
-    files += ["rtl/finequad_core.f", "sim/harness/probe.cpp", "sim/harness/input.h"]
+    files += ["rtl/finequad_core.f", "sim/harness/probe.cpp", "sim/harness/harness.cpp",
+              "sim/harness/input.h"]
     files += sorted({c["preplace"] for c in DEVICES.values() if c.get("preplace")})
-    for f in files:
+    return files
+
+
+def fingerprint():
+    """SHA-256 over measured_files(): the report must measure one design."""
+    import hashlib
+    h = hashlib.sha256()
+    for f in measured_files():
         h.update(f.encode() + b"\0" + (ROOT / f).read_bytes())
     return h.hexdigest()[:16]
 
@@ -731,9 +740,33 @@ def pnr(dev, netlist, outdir, seed=None, freq=None, sdf=None):
                                             "converged)")
     if p.returncode != 0 or not rep.exists():
         errs = [ln for ln in text.splitlines() if "ERROR" in ln]
+        # a placement script's exception goes to nextpnr's output, not to its log
+        script = [ln for ln in p.stdout.splitlines() if re.match(r"\w+Error: ", ln)]
+        if script:
+            raise ReportError(f"{dev} nextpnr {tag}: the placement script "
+                              f"{cfg.get('preplace')} stopped it: {script[-1]}")
         return None, None, None, text, dt, (errs[-1] if errs else f"exit {p.returncode}")
     util, fmax, crit = parse_pnr_report(rep)
     return util, fmax, crit, text, dt, None
+
+
+def check_preplace(dev, netlist):
+    """The device's placement script (DEVICES preplace) against a synthesised netlist,
+    before nextpnr runs: a block it does not find stops the report with the script's
+    message (in nextpnr every seed would fail and read as not routed)."""
+    script = DEVICES[dev].get("preplace")
+    if not script:
+        return None
+    spec = importlib.util.spec_from_file_location("preplace", ROOT / script)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    top = json.loads(pathlib.Path(netlist).read_text())["modules"]["top_report"]
+    cells = [(name, collections.namedtuple("Cell", "type")(c["type"]))
+             for name, c in top["cells"].items()]
+    try:
+        return mod.floorplan(cells)
+    except ValueError as e:
+        raise ReportError(f"{dev}: {rel(netlist)}: {e}") from None
 
 
 def fits(util, dev):
@@ -766,6 +799,7 @@ def device_flow(dev, bdir, seeds, freq, log):
     full.mkdir(exist_ok=True)
     log(f"{dev}: synthesis (full core)")
     times["synth_full_s"] = synth(dev, cfg["params"], full / "top.json", full / "yosys.log")
+    check_preplace(dev, full / "top.json")
     log(f"{dev}: synthesis without flattening (per-module cells)")
     times["synth_hier_s"] = synth(dev, cfg["params"], d / "hier.json", d / "yosys_hier.log",
                                   noflatten=True)
@@ -810,6 +844,7 @@ def device_flow(dev, bdir, seeds, freq, log):
             vd.mkdir(exist_ok=True)
             times[f"synth_variant{i}_s"] = synth(dev, {**cfg["params"], **params},
                                                  vd / "top.json", vd / "yosys.log")
+            check_preplace(dev, vd / "top.json")
             vutil, _, _, vtext, _, verr = pnr(dev, vd / "top.json", vd)
             if verr:
                 raise ReportError(f"{dev}: nextpnr --pack-only of variant {i} failed: {verr}")
@@ -1172,9 +1207,11 @@ def markdown(rep):
 
     spd = rep["sim"]["sim_speed"]
     L.append("## How each number was measured\n")
+    pre = "; ".join(f"{rep['devices'][d]['device']}: --pre-place {rep['devices'][d]['preplace']}"
+                    for d in devs if rep["devices"][d].get("preplace"))
     L.append(f"- **Fmax**: nextpnr's achieved frequency of the core clock (report JSON), "
              f"median over the seeds; each seed is one place and route of the same "
-             "netlist.")
+             "netlist" + (f" (placement scripts: {pre})" if pre else "") + ".")
     L.append("- **builds**: " + "; ".join(
         f"{rep['devices'][d]['device']}: "
         + " ".join(f"{k}={v}" for k, v in rep['sim']['builds'][d]['probe_params'].items())
@@ -1390,16 +1427,16 @@ def main(argv=None):
     except ReportError as e:
         die(str(e), 1)
     if fingerprint() != fp0:
-        die("the design's sources (rtl/, rtl/tables/, the probe) changed while the report "
-            "ran: run it again on a quiet tree", 1)
+        die("the design's sources, the harnesses or the placement scripts changed while the "
+            "report ran: run it again on a quiet tree", 1)
     commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT,
                             capture_output=True, text=True).stdout.strip()
-    dirty = subprocess.run(["git", "status", "--porcelain", "rtl"], cwd=ROOT,
-                           capture_output=True, text=True).stdout.strip()
+    dirty = subprocess.run(["git", "status", "--porcelain", "--", *measured_files()],
+                           cwd=ROOT, capture_output=True, text=True).stdout.strip()
     full = {
         "command": "make report" if os.environ.get("MAKELEVEL") else "python3 scripts/report.py",
         "date": time.strftime("%Y-%m-%d %H:%M"),
-        "commit": commit + (" (rtl/ modified)" if dirty else ""),
+        "commit": commit + (" (measured files modified)" if dirty else ""),
         "sources_sha256": fp0,
         "tools": tool_versions(),
         "wall_s": round(time.perf_counter() - t0, 1),

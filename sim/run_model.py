@@ -21,7 +21,7 @@ def die(msg: str):
     raise SystemExit(2)
 
 
-# a field as the harness's strtol takes it (sim/harness/harness.cpp parse_field): C
+# a field as the harness's strtol takes it (sim/harness/input.h parse_field): C
 # white space, an optional sign, decimal digits, nothing after them
 _FIELD = re.compile(rb"[ \t\n\v\f\r]*[+-]?[0-9]+")
 
@@ -33,7 +33,7 @@ def _trim(line: bytes) -> bytes:
 
 def read_codes(path: str, adc_w: int = 16):
     """Read a `u1,u2` CSV of signed ADC codes by the rules of the RTL harness
-    (sim/harness/harness.cpp read_csv: the same files are accepted and the same errors
+    (sim/harness/input.h read_csv: the same files are accepted and the same errors
     named, with the file and line)."""
     lo, hi = -(1 << (adc_w - 1)), (1 << (adc_w - 1)) - 1
     if not os.path.exists(path):
@@ -49,7 +49,9 @@ def read_codes(path: str, adc_w: int = 16):
         lines.pop()                              # the final newline ends the last line
     if not lines:
         die(f"{path}:1: empty file (expected header 'u1,u2')")
-    show = lambda b: b.decode("latin-1")        # noqa: E731 (bytes as the harness prints them)
+    # bytes as the harness shows them: printable ASCII as is, others as \xNN
+    show = lambda b: "".join(chr(c) if 0x20 <= c < 0x7f else f"\\x{c:02x}"   # noqa: E731
+                             for c in b)
     if _trim(lines[0]) != b"u1,u2":
         die(f"{path}:1: header is '{show(_trim(lines[0]))}', expected 'u1,u2'")
     u1, u2 = [], []
@@ -65,11 +67,12 @@ def read_codes(path: str, adc_w: int = 16):
             fld = _trim(fld)
             if not _FIELD.fullmatch(fld):
                 die(f"{path}:{ln}: {name}: not a decimal integer: '{show(fld)}'")
-            vals.append(int(fld))
+            v = int(fld)
+            if not lo <= v <= hi:
+                die(f"{path}:{ln}: {name}: code {show(fld)} out of the signed {adc_w}-bit "
+                    f"range [{lo}, {hi}]")
+            vals.append(v)
         a, b = vals
-        if not (lo <= a <= hi and lo <= b <= hi):
-            die(f"{path}:{ln}: code out of the signed {adc_w}-bit range [{lo}, {hi}]: "
-                f"'{show(line)}'")
         u1.append(a)
         u2.append(b)
     if not u1:

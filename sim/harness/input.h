@@ -4,9 +4,12 @@
 // starts every error message) and ADC_W before including it.
 //
 // CSV: the header 'u1,u2', then one 'u1,u2' pair of decimal ADC codes per line in the
-// signed ADC_W-bit range; blank lines are skipped; a line's trailing '\r', ' ' and '\n'
-// and leading ' ' do not count (a field's own leading and trailing spaces neither). An
-// error exits with status 2 and a message 'TOOL: error: file:line: ...'.
+// signed ADC_W-bit range; blank lines are skipped. A line's trailing '\r', ' ' and '\n'
+// and its leading ' ' do not count, nor do a field's trailing ' ' and its leading white
+// space (strtol's: ' ', '\t', '\n', '\v', '\f', '\r'). sim/run_model.py reads by the
+// same rules and names the same errors. An error exits with status 2 and one line,
+// 'TOOL: error: ' and what was wrong: with 'file:line:' for a line's error, with the
+// file's name for a file's; bytes outside printable ASCII are shown as \xNN.
 #ifndef FINEQUAD_HARNESS_INPUT_H
 #define FINEQUAD_HARNESS_INPUT_H
 #ifndef HARNESS_TOOL
@@ -32,25 +35,45 @@
     std::exit(2);
 }
 
+// printable ASCII as is, every other byte as \xNN (a NUL or a control byte in a message
+// would cut or garble the line)
+static std::string shown(const char *p, const char *q) {
+    static const char hex[] = "0123456789abcdef";
+    std::string out;
+    for (; p < q; p++) {
+        unsigned char c = (unsigned char)*p;
+        if (c >= 0x20 && c < 0x7f) {
+            out += (char)c;
+        } else {
+            out += "\\x";
+            out += hex[c >> 4];
+            out += hex[c & 15];
+        }
+    }
+    return out;
+}
+static std::string shown(const std::string &s) { return shown(s.data(), s.data() + s.size()); }
+
 static long parse_long(const std::string &s, const std::string &what) {
     errno = 0;
     char *end = nullptr;
     long v = std::strtol(s.c_str(), &end, 10);
     if (end == s.c_str() || end != s.c_str() + s.size())
-        die(what + ": not a decimal integer: '" + s + "'");
-    if (errno == ERANGE) die(what + ": out of range: '" + s + "'");
+        die(what + ": not a decimal integer: '" + shown(s) + "'");
+    if (errno == ERANGE) die(what + ": out of range: '" + shown(s) + "'");
     return v;
 }
 
-// The line rules of the CSV input (as trim() of std::string did): trailing '\r', ' ' and
-// '\n' and leading ' ' do not count.
+// The line rule of the CSV input: trailing '\r', ' ' and '\n' and leading ' ' do not count.
 static void trim(const char *&p, const char *&q) {
     while (q > p && (q[-1] == '\r' || q[-1] == ' ' || q[-1] == '\n')) q--;
     while (p < q && *p == ' ') p++;
 }
 
+// A field: a decimal integer (parse_long's rules) that is a signed ADC_W-bit code.
 static long parse_field(const char *p, const char *q, const std::string &path, long ln,
                         const char *name) {
+    static const long lo = -(1L << (ADC_W - 1)), hi = (1L << (ADC_W - 1)) - 1;
     trim(p, q);
     char tmp[64];
     if ((size_t)(q - p) < sizeof tmp) {
@@ -61,10 +84,19 @@ static long parse_field(const char *p, const char *q, const std::string &path, l
         char *end = nullptr;
         long v = std::strtol(tmp, &end, 10);
         // (every byte taken: a NUL inside the field would end strtol's string early)
-        if (!errno && end != tmp && end == tmp + (q - p)) return v;
+        if (!errno && end != tmp && end == tmp + (q - p) && v >= lo && v <= hi) return v;
     }
     // long fields and every error
-    return parse_long(std::string(p, q), path + ":" + std::to_string(ln) + ": " + name);
+    const std::string where = path + ":" + std::to_string(ln) + ": " + name, text(p, q);
+    errno = 0;
+    char *end = nullptr;
+    long v = std::strtol(text.c_str(), &end, 10);
+    if (end == text.c_str() || end != text.c_str() + text.size())
+        die(where + ": not a decimal integer: '" + shown(text) + "'");
+    if (errno == ERANGE || v < lo || v > hi)
+        die(where + ": code " + shown(text) + " out of the signed " + std::to_string(ADC_W) +
+            "-bit range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    return v;
 }
 
 // The whole file is read at once and split into lines in place (std::getline and
@@ -94,8 +126,7 @@ static void read_csv(const std::string &path, std::vector<int> &u1, std::vector<
     if (!next_line(p, q)) die(path + ":1: empty file (expected header 'u1,u2')");
     trim(p, q);
     if (std::string(p, q) != "u1,u2")
-        die(path + ":1: header is '" + std::string(p, q) + "', expected 'u1,u2'");
-    const long lo = -(1L << (ADC_W - 1)), hi = (1L << (ADC_W - 1)) - 1;
+        die(path + ":1: header is '" + shown(p, q) + "', expected 'u1,u2'");
     long ln = 1;
     u1.reserve(text.size() / 8);
     u2.reserve(text.size() / 8);
@@ -106,13 +137,9 @@ static void read_csv(const std::string &path, std::vector<int> &u1, std::vector<
         const char *c = static_cast<const char *>(std::memchr(p, ',', (size_t)(q - p)));
         if (!c || std::memchr(c + 1, ',', (size_t)(q - c - 1)))
             die(path + ":" + std::to_string(ln) + ": expected two values 'u1,u2', got '" +
-                std::string(p, q) + "'");
+                shown(p, q) + "'");
         long a = parse_field(p, c, path, ln, "u1");
         long b = parse_field(c + 1, q, path, ln, "u2");
-        if (a < lo || a > hi || b < lo || b > hi)
-            die(path + ":" + std::to_string(ln) + ": code out of the signed " +
-                std::to_string(ADC_W) + "-bit range [" + std::to_string(lo) + ", " +
-                std::to_string(hi) + "]: '" + std::string(p, q) + "'");
         u1.push_back((int)a);
         u2.push_back((int)b);
     }

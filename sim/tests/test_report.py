@@ -486,27 +486,49 @@ class _Cell:
         self.type = type_
 
 
-def _dsp_cells(*regs, other=()):
-    return ([(f"{r}_SB_MAC16_O_DSP", _Cell("ICESTORM_DSP")) for r in regs]
+def _dsp_cells(*regs, other=(), type_="ICESTORM_DSP"):
+    return ([(f"{r}_SB_MAC16_O_DSP", _Cell(type_)) for r in regs]
             + [(n, _Cell("ICESTORM_LC")) for n in other])
 
 
 def test_floorplan_locks_each_named_block_and_ignores_the_rest():
     regs = ["u_core.u_correct.p1", "u_core.u_correct.p12", "u_core.u_correct.p2",
             "u_core.u_octant.psum", "u_core.u_est.g_int.u_engine.g_lane[0].pp_ll"]
-    got = up5k_dsp.floorplan(_dsp_cells(*regs, other=["u_core.u_correct.p12_SB_DFF_LC"]))
+    # (a logic cell named like a block is not one)
+    got = up5k_dsp.floorplan(_dsp_cells(*regs, other=["u_core.u_correct.p12_SB_MAC16_O_LC"]))
     assert got == {"u_core.u_correct.p1_SB_MAC16_O_DSP": "X25/Y23/mac16_0",
                    "u_core.u_correct.p12_SB_MAC16_O_DSP": "X25/Y10/mac16_0",
                    "u_core.u_correct.p2_SB_MAC16_O_DSP": "X25/Y15/mac16_0",
                    "u_core.u_octant.psum_SB_MAC16_O_DSP": "X25/Y5/mac16_0"}
-    # p1 is not a prefix match of p12 (nor u_xcorrect of u_correct); a top without u_core
+    # p1 does not match p12 by prefix; a top without u_core; Yosys's cell type (before
+    # nextpnr packs it)
     assert up5k_dsp.floorplan(_dsp_cells("u_correct.p1", "u_correct.p12", "u_correct.p2",
-                                         "u_octant.psum"))["u_correct.p1_SB_MAC16_O_DSP"] \
-        == "X25/Y23/mac16_0"
+                                         "u_octant.psum", type_="SB_MAC16")
+                              )["u_correct.p1_SB_MAC16_O_DSP"] == "X25/Y23/mac16_0"
+
+
+def test_report_checks_the_floorplan_against_the_netlist(tmp_path):
+    """make report: the UP5K's placement script finds its blocks in the synthesised
+    netlist, or the report stops with the script's message before nextpnr runs."""
+    def netlist(regs):
+        cells = {f"u_core.{r}_SB_MAC16_O": {"type": "SB_MAC16"} for r in regs}
+        cells["u_core.u_correct.p1_SB_DFF_Q"] = {"type": "SB_DFF"}
+        f = tmp_path / "top.json"
+        f.write_text(json.dumps({"modules": {"top_report": {"cells": cells}}}))
+        return f
+    regs = ["u_correct.p1", "u_correct.p12", "u_correct.p2", "u_octant.psum"]
+    got = report.check_preplace("ice40_up5k", netlist(regs))
+    assert sorted(got.values()) == sorted(up5k_dsp.FLOORPLAN.values())
+    with pytest.raises(report.ReportError, match=r"ice40_up5k: .*top.json: .*u_correct.p2: "
+                       r"no DSP blocks"):
+        report.check_preplace("ice40_up5k", netlist(regs[:2] + regs[3:]))
+    assert report.check_preplace("ecp5_25f", tmp_path / "none.json") is None   # no script
 
 
 def test_floorplan_names_a_block_missing_or_found_twice():
-    with pytest.raises(ValueError, match=r"u_octant.psum: no DSP blocks$"):
+    # (u_xoctant is not u_octant) the blocks the design has are listed
+    with pytest.raises(ValueError, match=r"u_octant.psum: no DSP blocks; the design's DSP "
+                       r"blocks: u_core.u_correct.p12_SB_MAC16_O_DSP, .*u_xoctant.psum_SB"):
         up5k_dsp.floorplan(_dsp_cells("u_core.u_correct.p1", "u_core.u_correct.p12",
                                       "u_core.u_correct.p2", "u_core.u_xoctant.psum"))
     with pytest.raises(ValueError, match=r"u_correct.p2: 2 DSP blocks \(a.u_correct.p2_SB"):
@@ -514,9 +536,11 @@ def test_floorplan_names_a_block_missing_or_found_twice():
                                       "b.u_correct.p2", "a.u_octant.psum"))
 
 
-def test_floorplan_names_registers_of_the_core():
-    """Each entry is a register of the module its instance is (rtl/finequad_core.v): a
-    renamed register or instance fails here, not only in `make report`."""
+def test_floorplan_names_signals_of_the_core():
+    """Each entry names a signal declared in the module of its instance (rtl/
+    finequad_core.v): a product register (rtl/correct.v) or the octant's rounding sum psum
+    (a wire, rtl/octant.v, that Yosys names the block after). A renamed signal or instance
+    fails here; `make report` checks the names against the synthesised netlist."""
     core = (ROOT / "rtl" / "finequad_core.v").read_text()
     for key in up5k_dsp.FLOORPLAN:
         inst, reg = key.split(".")
@@ -572,10 +596,15 @@ def test_floorplan_places_the_blocks_through_nextpnr(tmp_path):
     bels = {up5k_dsp.register_of(n): c["attributes"]["NEXTPNR_BEL"]
             for n, c in cells.items() if c["type"] == "ICESTORM_DSP"}
     assert bels == up5k_dsp.FLOORPLAN
-    # a block the design does not have stops nextpnr with its name
+    # a block the design does not have stops nextpnr with its name, and make report with
+    # the script's message (not as a seed that did not route)
     (tmp_path / "floor.v").write_text(FLOOR_V.replace("psum", "qsum"))
     subprocess.run(["yosys", "-q", "-p", "read_verilog floor.v; synth_ice40 -dsp -top floor "
                     "-json floor.json"], cwd=tmp_path, check=True)
     p = subprocess.run(pnr, cwd=tmp_path, capture_output=True, text=True)
     assert p.returncode != 0
     assert "u_octant.psum: no DSP blocks" in p.stdout + p.stderr
+    with pytest.raises(report.ReportError, match=r"ice40_up5k nextpnr seed1: the placement "
+                       r"script constraints/up5k_dsp.py stopped it: ValueError: .*"
+                       r"u_octant.psum: no DSP blocks"):
+        report.pnr("ice40_up5k", tmp_path / "floor.json", tmp_path, 1, 36.0)

@@ -126,9 +126,10 @@ def test_build_knob_outside_its_values_is_refused(knob, value):
     assert f"{knob}='{value}': must be" in p.stderr, p.stderr
 
 
-@pytest.mark.parametrize("target", ["rtlsim", "model"])
-@pytest.mark.parametrize("text,line,reason", [
-    ("u1,u2\n1,2\n3,40000\n", 3, "out of the signed 16-bit range"),
+BAD_CSV = [
+    ("u1,u2\n1,2\n3,40000\n", 3, "u2: code 40000 out of the signed 16-bit range"),
+    ("u1,u2\n-32769,0\n", 2, "u1: code -32769 out of the signed 16-bit range"),
+    ("u1,u2\n1,99999999999999999999999\n", 2, "u2: code 99999999999999999999999 out of"),
     ("u1,u2\n1,2\n0x10,5\n", 3, "not a decimal integer"),
     ("u1,u2\n1,2,3\n", 2, "expected two values"),
     ("a,b\n1,2\n", 1, "expected 'u1,u2'"),
@@ -139,16 +140,41 @@ def test_build_knob_outside_its_values_is_refused(knob, value):
     ("u1,u2\n1_000,2\n", 2, "not a decimal integer"),
     ('u1,u2\n"1","2"\n', 2, "not a decimal integer"),
     ("u1,u2\n1,\xff\n", 2, "not a decimal integer"),
-    ("u1,u2\n5\x00junk,2\n", 2, "not a decimal integer"),
-])
+    ("u1,u2\n5\x00junk,2\n", 2, "u1: not a decimal integer: '5\\x00junk'"),
+    ("u1\x01,u2\n1,2\n", 1, "header is 'u1\\x01,u2'"),
+    ("u1,u2\n\t1 ,\t-2\n1,2,\x7f\n", 3, "got '1,2,\\x7f'"),
+]
+
+
+def _make(target, csv, out):
+    return subprocess.run(["make", "-s", "-C", str(ROOT), target, f"IN={csv}", f"OUT={out}"],
+                          capture_output=True, text=True, errors="replace")
+
+
+@pytest.mark.parametrize("target", ["rtlsim", "model"])
+@pytest.mark.parametrize("text,line,reason", BAD_CSV)
 def test_bad_input_is_rejected_with_file_line_and_reason(tmp_path, target, text, line, reason):
     bad = tmp_path / "bad.csv"
     bad.write_bytes(text.encode("latin-1"))
-    p = subprocess.run(["make", "-s", "-C", str(ROOT), target, f"IN={bad}",
-                        f"OUT={tmp_path / 'o.csv'}"], capture_output=True, text=True,
-                       errors="replace")            # (the harness echoes the bytes)
+    p = _make(target, bad, tmp_path / "o.csv")
     assert p.returncode != 0
     assert f"bad.csv:{line}" in p.stderr and reason in p.stderr, p.stderr
+
+
+def test_harness_and_model_name_bad_input_alike(tmp_path):
+    """The RTL harness and the model read by one set of rules (sim/harness/input.h,
+    sim/run_model.py): the same error line, but for the tool's name, on every bad input;
+    and both read the good lines among them alike (leading tabs, trailing spaces)."""
+    for i, (text, _, _) in enumerate(BAD_CSV):
+        bad = tmp_path / f"bad{i}.csv"
+        bad.write_bytes(text.encode("latin-1"))
+        msgs = []
+        for target, tool in (("rtlsim", "rtlsim"), ("model", "model")):
+            p = _make(target, bad, tmp_path / "o.csv")
+            err = [ln for ln in p.stderr.splitlines() if ln.startswith(f"{tool}: error: ")]
+            assert p.returncode != 0 and len(err) == 1, (target, text, p.stderr)
+            msgs.append(err[0][len(tool) + 2:])
+        assert msgs[0] == msgs[1], text
 
 
 @pytest.mark.parametrize("target", ["rtlsim", "model"])
