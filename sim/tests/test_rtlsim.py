@@ -146,7 +146,7 @@ BAD_CSV = [
 ]
 
 
-def _make(target, csv, out):
+def _make_bad(target, csv, out):
     return subprocess.run(["make", "-s", "-C", str(ROOT), target, f"IN={csv}", f"OUT={out}"],
                           capture_output=True, text=True, errors="replace")
 
@@ -156,7 +156,7 @@ def _make(target, csv, out):
 def test_bad_input_is_rejected_with_file_line_and_reason(tmp_path, target, text, line, reason):
     bad = tmp_path / "bad.csv"
     bad.write_bytes(text.encode("latin-1"))
-    p = _make(target, bad, tmp_path / "o.csv")
+    p = _make_bad(target, bad, tmp_path / "o.csv")
     assert p.returncode != 0
     assert f"bad.csv:{line}" in p.stderr and reason in p.stderr, p.stderr
 
@@ -170,7 +170,7 @@ def test_harness_and_model_name_bad_input_alike(tmp_path):
         bad.write_bytes(text.encode("latin-1"))
         msgs = []
         for target, tool in (("rtlsim", "rtlsim"), ("model", "model")):
-            p = _make(target, bad, tmp_path / "o.csv")
+            p = _make_bad(target, bad, tmp_path / "o.csv")
             err = [ln for ln in p.stderr.splitlines() if ln.startswith(f"{tool}: error: ")]
             assert p.returncode != 0 and len(err) == 1, (target, text, p.stderr)
             msgs.append(err[0][len(tool) + 2:])
