@@ -75,7 +75,7 @@ tables: deps     ## regenerate rtl/tables/*.hex from sim/model
 # Registers carry initial values on purpose (iCE40 and ECP5 honour them, formal needs
 # them: house style), so newer Verilators' PROCASSINIT notice is waived; everything else
 # of -Wall must be clean, with Debian's Verilator too where it is installed.
-lint: deps       ## verilator --lint-only -Wall on the core, the system top and the multi-axis top
+lint: deps       ## verilator --lint-only -Wall on the core, the system top and the multi-axis top; ruff's pyflakes rules on the Python
 	for p in "" "-GTABLE_EXACT=0" "-GOPT_NTH_DSP=0 -GOPT_HARMONIC=0 -GOPT_TUNABLE=0" \
 	    "-GOPT_NTH_DSP=0 -GOPT_HARMONIC=0 -GOPT_TUNABLE=0 -GOPT_MONITOR=0 -GOPT_JUMP=0" \
 	    "-GENGINE_LANES=2" \
@@ -97,6 +97,9 @@ lint: deps       ## verilator --lint-only -Wall on the core, the system top and 
 	    if command -v /usr/bin/verilator >/dev/null; then \
 	        /usr/bin/verilator --lint-only -Wall -Irtl -Irtl/tables $$p \
 	            --top-module finequad_multi rtl/finequad_multi.v $(RTL) || exit 1; fi; done
+	# the Python: undefined names, unused imports and variables, f-strings without a field
+	# (ruff's pyflakes rules, F)
+	$(VENV)/bin/ruff check --quiet --no-cache --select F sim scripts cocotb_tests constraints
 
 # The rtlsim harness (sim/harness/harness.cpp) in two builds of one Verilator command:
 # $(HARNESS) without --trace for the runs (tracing support alone cost 8 % of the CPU time),

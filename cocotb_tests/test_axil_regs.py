@@ -51,7 +51,6 @@ def test_axil_core(sim):
 # ---- simulator side ----------------------------------------------------------------------
 try:
     import cocotb
-    from cocotb.triggers import RisingEdge, Timer
 except ImportError:      # pytest collection without cocotb's simulator module
     cocotb = None
 

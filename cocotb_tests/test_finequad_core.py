@@ -541,7 +541,6 @@ async def core_run(dut):
 
     scenario = fqtb.env_str("SCENARIO")
     n = fqtb.env_int("SAMPLES")
-    sc = SCENARIOS[scenario]
     u1, u2, t, requests, t_ph, res = model_run(scenario, n)
     log = dut._log
     log.info("scenario %s: %d samples, last strobe on edge %d, %d model updates",

@@ -29,7 +29,6 @@ could not pass. Verilator only (Icarus simulates the core at some 10 k clocks/s)
 import os
 
 import numpy as np
-import pytest
 
 import fqtb
 

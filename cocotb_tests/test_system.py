@@ -40,10 +40,7 @@ runs as on the board.
                in use, UPDATES = the model's update count, STATUS calibrated; INTERP
                written and read back; a word above ADDR_TOP answers SLVERR.
 """
-import os
-
 import numpy as np
-import pytest
 
 import fqtb
 

@@ -306,7 +306,7 @@ async def bridge(dut):
     from fqlink import UartLink, BusError, ProtocolError, FqProtocol
 
     dut.rxd_i.value = 1
-    bench = await _start(dut)
+    await _start(dut)
     regs = RegPortModel(dut, dut.clk)
     src = UartSource(dut.rxd_i, baud=1e9 / BIT_NS, bits=8, stop_bits=1)
     sink = UartSink(dut.txd_o, baud=1e9 / BIT_NS, bits=8, stop_bits=1)

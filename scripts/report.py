@@ -1209,8 +1209,8 @@ def markdown(rep):
     L.append("## How each number was measured\n")
     pre = "; ".join(f"{rep['devices'][d]['device']}: --pre-place {rep['devices'][d]['preplace']}"
                     for d in devs if rep["devices"][d].get("preplace"))
-    L.append(f"- **Fmax**: nextpnr's achieved frequency of the core clock (report JSON), "
-             f"median over the seeds; each seed is one place and route of the same "
+    L.append("- **Fmax**: nextpnr's achieved frequency of the core clock (report JSON), "
+             "median over the seeds; each seed is one place and route of the same "
              "netlist" + (f" (placement scripts: {pre})" if pre else "") + ".")
     L.append("- **builds**: " + "; ".join(
         f"{rep['devices'][d]['device']}: "

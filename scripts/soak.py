@@ -380,7 +380,7 @@ def main():
     (out / "soak.json").write_text(json.dumps(st, indent=1))
     print(f"soak: {st['samples']} samples in {st['wall_s']} s ({st['samples_per_s']} "
           f"samples/s, {a.div} clocks per sample), n = {INTERP}, 4 um pitch")
-    print(f"  situations: " + ", ".join(f"{k} {v}" for k, v in st["situations"].items()))
+    print("  situations: " + ", ".join(f"{k} {v}" for k, v in st["situations"].items()))
     print(f"  slips: {st['slips']} samples ({st['slip_events']} events) off by more than "
           f"pitch/8 among the trusted samples")
     print(f"  error: final {st['final_err_nm']:.1f} nm, largest {st['max_err_nm']:.1f} nm "

@@ -53,7 +53,6 @@ Programs:
   extract  theta -> the correction bundle m1, m2, c1, c12, c2 (OUT); invalid when theta
            is not an ellipse or a coefficient does not fit its format
 """
-import dataclasses
 from dataclasses import dataclass, field
 
 # ---- opcodes and fields (rtl/rls_engine.v decodes the same) -----------------------------
