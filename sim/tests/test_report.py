@@ -224,6 +224,20 @@ def test_targets_met_and_missed():
                    "estimator updates": False, "latency": True, "simulation": False}
 
 
+ICE40_TOOLS = pytest.mark.skipif(
+    not (shutil.which("yosys") and shutil.which("nextpnr-ice40")),
+    reason="yosys / nextpnr-ice40 not installed")
+
+
+def _synth_ice40(folder, verilog, top, dsp=False):
+    """Yosys synth_ice40 of `verilog` (written to folder/<top>.v) -> folder/<top>.json."""
+    (folder / f"{top}.v").write_text(verilog)
+    subprocess.run(["yosys", "-q", "-p", f"read_verilog {top}.v; synth_ice40 "
+                    f"{'-dsp ' if dsp else ''}-top {top} -json {top}.json"], cwd=folder,
+                   check=True)
+    return folder / f"{top}.json"
+
+
 TINY = """
 module tiny (input wire clk, input wire d, output reg [7:0] q = 0);
     always @(posedge clk) q <= {q[6:0], d} + q;
@@ -231,12 +245,9 @@ endmodule
 """
 
 
-@pytest.mark.skipif(not (shutil.which("yosys") and shutil.which("nextpnr-ice40")),
-                    reason="yosys / nextpnr-ice40 not installed")
+@ICE40_TOOLS
 def test_real_tiny_design_through_yosys_and_nextpnr(tmp_path):
-    (tmp_path / "tiny.v").write_text(TINY)
-    subprocess.run(["yosys", "-q", "-p", "read_verilog tiny.v; synth_ice40 -top tiny "
-                    "-json tiny.json"], cwd=tmp_path, check=True)
+    _synth_ice40(tmp_path, TINY, "tiny")
     subprocess.run(["nextpnr-ice40", "--up5k", "--package", "sg48", "--json", "tiny.json",
                     "--freq", "50", "--seed", "1", "--report", "rep.json", "-l", "pnr.log",
                     "-q", "--timing-allow-fail", "--sdf", "tiny.sdf"], cwd=tmp_path,
@@ -372,10 +383,8 @@ SUM = ["O[31:16] out (product sum)", "O[15:0] out (product sum)"]
 @pytest.mark.skipif(shutil.which("yosys") is None, reason="needs yosys")
 @pytest.mark.parametrize("top, comb", [("mul_reg", SUM), ("mul_comb", ["A in", "B in"] + SUM)])
 def test_ice40_dsp_modes_on_real_yosys_output(tmp_path, top, comb):
-    (tmp_path / "m.v").write_text(MULS)
-    subprocess.run(["yosys", "-q", "-p", f"read_verilog m.v; synth_ice40 -dsp -top {top} "
-                    "-json m.json"], cwd=tmp_path, check=True)
-    rows = report.ice40_dsp_modes(json.loads((tmp_path / "m.json").read_text()))
+    net = _synth_ice40(tmp_path, MULS, top, dsp=True)
+    rows = report.ice40_dsp_modes(json.loads(net.read_text()))
     assert [r["combinational"] for r in rows] == [comb]
 
 
@@ -582,12 +591,9 @@ endmodule
 """
 
 
-@pytest.mark.skipif(not (shutil.which("yosys") and shutil.which("nextpnr-ice40")),
-                    reason="yosys / nextpnr-ice40 not installed")
+@ICE40_TOOLS
 def test_floorplan_places_the_blocks_through_nextpnr(tmp_path):
-    (tmp_path / "floor.v").write_text(FLOOR_V)
-    subprocess.run(["yosys", "-q", "-p", "read_verilog floor.v; synth_ice40 -dsp -top floor "
-                    "-json floor.json"], cwd=tmp_path, check=True)
+    _synth_ice40(tmp_path, FLOOR_V, "floor", dsp=True)
     pnr = ["nextpnr-ice40", "--up5k", "--package", "sg48", "--json", "floor.json", "-q",
            "--pre-place", str(ROOT / "constraints" / "up5k_dsp.py")]
     subprocess.run(pnr + ["--write", "placed.json"], cwd=tmp_path, check=True,
@@ -598,9 +604,7 @@ def test_floorplan_places_the_blocks_through_nextpnr(tmp_path):
     assert bels == up5k_dsp.FLOORPLAN
     # a block the design does not have stops nextpnr with its name, and make report with
     # the script's message (not as a seed that did not route)
-    (tmp_path / "floor.v").write_text(FLOOR_V.replace("psum", "qsum"))
-    subprocess.run(["yosys", "-q", "-p", "read_verilog floor.v; synth_ice40 -dsp -top floor "
-                    "-json floor.json"], cwd=tmp_path, check=True)
+    _synth_ice40(tmp_path, FLOOR_V.replace("psum", "qsum"), "floor", dsp=True)
     p = subprocess.run(pnr, cwd=tmp_path, capture_output=True, text=True)
     assert p.returncode != 0
     assert "u_octant.psum: no DSP blocks" in p.stdout + p.stderr

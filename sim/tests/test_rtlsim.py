@@ -151,30 +151,23 @@ def _make_bad(target, csv, out):
                           capture_output=True, text=True, errors="replace")
 
 
-@pytest.mark.parametrize("target", ["rtlsim", "model"])
 @pytest.mark.parametrize("text,line,reason", BAD_CSV)
-def test_bad_input_is_rejected_with_file_line_and_reason(tmp_path, target, text, line, reason):
+def test_bad_input_is_rejected_alike_with_file_line_and_reason(tmp_path, text, line, reason):
+    """The RTL harness and the model read by one set of rules (sim/harness/input.h,
+    sim/run_model.py): each refuses the input with the file, line and reason, in the same
+    error line but for the tool's name; both read the good lines among them alike
+    (leading tabs, trailing spaces)."""
     bad = tmp_path / "bad.csv"
     bad.write_bytes(text.encode("latin-1"))
-    p = _make_bad(target, bad, tmp_path / "o.csv")
-    assert p.returncode != 0
-    assert f"bad.csv:{line}" in p.stderr and reason in p.stderr, p.stderr
-
-
-def test_harness_and_model_name_bad_input_alike(tmp_path):
-    """The RTL harness and the model read by one set of rules (sim/harness/input.h,
-    sim/run_model.py): the same error line, but for the tool's name, on every bad input;
-    and both read the good lines among them alike (leading tabs, trailing spaces)."""
-    for i, (text, _, _) in enumerate(BAD_CSV):
-        bad = tmp_path / f"bad{i}.csv"
-        bad.write_bytes(text.encode("latin-1"))
-        msgs = []
-        for target, tool in (("rtlsim", "rtlsim"), ("model", "model")):
-            p = _make_bad(target, bad, tmp_path / "o.csv")
-            err = [ln for ln in p.stderr.splitlines() if ln.startswith(f"{tool}: error: ")]
-            assert p.returncode != 0 and len(err) == 1, (target, text, p.stderr)
-            msgs.append(err[0][len(tool) + 2:])
-        assert msgs[0] == msgs[1], text
+    msgs = []
+    for tool in ("rtlsim", "model"):
+        p = _make_bad(tool, bad, tmp_path / "o.csv")
+        assert p.returncode != 0
+        assert f"bad.csv:{line}" in p.stderr and reason in p.stderr, p.stderr
+        err = [ln for ln in p.stderr.splitlines() if ln.startswith(f"{tool}: error: ")]
+        assert len(err) == 1, (tool, p.stderr)
+        msgs.append(err[0][len(tool) + 2:])
+    assert msgs[0] == msgs[1]
 
 
 @pytest.mark.parametrize("target", ["rtlsim", "model"])
