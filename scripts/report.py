@@ -86,8 +86,8 @@ DEVICES = {
                    "OPT_JUMP": 0},
         # the core's parameters the probe is built with (behaviour and structure: the RTL
         # whose latency and rates are measured), and `make model`'s for the comparison
-        "probe": {"ENGINE_LANES": 1, "OPT_HARMONIC": 0, "OPT_TUNABLE": 0, "OPT_MONITOR": 0,
-                  "OPT_JUMP": 0},
+        "probe": {"ENGINE_LANES": 1, "OPT_NTH_DSP": 0, "OPT_HARMONIC": 0, "OPT_TUNABLE": 0,
+                  "OPT_MONITOR": 0, "OPT_JUMP": 0},
         "model": {"LANES": 1, "HARMONIC": 0, "MONITOR": 0, "JUMP": 0},
         "freq": 36.0,
         # the fast path's DSP blocks locked in one column, p12 next to p2 (a nextpnr-ice40
