@@ -131,6 +131,10 @@ def test_fqhost(monkeypatch):
     with pytest.raises(fqhost.ProtocolError, match="may or may not"):
         fqhost.FqHost(None, ser=s).write(4, 100)
     assert len(s.frames) == 1
+    # a read's line names the register read: word 0 reads STATUS, signed ones as signed
+    assert fqhost.show(0x00, 5).split() == ["status", "0x00", "0x00000005", "5"]
+    assert fqhost.show(0x08, 0xffffffff).split() == ["count", "0x08", "0xffffffff", "-1"]
+    assert fqhost.show(0x1e, 7).split() == ["0x1e", "0x1e", "0x00000007", "7"]
     # CLI input errors are argparse errors (exit 2) with the reason
     for argv in (["-p", "x", "read", "nonsense"], ["-p", "x", "write", "interp", "0x1g"],
                  ["-p", "x", "write", "interp", str(1 << 32)], ["read", "id"]):

@@ -188,7 +188,9 @@ def u32(text):
 
 
 def show(word, v):
-    names = [n for n, w in REGS.items() if w == word]
+    """A read's line: name, word, hex, decimal (signed registers as signed). Word 0x00
+    reads STATUS (CTRL is what a write to it sets)."""
+    names = [n for n, w in REGS.items() if w == word and n != "ctrl"]
     name = names[0] if names else f"0x{word:02x}"
     s = v - (1 << 32) if (names and names[0] in SIGNED and v >> 31) else v
     return f"{name:13s} 0x{word:02x}  0x{v:08x}  {s}"
