@@ -74,23 +74,25 @@ tables: deps     ## regenerate rtl/tables/*.hex from sim/model
 
 # Registers carry initial values on purpose (iCE40 and ECP5 honour them, formal needs
 # them: house style), so newer Verilators' PROCASSINIT notice is waived; everything else
-# of -Wall must be clean, with Debian's Verilator too where it is installed.
+# of -Wall must be clean, with Debian's Verilator too where it is installed (one-bit
+# parameters are given sized, 1'b1: Debian's 5.006 warns of a 32-bit -G value).
 lint: deps       ## verilator --lint-only -Wall on the core, the system top and the multi-axis top; ruff's pyflakes rules on the Python
-	for p in "" "-GTABLE_EXACT=0" "-GOPT_NTH_DSP=0 -GOPT_HARMONIC=0 -GOPT_TUNABLE=0" \
-	    "-GOPT_NTH_DSP=0 -GOPT_HARMONIC=0 -GOPT_TUNABLE=0 -GOPT_MONITOR=0 -GOPT_JUMP=0" \
+	for p in "" "-GTABLE_EXACT=1'b0" "-GOPT_NTH_DSP=1'b0 -GOPT_HARMONIC=1'b0 -GOPT_TUNABLE=1'b0" \
+	    "-GOPT_NTH_DSP=1'b0 -GOPT_HARMONIC=1'b0 -GOPT_TUNABLE=1'b0 -GOPT_MONITOR=1'b0 -GOPT_JUMP=1'b0" \
 	    "-GENGINE_LANES=2" \
-	    "-GENGINE_LANES=2 -GOPT_DISTRAM=1 -GOPT_PHASE_4K=1 -GOPT_PULSE_ADDR=1" \
-	    "-GTABLE_EXACT=0 -GOPT_DISTRAM=1 -GOPT_PHASE_4K=1"; do \
+	    "-GENGINE_LANES=2 -GOPT_DISTRAM=1'b1 -GOPT_PHASE_4K=1'b1 -GOPT_PULSE_ADDR=1'b1" \
+	    "-GTABLE_EXACT=1'b0 -GOPT_DISTRAM=1'b1 -GOPT_PHASE_4K=1'b1"; do \
 	    $(VERILATOR) --lint-only -Wall -Wno-PROCASSINIT -Irtl -Irtl/tables $$p \
-	        --top-module finequad_core $(RTL) || exit 1; done
-	if command -v /usr/bin/verilator >/dev/null; then \
-	    /usr/bin/verilator --lint-only -Wall -Irtl -Irtl/tables --top-module finequad_core $(RTL); fi
-	for p in "" "-GOPT_HOSTLINK=0"; do \
+	        --top-module finequad_core $(RTL) || exit 1; \
+	    if command -v /usr/bin/verilator >/dev/null; then \
+	        /usr/bin/verilator --lint-only -Wall -Irtl -Irtl/tables $$p \
+	            --top-module finequad_core $(RTL) || exit 1; fi; done
+	for p in "" "-GOPT_HOSTLINK=1'b0"; do \
 	    $(VERILATOR) --lint-only -Wall -Wno-PROCASSINIT -Irtl -Irtl/tables $$p \
-	        --top-module finequad_system $(SYS_RTL) $(RTL) || exit 1; done
-	if command -v /usr/bin/verilator >/dev/null; then \
-	    /usr/bin/verilator --lint-only -Wall -Irtl -Irtl/tables --top-module finequad_system \
-	        $(SYS_RTL) $(RTL); fi
+	        --top-module finequad_system $(SYS_RTL) $(RTL) || exit 1; \
+	    if command -v /usr/bin/verilator >/dev/null; then \
+	        /usr/bin/verilator --lint-only -Wall -Irtl -Irtl/tables $$p \
+	            --top-module finequad_system $(SYS_RTL) $(RTL) || exit 1; fi; done
 	for p in "-GAXES=1" "-GAXES=2" "-GAXES=4" "-GAXES=3 -GENGINE_LANES=2"; do \
 	    $(VERILATOR) --lint-only -Wall -Wno-PROCASSINIT -Irtl -Irtl/tables $$p \
 	        --top-module finequad_multi rtl/finequad_multi.v $(RTL) || exit 1; \
@@ -200,7 +202,8 @@ vcdcompare: deps ## RTL VCD vs the model's reference VCD: IN=in.csv INTERP=n [TA
 
 SOAK_SAMPLES ?= 1e8
 soak: deps harnesses ## soak: SOAK_SAMPLES (1e8) through the RTL (make rtlsim's harness, streamed): slips, faults, error -> build/soak/soak.json
-	$(PY) scripts/soak.py --samples $(SOAK_SAMPLES) --out $(BUILD)/soak
+	$(PY) scripts/soak.py --samples $(SOAK_SAMPLES) --out $(BUILD)/soak \
+	    --harness $(BUILD)/rtlsim_exact_adc16/Vfinequad_core
 
 bench-accuracy: deps ## accuracy suite: RTL (make rtlsim) and baselines vs the floor -> build/bench/accuracy.{json,md}
 	$(PY) scripts/bench_accuracy.py --build $(BUILD)/bench --interp $(INTERP)
