@@ -5,7 +5,8 @@
 // Mirrors the estimator schedule in sim/model/core.py (documented there in full).
 //
 // One candidate slot keeps the next sample ready while the engine runs, so that at a
-// sample per clock the engine runs program after program with no idle clock.
+// sample per clock the engine runs program after program with one idle clock between
+// them (the next program starts on the edge after the one that ends its predecessor).
 // On the edge after a sample is presented (smp_valid_i):
 //   reset pending, slot empty, no program running -> RESET program: P = kappa I; gain g
 //                           chosen from the peak |u| since the last reset (theta rescaled

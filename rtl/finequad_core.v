@@ -16,8 +16,9 @@
 // m_count, m_fault after edge t + LATENCY (8); the paced A/B outputs follow the count one
 // edge later (t + 9). Stages: t correct (offsets), t+1 products, t+2 magnitudes, t+3
 // reciprocal, t+4 ratio, t+5 address and bin (block RAM reads), t+6 fine phase, t+7
-// n * phase and the period count, t+8 count; Eq. 12 sines t+8, pulses t+9, edge-mode
-// count t+10.
+// n * phase and the period count, t+8 count; Eq. 12 sines t+8, pulses t+9, the edge-mode
+// count E t+10 (in edge mode m_count of a sample holds E as of its own output edge: the
+// steps of the samples strobed on or before t-3; rtl/counter.v).
 // Fault bits (m_fault): 0 clip (at or near a rail), 1 gain saturation, 2 correction
 // saturation, 3 overspeed (|phase step| >= 3/4 pi per sample), 4 not calibrated,
 // 5 estimate held (last theta invalid), 6 A/B backlog over its bound, 7 signal loss,
@@ -362,7 +363,7 @@ module finequad_core #(
     assign m_a = r_absrc ? p_a : g_a;
     assign m_b = r_absrc ? p_b : g_b;
 
-    // ---- estimator: every sample on arrival, its fine phase 4 edges after (t+2 .. t+6) ------------
+    // ---- estimator: every sample on arrival (t), its fine phase PHASE_AT = 6 edges after (t+6) -----
     estimator #(.TABLE_DIR(TABLE_DIR), .G_INIT(G_INIT), .PH_DELAY(PHASE_AT),
                 .ENGINE_LANES(ENGINE_LANES), .OPT_EXT_ENGINE(OPT_EXT_ENGINE),
                 .OPT_TUNABLE(OPT_TUNABLE)) u_est (

@@ -3,7 +3,8 @@
 // harmonic: assembles the fine phase from the octant and the phase table, with the
 // adaptive compensation of its periodic error (the residual harmonic distortion of the
 // encoder signals, which no ellipse correction removes). Bit-true model and the
-// reasoning: sim/model/harmonic.py. No multiplier, one block RAM.
+// reasoning: sim/model/harmonic.py. No multiplier; the table in two block RAMs (two
+// copies, one per read, below) or in distributed RAM (OPT_DISTRAM).
 //
 // Per sample, with ph = PH[j] (rtl/lut.v), phase = (2048 oct2 +- ph) mod 8192 (u13, - when
 // neg), b = phase >> 7 (64 bins of 128 units), A the table (s8.8 units) and R = sum(A) -

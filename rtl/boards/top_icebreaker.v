@@ -14,12 +14,11 @@
 // core standalone: no host link (the registers at their reset values, which synthesis
 // folds into the logic; TX idles high); the ULX3S build (rtl/boards/top_ulx3s.v) has
 // everything. Since the signal monitor, the harmonic compensation does not fit either
-// (5416 cells), hence OPT_HARMONIC = 0 (4734 cells, 90 %), and the core's path
-// correct -> octant -> monitor limits it to 21.38 / 21.92 MHz (nextpnr seeds 1, 2; before
-// the monitor this shell reached 31.95..32.18 MHz): the PLL makes 20.25 MHz (reached:
-// 23.20 / 23.34 / 23.62 MHz on seeds 1..3 with that target). Raise it
-// (DIVF, and ADC_PERIOD for the quiet time) when the core is faster again;
-// scripts/bitstream.sh fails when a build misses the PLL's clock.
+// (5416 cells, commit 0758fc5), hence OPT_HARMONIC = 0: 4153 cells (78.7 %), 30.13 MHz
+// (nextpnr seed 1, commit 67236cb). The PLL makes 20.25 MHz all the same: three of the
+// core's DSP blocks have a stage the open tools do not time (README, Performance report),
+// and the 10 MHz are its margin. A faster clock: DIVF, with ADC_PERIOD for the ADC's
+// quiet time; scripts/bitstream.sh fails when a build misses the PLL's clock.
 module top_icebreaker #(
     // folder of the core's $readmemh tables
     parameter TABLE_DIR = "rtl/tables/"
