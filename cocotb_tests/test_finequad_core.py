@@ -62,10 +62,14 @@ port (reg_re with reg_addr for one edge, reg_rdata after it): ID (0x1f), the run
 registers (0x01..0x07, HARM 0x12, JUMP 0x13, ABGEN 0x15, AB_BOUND 0x16), count (0x08),
 illegal count (0x09), updates (0x11), jumps (0x14), status (0x00: counter mode, uncal,
 hold, engine saturated, loaded), gain and coefficients (0x0b..0x10), the A/B backlog (0x17), CLIP, RADIUS,
-MONITOR (0x18..0x1a) and the travel (0x1c) must equal the model's final state, a capture
-(CTRL bit 2) the final count (0x1b), and the sticky faults (0x0a) the OR of all fault
-words (11 bits); writing ones to 0x0a clears those bits (0x15, then 0, then 0x40 for the
-A/B overflow, then 0x7f, then 0x7ff).
+MONITOR (0x18..0x1a) and the travel (0x1c) must equal the model's final state. Two writes
+during the run: a capture (CTRL bit 2) on the output edge of the middle sample, which
+0x1b must hold after the run (the count has moved on since), and FAULT_STICKY cleared
+(ones written to 0x0a) on the edge that ORs in the fault word of the last sample with a
+fault bit no later sample has: 0x0a must read the OR of that sample's word and all later
+ones (a fault on the clearing edge stays). Then a capture of the final count (0x1b), and
+writing ones to 0x0a clears those bits (0x15, then 0, then 0x40 for the A/B overflow,
+then 0x7f, then 0x7ff).
 The model's final bundle is that of a phantom sample strobed (in the model only) after every
 program has ended; a reset request on that phantom keeps it from starting an update.
 
@@ -565,6 +569,21 @@ async def core_run(dut):
     for k, w in requests:
         assert w not in reg_writes
         reg_writes[w] = (0, ctrl_word(cfg, reset=1))
+    # mid-run: a capture (CTRL bit 2) on the output edge of sample kc (it latches m_count
+    # one edge later: kc's count), and FAULT_STICKY cleared (write 1s) on the edge that
+    # ORs sample kf's fault word in: kf's bits stay (kf: the last sample with a fault bit
+    # no later sample has, so the clear losing to the fault shows)
+    kc = n // 2
+    w_cap = int(t[kc]) + OUT_LATENCY
+    faults = np.asarray(res["fault"][:n], dtype=np.int64)
+    later = np.bitwise_or.accumulate(np.concatenate([[0], faults[::-1]]))[::-1]  # OR of k..n-1
+    kf = next((k for k in range(n - 1, -1, -1) if faults[k] & ~later[k + 1]), None)
+    w_clr = None if kf is None else int(t[kf]) + OUT_LATENCY + 1
+    for w, wd in ((w_cap, (0, ctrl_word(cfg) | 4)),
+                  (w_clr, (0x0A, (1 << core_model.FAULT_W) - 1))):
+        if w is not None:
+            assert w not in reg_writes and w > int(t[0]), w
+            reg_writes[w] = wd
     slots = set()
     for e in strobe:
         slots.add(e - 1)
@@ -701,6 +720,10 @@ async def core_run(dut):
         if got_v != exp_v:
             bad.append(f"{what}: rtl {got_v:#x}, model {exp_v:#x}")
 
+    assert res["count"][kc] != res["count"][n - 1], f"{scenario}: the count stood still"
+    check(f"capture 0x1b (CTRL bit 2 on edge {w_cap}, sample {kc})", await rd(0x1B),
+          u32(res["count"][kc]))
+
     check("ID 0x1f", await rd(0x1F), core_model.ID)
     masks = dict(interp=0x1FF, eps=0xFFFF, lam_k=0x1F, kappa=0xFFFF, period=0xFFFF,
                  settle=0x3FF, gate=0x1FFF)
@@ -743,8 +766,9 @@ async def core_run(dut):
           backlog_at(res["count"][:n], t, [bench.edge], cfg)[0])
     for a, f in zip(range(0x0C, 0x11), ("m1", "m2", "c1", "c12", "c2")):
         check(f"{f} 0x{a:02x}", await rd(a), u32(res[f][ph]))
-    sticky = int(np.bitwise_or.reduce(res["fault"][:n]))
-    check("sticky faults 0x0a", await rd(0x0A), sticky)
+    # (cleared on sample kf's edge, which ORs kf's word in)
+    sticky = int(later[kf if kf is not None else 0])
+    check(f"sticky faults 0x0a (cleared with sample {kf})", await rd(0x0A), sticky)
     # write 1 to clear: a read-only register first (no effect), then two steps
     await wr(0x1F, 0)
     check("ID 0x1f after a write", await rd(0x1F), core_model.ID)

@@ -32,8 +32,17 @@ def test_bench_scores_every_method_and_writes_the_tables(tmp_path):
     assert "| constant | " in md and "paper table, fine-phase count" in md
 
 
+def test_bench_fails_a_scenario_over_the_target(tmp_path):
+    p = bench("--no-rtl", "--only", "constant", "--build", str(tmp_path), "--target", "1.0")
+    assert p.returncode == 1 and "over 1.0x the floor or slipping: constant" in p.stderr, p.stderr
+    assert (tmp_path / "accuracy.json").exists()          # the tables are still written
+
+
 def test_bench_rejects_bad_arguments(tmp_path):
     p = bench("--no-rtl", "--only", "nosuch", "--build", str(tmp_path))
     assert p.returncode == 2 and "nosuch" in p.stderr
     p = bench("--interp", "600", "--build", str(tmp_path))
     assert p.returncode == 2 and "--interp must be 1..511" in p.stderr
+    for bad in ("0", "-1", "nan"):
+        p = bench("--target", bad, "--build", str(tmp_path))
+        assert p.returncode == 2 and "--target must be a ratio > 0" in p.stderr, bad

@@ -134,6 +134,11 @@ def test_servo_dither_over_a_short_arc_does_not_corrupt_the_correction():
     x = x + np.where(t > 0.12, 600 * np.sin(2 * np.pi * 50 * (t - 0.12)), 0)
     u1, u2, a = siggen.encode(x, 4000.0, siggen.Signal(), seed=5)
     r = core.run(u1, u2, core.Config())
+    # the move hands fits over (the scan sees them); the dither none (a fit of its arc
+    # would be handed over about 1400 times without the eight-octant rule)
+    commits = [k for _, k, _, c in r["sched"] if c is not None]
+    assert commits and min(commits) < 110000, "no hand-over during the move"
+    assert not [k for k in commits if k >= 120000], "a fit of the dither's arc was handed over"
     assert_near_floor(r, x, a, siggen.Signal(), 400000)
 
 

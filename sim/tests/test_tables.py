@@ -51,3 +51,19 @@ def test_eq12_k_table(sin_w):
 def test_eq12_k_table_refuses_a_wide_sine():
     with pytest.raises(ValueError, match="SIN_W must be one of"):
         tables.eq12_k_table(16)
+
+
+@pytest.mark.parametrize("sin_w", [8, 10, 12, 16])
+def test_sine_table_file_is_the_rounded_quarter_wave(sin_w):
+    """rtl/tables/sine_<W>.hex (what the RTL reads, and the model through the same
+    generator) against the formula in numpy: T[k] = round(A sin((k + 1/2) pi / 4096)),
+    A = 2**(W-1) - 1, to within half an LSB, so a wrong rounding or offset of the
+    generator cannot pass as RTL == model."""
+    import pathlib
+    import numpy as np
+    path = pathlib.Path(__file__).resolve().parents[2] / "rtl" / "tables" / f"sine_{sin_w}.hex"
+    t = np.array([int(w, 16) for w in path.read_text().split()], dtype=float)
+    amp = 2 ** (sin_w - 1) - 1
+    exact = amp * np.sin((np.arange(2048) + 0.5) * np.pi / 4096)
+    assert len(t) == 2048
+    assert np.abs(t - exact).max() <= 0.5 + 1e-9
