@@ -11,9 +11,12 @@
 //   reset pending, slot empty, no program running -> RESET program: P = kappa I; gain g
 //                           chosen from the peak |u| since the last reset (theta rescaled
 //                           to it); peak cleared. A pending reset takes no candidate.
-//   no reset pending, slot empty -> the dither count (0..15 samples after each update,
-//                           from an LFSR) counts down, or at 0 the sample becomes the
-//                           candidate, also while a program runs
+//   no reset pending, slot empty, the dither count at 0 -> the sample becomes the
+//                           candidate, also while a program runs (the dither: after each
+//                           update decision the count is loaded with a random 0..DSPAN
+//                           and counts clocks down, so the candidate is the first sample
+//                           strobed that many clocks after the decision: a random point
+//                           of the running UPDATE, checked before it ends, below)
 // The candidate is checked when its fine phase is known (t + PH_DELAY + 2):
 //   not trusted (excl_i: rtl/monitor.v; clipped samples too) -> dropped (no reset either)
 //   u << g saturates     -> dropped, reset pending
@@ -145,12 +148,11 @@ module estimator #(
     // the last reset.
     wire pend = reset_pend | req_reset_i;
     wire slot_empty = !slot_pend && !slot_rdy;
-    reg  [3:0]  skip = 4'd0;
+    reg  [6:0]  skip = 7'd0;               // u7 clocks until a sample may become the candidate
     // the engine may take a program decided on the coming edge (its window: OPT_EXT_ENGINE)
     wire tdm_ok = !OPT_EXT_ENGINE || tdm_ok_i;
     wire do_reset = smp_valid_i && !busy && slot_empty && pend && tdm_ok;
-    wire do_cand = smp_valid_i && slot_empty && !pend && skip == 4'd0;
-    wire do_skip = smp_valid_i && slot_empty && !pend && skip != 4'd0;
+    wire do_cand = smp_valid_i && slot_empty && !pend && skip == 7'd0;
     reg  signed [15:0] cu1 = 0, cu2 = 0;  // the candidate
     // the gain the peak before it selects (warm-up gain check): g_eng does not change while
     // a candidate is pending (a reset needs the slot empty), so it is the same at its update
@@ -252,10 +254,29 @@ module estimator #(
     // estimator counts itself busy from the decision edge on.
     wire done, valid, eng_busy;
     wire [111:0] outs;                     // {tr, e, c2, c12, c1, m2, m1}
-    // dither: after each update the estimator lets 0..15 candidates pass (LFSR), so that
-    // at speeds where the signal frequency is a simple fraction of the update rate the
-    // updates still spread over the whole circle
+    // dither: the candidate after an update is the first sample strobed at least r clocks
+    // after its decision, r in 0..DSPAN from the LFSR (r7 = lfsr[6:0]; r7 - 64 where r7 >
+    // DSPAN, so 0..DSPAN is covered), DSPAN = the UPDATE's clocks + 1 - the candidate's
+    // check delay: a candidate strobed at any clock of the running UPDATE is checked by
+    // the clock it ends, so the dither costs no update. The candidates' instants then
+    // spread over the whole update period, and at a speed where the signal period
+    // divides it (e.g. fs / 128 at a sample per clock) the updates still see the whole
+    // circle (a dither counted in samples does not at a sample per clock). Requires
+    // 64 <= DSPAN <= 127 (the programs' lengths: rtl/tables/rls_cycles.vh)
+/* verilator lint_off UNUSEDPARAM */
+`include "rls_cycles.vh"                  // CYCLES_<PROGRAM>_<LANES> (estimator.py)
+/* verilator lint_on UNUSEDPARAM */
+    localparam integer DSPAN_I = ((ENGINE_LANES == 2) ? CYCLES_UPDATE_2 : CYCLES_UPDATE_1)
+                                 + 1 - (PH_DELAY + 2);
+    localparam [6:0] DSPAN = DSPAN_I[6:0];
+    generate
+        if (DSPAN_I < 64 || DSPAN_I > 127) begin : g_bad_dspan
+            estimator_dither_span_must_be_64_to_127 u_bad ();
+        end
+    endgenerate
     reg [15:0] lfsr = 16'hACE1;           // Galois, x^16 + x^14 + x^13 + x^11 + 1
+    wire [6:0] r7 = lfsr[6:0];
+    wire [6:0] dith = (r7 > DSPAN) ? {1'b0, r7[5:0]} : r7;    // u7 clocks
     reg [7:0]  oct_seen = 8'd0;              // octants of the updates since the last commit
     reg [7:0]  cwin = 8'd0;                  // u8 updates since the coverage restarted
     wire [7:0] cwin_inc = cwin + 8'd1;
@@ -416,12 +437,12 @@ module estimator #(
             running_update <= 1'b0;
         if (pre_valid && !pre_bad && pre_xsat)
             reset_pend <= 1'b1;
-        if (do_skip)
+        if (skip != 7'd0)
             skip <= skip - 1'b1;
         if (do_update) begin
             gain_pend <= first && (g_chk != g_eng);
             s_last <= u_s;
-            skip <= lfsr[3:0];
+            skip <= dith;
             lfsr <= {1'b0, lfsr[15:1]} ^ (lfsr[0] ? 16'hB400 : 16'h0000);
             upd <= upd + 1'b1;
             updates_o <= updates_o + 1'b1;
@@ -488,7 +509,7 @@ module estimator #(
             upd <= 0;
             settle <= 0;
             s_last <= 0;
-            skip <= 4'd0;
+            skip <= 7'd0;
             lfsr <= 16'hACE1;
             oct_seen <= 8'd0;
             cwin <= 8'd0;
@@ -525,6 +546,9 @@ module estimator #(
     //  E6 the comparisons with the tuning inputs (bit by bit with OPT_TUNABLE = 0) are the
     //     plain ones: travel gate, settle (registered: settle >= settle_i of one edge
     //     before, at every update's END), trace bound, warm-up count.
+    //  E7 the dither stays inside the UPDATE it follows: skip <= DSPAN, loaded only on an
+    //     update's decision and otherwise counting down by one to 0 (a candidate strobed
+    //     at skip 0 is checked by the edge that UPDATE ends, so the dither costs none).
     //  E5 LOAD and hand-over: a hand-over (END of a valid EXTRACT) leaves its bundle, g_eng,
     //     uncal_o = loaded_o = 0 even with load_i on the same edge; a LOAD alone leaves the
     //     staged bundle and loaded_o = 1 with uncal_o unchanged.
@@ -596,6 +620,9 @@ module estimator #(
         if (!$past(do_reset))                                            // E4
             assert (settle == $past(settle)
                     || (settle == $past(settle) + 1'b1 && $past(settle) != 10'h3ff));
+        assert (skip <= DSPAN);                                          // E7
+        if (!$past(do_update))
+            assert (skip == (($past(skip) != 7'd0) ? $past(skip) - 7'd1 : 7'd0) || $past(rst));
         if ($past(done && running_extract && valid)) begin               // E5
             assert ({c2_o, c12_o, c1_o, m2_o, m1_o} == $past(outs[79:0]));
             assert (g_o == $past(g_eng) && !uncal_o && !loaded_o);

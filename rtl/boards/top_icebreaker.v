@@ -14,11 +14,11 @@
 // core standalone: no host link (the registers at their reset values, which synthesis
 // folds into the logic; TX idles high); the ULX3S build (rtl/boards/top_ulx3s.v) has
 // everything. Since the signal monitor, the harmonic compensation does not fit either
-// (5416 cells, commit 0758fc5), hence OPT_HARMONIC = 0: 4153 cells (78.7 %), 30.13 MHz
-// (nextpnr seed 1, commit 67236cb). The PLL makes 20.25 MHz all the same: three of the
-// core's DSP blocks have a stage the open tools do not time (README, Performance report),
-// and the 10 MHz are its margin. A faster clock: DIVF, with ADC_PERIOD for the ADC's
-// quiet time; scripts/bitstream.sh fails when a build misses the PLL's clock.
+// (5416 cells, commit 0758fc5), hence OPT_HARMONIC = 0 (about 79 % of the cells and
+// 29..30 MHz: README, Boards, as measured). The PLL makes 20.25 MHz all the same: three
+// of the core's DSP blocks have a stage the open tools do not time (README, Performance
+// report), and the MHz to spare are its margin. A faster clock: DIVF, with ADC_PERIOD for
+// the ADC's quiet time; scripts/bitstream.sh fails when a build misses the PLL's clock.
 module top_icebreaker #(
     // folder of the core's $readmemh tables
     parameter TABLE_DIR = "rtl/tables/"

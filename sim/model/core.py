@@ -14,12 +14,10 @@ Clock-edge timing (the RTL implements exactly this; edges are numbered from 0):
                         theta rescaled to the new input gain g, chosen from the peak |u|
                         of the samples since the last reset, before this one); the peak
                         restarts. A pending reset takes no new candidate.
-    - no reset pending, the slot empty -> if the dither count is not 0, it counts down
-                        (after each update the estimator lets 0..15 samples pass, from an
-                        LFSR, so that at speeds where the signal frequency is a simple
-                        fraction of the update rate the updates still spread over the
-                        circle); otherwise the sample becomes the candidate, whether or
-                        not a program is running.
+    - no reset pending, the slot empty, strobed at least r clocks after the last UPDATE's
+                        decision (the dither, dither() below: r random in 0..DSPAN, a
+                        point of the running UPDATE) -> the sample becomes the candidate,
+                        whether or not a program is running.
   The candidate is checked on c = t_k + PHASE_STAGE, when its fine phase and the
   monitor's verdict are known (the first failing check drops it; the slot is empty
   for samples strobed on or after c):
@@ -35,7 +33,7 @@ Clock-edge timing (the RTL implements exactly this; edges are numbered from 0):
                         which the running program ends; an EXTRACT due at an update's end
                         goes first), and the slot is empty for samples strobed on or after
                         D. On D: the travel at the last update and the octant coverage
-                        take the candidate's, the dither count reloads; after WARMUP
+                        take the candidate's, the dither r is drawn; after WARMUP
                         updates from power-up the input gain is checked (from the peak
                         before the candidate) and a reset becomes pending only if it would
                         change; then after every period-th update since the last reset
@@ -211,6 +209,26 @@ def lfsr_step(v: int) -> int:
     return (v >> 1) ^ (0xB400 if v & 1 else 0)
 
 
+def dither_span(cycles: dict) -> int:
+    """DSPAN: the latest clock after an UPDATE's decision D at which a candidate strobed
+    is still checked by the edge the UPDATE ends (D + START_DELAY + CYCLES[update])."""
+    span = cycles["update"] + START_DELAY - PHASE_STAGE
+    if not 64 <= span <= 127:
+        raise ValueError(f"dither span {span} outside 64..127 (rtl/estimator.v DSPAN)")
+    return span
+
+
+def dither(v: int, cycles: dict) -> int:
+    """The clocks r after an UPDATE's decision before a sample may become the next
+    candidate, from the LFSR state v: r7 = v & 127, r7 - 64 where r7 > DSPAN, so r covers
+    0..DSPAN (rtl/estimator.v dith). The candidates' instants spread over the update
+    period, so at a speed where the signal period divides it (fs / 128 at a sample per
+    clock, 3 fs / 128 at one every 3 clocks) the updates still see the whole circle; a
+    dither counted in samples (0..15, before) left such speeds uncalibrated."""
+    r7 = v & 127
+    return r7 - 64 if r7 > dither_span(cycles) else r7
+
+
 def gsel(peak: int, g: int) -> int:
     if peak == 0:
         return g
@@ -275,7 +293,7 @@ class Core:
         self.slot = None              # the candidate awaiting its check (a dict)
         self.slot_free = -1           # the slot is empty for samples strobed on edges >= this
         self.reset_at = -1            # a pending reset acts on samples strobed on >= this
-        self.skip = 0                 # samples the estimator still lets pass (dither)
+        self.cand_from = -1           # dither: no candidate strobed before this edge
         self.cover = 0                # octants of the updates since the last commit
         self.cwin = 0                 # updates since the coverage last restarted
         self.lfsr = LFSR_SEED
@@ -558,13 +576,10 @@ class Core:
                     self.cwin = 0
                     self.eng_end = tk + RESET_STAGE + START_DELAY + self.est.cycles["reset"]
                     continue
-            elif empty:
-                if self.skip:
-                    self.skip -= 1
-                else:
-                    self.slot = dict(k=k0 + k, c=tk + PHASE_STAGE, x1=r1l[k] << self.g_eng,
-                                     x2=r2l[k] << self.g_eng, peak=self.peak, excl=excl,
-                                     s_prev=s_prev, oct=raw_octant(r1l[k], r2l[k]))
+            elif empty and tk >= self.cand_from:
+                self.slot = dict(k=k0 + k, c=tk + PHASE_STAGE, x1=r1l[k] << self.g_eng,
+                                 x2=r2l[k] << self.g_eng, peak=self.peak, excl=excl,
+                                 s_prev=s_prev, oct=raw_octant(r1l[k], r2l[k]))
             self.peak = max(self.peak, amax[k])
         out["travel"] = travel
         return out
@@ -592,7 +607,7 @@ class Core:
             self.cover, self.cwin = 0, 0
         self.cover |= 1 << cand["oct"]
         self.cwin += 1
-        self.skip, self.lfsr = self.lfsr & 15, lfsr_step(self.lfsr)
+        self.cand_from, self.lfsr = d + dither(self.lfsr, self.est.cycles), lfsr_step(self.lfsr)
         lam_k = min(max(cfg.lam_k, 1), 23)
         kappa = max(cfg.kappa, 1)
         ok = self.est.run("update", x1=x1, x2=x2, lam_k=lam_k, freeze=self.freeze)

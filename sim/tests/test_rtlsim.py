@@ -201,12 +201,13 @@ def test_raw_stream_cut_or_empty_is_an_error(data, reason):
 
 
 def test_hand_over_waits_for_the_input_gain_in_the_rtl(tmp_path):
-    """At 10 % of full scale (the demo's recording, scripts/demo.py --amp 0.1, 80 000
-    samples, the paper's table) the model holds 14 hand-overs for the warm-up's gain
-    check (rtl/estimator.v gain_pend); the RTL's outputs equal the model's through them."""
-    table = "paper"
-    import demo
-    _, u1, u2, _, _ = demo.recording(0.08, 1, 0.1, 16)
+    """At 10 % of full scale, moving at fs / 30 from the first sample (20 000 samples),
+    the eight octants come before the warm-up's gain check: the model holds 32 hand-overs
+    for it (rtl/estimator.v gain_pend); the RTL's outputs equal the model's through them."""
+    table = "exact"
+    x = siggen.constant_speed(20000, 1e6, 1e6 * 4000.0 / 30)
+    sig = siggen.Signal(A1=0.1, A2=0.09, m1=0.005, m2=-0.0033)
+    u1, u2, _ = siggen.encode(x, 4000.0, sig, seed=3)
     r = core.run(u1, u2, core.Config(TABLE=table))
     assert r["gain_held"] > 0, "no hand-over waited for the gain: the case checks nothing"
     write_codes(tmp_path / "in.csv", u1, u2)
