@@ -16,7 +16,7 @@
 //                           update decision the count is loaded with a random 0..DSPAN
 //                           and counts clocks down, so the candidate is the first sample
 //                           strobed that many clocks after the decision: a random point
-//                           of the running UPDATE, checked before it ends, below)
+//                           of the update period, below)
 // The candidate is checked when its fine phase is known (t + PH_DELAY + 2):
 //   not trusted (excl_i: rtl/monitor.v; clipped samples too) -> dropped (no reset either)
 //   u << g saturates     -> dropped, reset pending
@@ -54,7 +54,7 @@ module estimator #(
     // updates after power-up before the input gain is checked (reset if it changes)
     parameter WARMUP = 64,
     // edges from a sample's arrival (smp_valid_i) to its fine phase (ph_valid_i)
-    parameter PH_DELAY = 5,
+    parameter PH_DELAY = 6,
     // lanes of the RLS engine (rtl/rls_engine.v LANES): 1, or 2 on devices with 4 DSP
     // blocks to spare (shorter programs: sim/model/estimator.py CYCLES_BY_LANES)
     parameter ENGINE_LANES = 1,
@@ -63,6 +63,10 @@ module estimator #(
     // through eng_cmd_o / eng_rsp_i, and a RESET or UPDATE is decided only on an edge with
     // tdm_ok_i (the axis's window; an EXTRACT follows its UPDATE as always)
     parameter [0:0] OPT_EXT_ENGINE = 1'b0,
+    // with OPT_EXT_ENGINE: this axis's window period in clocks (rtl/finequad_multi.v
+    // AXES * TDM_L), over which the dither spreads the candidates; 0: one axis (the dither
+    // spans the UPDATE program)
+    parameter integer EXT_PERIOD = 0,
     // 1: the tuning inputs (period_i, settle_i, gate_i, kappa5_i, ...) are registers;
     // 0: they are constants (rtl/finequad_core.v OPT_TUNABLE = 0): the comparisons with
     // them are written bit by bit, which synthesis folds into a few LUTs (yosys maps a
@@ -143,16 +147,48 @@ module estimator #(
     reg        slot_pend = 1'b0;           // a candidate waits for its check
     reg        slot_rdy = 1'b0;            // a checked candidate waits for the engine
 
+    // ---- the dither ----------------------------------------------------------------------------
+    // After an UPDATE decided on edge D the candidate is the first sample strobed on an edge
+    // >= D + r, r in 0..DSPAN from the LFSR: the low SKIP_W bits, minus 2**(SKIP_W-1) where
+    // they exceed DSPAN (2**(SKIP_W-1) <= DSPAN: every value of 0..DSPAN occurs).
+    // DSPAN = the clocks from D to the edge the next UPDATE may be decided on (the end of
+    // this one, D + 1 + CYCLES_UPDATE; with a shared engine the same point of the axis's
+    // next window, D + EXT_PERIOD) minus the candidate's check delay (PH_DELAY + 2): a sample
+    // strobed on D + DSPAN or later is never held back, so at a sample per clock the dither
+    // costs no update (with fewer samples an UPDATE can wait up to one sample interval for
+    // its candidate). The candidates' instants spread over the update period, so at a speed
+    // where the signal period divides it (fs / 128 at a sample per clock) the updates still
+    // see the whole circle; a dither counted in samples (0..15) did not. 1 <= DSPAN <= 32767
+    // (15 bits of the 16-bit LFSR). Programs' lengths: rtl/tables/rls_cycles.vh.
+/* verilator lint_off UNUSEDPARAM */
+`include "rls_cycles.vh"                  // CYCLES_<PROGRAM>_<LANES> (estimator.py)
+/* verilator lint_on UNUSEDPARAM */
+    localparam integer DSPAN_I = ((OPT_EXT_ENGINE && EXT_PERIOD != 0) ? EXT_PERIOD
+                                  : ((ENGINE_LANES == 2) ? CYCLES_UPDATE_2 : CYCLES_UPDATE_1) + 1)
+                                 - (PH_DELAY + 2);
+    localparam integer SKIP_W = $clog2(DSPAN_I + 1);
+    localparam [SKIP_W-1:0] DSPAN = DSPAN_I[SKIP_W-1:0];
+    localparam [SKIP_W-1:0] SKIP_TOP = {1'b1, {(SKIP_W-1){1'b0}}};
+    localparam [SKIP_W-1:0] SKIP_0 = {SKIP_W{1'b0}};
+    generate
+        if (DSPAN_I < 1 || DSPAN_I > 32767) begin : g_bad_dspan
+            estimator_dither_span_must_be_1_to_32767 u_bad ();
+        end
+    endgenerate
+    reg [15:0] lfsr = 16'hACE1;           // Galois, x^16 + x^14 + x^13 + x^11 + 1
+    wire [SKIP_W-1:0] rr = lfsr[SKIP_W-1:0];
+    wire [SKIP_W-1:0] dith = (rr > DSPAN) ? (rr ^ SKIP_TOP) : rr;   // clocks
+    reg  [SKIP_W-1:0] skip = SKIP_0;       // clocks until a sample may become the candidate
+
     // ---- arrival: a RESET program, the dither, or the sample becomes the candidate ------------
     // Decided on the edge after the arrival (t + 1); every sample updates the peak |u| since
     // the last reset.
     wire pend = reset_pend | req_reset_i;
     wire slot_empty = !slot_pend && !slot_rdy;
-    reg  [6:0]  skip = 7'd0;               // u7 clocks until a sample may become the candidate
     // the engine may take a program decided on the coming edge (its window: OPT_EXT_ENGINE)
     wire tdm_ok = !OPT_EXT_ENGINE || tdm_ok_i;
     wire do_reset = smp_valid_i && !busy && slot_empty && pend && tdm_ok;
-    wire do_cand = smp_valid_i && slot_empty && !pend && skip == 7'd0;
+    wire do_cand = smp_valid_i && slot_empty && !pend && skip == SKIP_0;
     reg  signed [15:0] cu1 = 0, cu2 = 0;  // the candidate
     // the gain the peak before it selects (warm-up gain check): g_eng does not change while
     // a candidate is pending (a reset needs the slot empty), so it is the same at its update
@@ -254,29 +290,6 @@ module estimator #(
     // estimator counts itself busy from the decision edge on.
     wire done, valid, eng_busy;
     wire [111:0] outs;                     // {tr, e, c2, c12, c1, m2, m1}
-    // dither: the candidate after an update is the first sample strobed at least r clocks
-    // after its decision, r in 0..DSPAN from the LFSR (r7 = lfsr[6:0]; r7 - 64 where r7 >
-    // DSPAN, so 0..DSPAN is covered), DSPAN = the UPDATE's clocks + 1 - the candidate's
-    // check delay: a candidate strobed at any clock of the running UPDATE is checked by
-    // the clock it ends, so the dither costs no update. The candidates' instants then
-    // spread over the whole update period, and at a speed where the signal period
-    // divides it (e.g. fs / 128 at a sample per clock) the updates still see the whole
-    // circle (a dither counted in samples does not at a sample per clock). Requires
-    // 64 <= DSPAN <= 127 (the programs' lengths: rtl/tables/rls_cycles.vh)
-/* verilator lint_off UNUSEDPARAM */
-`include "rls_cycles.vh"                  // CYCLES_<PROGRAM>_<LANES> (estimator.py)
-/* verilator lint_on UNUSEDPARAM */
-    localparam integer DSPAN_I = ((ENGINE_LANES == 2) ? CYCLES_UPDATE_2 : CYCLES_UPDATE_1)
-                                 + 1 - (PH_DELAY + 2);
-    localparam [6:0] DSPAN = DSPAN_I[6:0];
-    generate
-        if (DSPAN_I < 64 || DSPAN_I > 127) begin : g_bad_dspan
-            estimator_dither_span_must_be_64_to_127 u_bad ();
-        end
-    endgenerate
-    reg [15:0] lfsr = 16'hACE1;           // Galois, x^16 + x^14 + x^13 + x^11 + 1
-    wire [6:0] r7 = lfsr[6:0];
-    wire [6:0] dith = (r7 > DSPAN) ? {1'b0, r7[5:0]} : r7;    // u7 clocks
     reg [7:0]  oct_seen = 8'd0;              // octants of the updates since the last commit
     reg [7:0]  cwin = 8'd0;                  // u8 updates since the coverage restarted
     wire [7:0] cwin_inc = cwin + 8'd1;
@@ -437,7 +450,7 @@ module estimator #(
             running_update <= 1'b0;
         if (pre_valid && !pre_bad && pre_xsat)
             reset_pend <= 1'b1;
-        if (skip != 7'd0)
+        if (skip != SKIP_0)
             skip <= skip - 1'b1;
         if (do_update) begin
             gain_pend <= first && (g_chk != g_eng);
@@ -509,7 +522,7 @@ module estimator #(
             upd <= 0;
             settle <= 0;
             s_last <= 0;
-            skip <= 7'd0;
+            skip <= SKIP_0;
             lfsr <= 16'hACE1;
             oct_seen <= 8'd0;
             cwin <= 8'd0;
@@ -546,9 +559,9 @@ module estimator #(
     //  E6 the comparisons with the tuning inputs (bit by bit with OPT_TUNABLE = 0) are the
     //     plain ones: travel gate, settle (registered: settle >= settle_i of one edge
     //     before, at every update's END), trace bound, warm-up count.
-    //  E7 the dither stays inside the UPDATE it follows: skip <= DSPAN, loaded only on an
-    //     update's decision and otherwise counting down by one to 0 (a candidate strobed
-    //     at skip 0 is checked by the edge that UPDATE ends, so the dither costs none).
+    //  E7 the dither's count stays within its span: skip <= DSPAN, loaded only on an
+    //     update's decision and otherwise counting down by one to 0 (so no sample strobed
+    //     DSPAN clocks after the decision or later is held back by it).
     //  E5 LOAD and hand-over: a hand-over (END of a valid EXTRACT) leaves its bundle, g_eng,
     //     uncal_o = loaded_o = 0 even with load_i on the same edge; a LOAD alone leaves the
     //     staged bundle and loaded_o = 1 with uncal_o unchanged.
@@ -622,7 +635,7 @@ module estimator #(
                     || (settle == $past(settle) + 1'b1 && $past(settle) != 10'h3ff));
         assert (skip <= DSPAN);                                          // E7
         if (!$past(do_update))
-            assert (skip == (($past(skip) != 7'd0) ? $past(skip) - 7'd1 : 7'd0) || $past(rst));
+            assert (skip == (($past(skip) != SKIP_0) ? $past(skip) - 1'b1 : SKIP_0) || $past(rst));
         if ($past(done && running_extract && valid)) begin               // E5
             assert ({c2_o, c12_o, c1_o, m2_o, m1_o} == $past(outs[79:0]));
             assert (g_o == $past(g_eng) && !uncal_o && !loaded_o);

@@ -81,7 +81,10 @@ module finequad_core #(
     // 0: the RLS engine inside (tdm_ok_i, eng_rsp_i unused, eng_cmd_o 0); 1: the engine
     // outside, shared by several axes, through eng_cmd_o / eng_rsp_i, a program decided
     // only on edges with tdm_ok_i (rtl/finequad_multi.v, rtl/estimator.v)
-    parameter [0:0] OPT_EXT_ENGINE = 1'b0
+    parameter [0:0] OPT_EXT_ENGINE = 1'b0,
+    // with OPT_EXT_ENGINE: the axis's window period in clocks (rtl/finequad_multi.v), the
+    // span of the estimator's dither; 0: one axis
+    parameter integer EXT_PERIOD = 0
 ) (
     input  wire                      clk,
     input  wire                      rst,
@@ -366,6 +369,7 @@ module finequad_core #(
     // ---- estimator: every sample on arrival (t), its fine phase PHASE_AT = 6 edges after (t+6) -----
     estimator #(.TABLE_DIR(TABLE_DIR), .G_INIT(G_INIT), .PH_DELAY(PHASE_AT),
                 .ENGINE_LANES(ENGINE_LANES), .OPT_EXT_ENGINE(OPT_EXT_ENGINE),
+                .EXT_PERIOD(EXT_PERIOD),
                 .OPT_TUNABLE(OPT_TUNABLE)) u_est (
         .clk(clk), .rst(rst),
         .smp_valid_i(c_v0), .u1_i(c_raw1), .u2_i(c_raw2), .amax_i(c_amax),

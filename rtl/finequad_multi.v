@@ -125,7 +125,8 @@ module finequad_multi #(
                             .OPT_MONITOR(OPT_MONITOR),
                             .OPT_JUMP(OPT_JUMP),
                             .OPT_TUNABLE(OPT_TUNABLE), .ENGINE_LANES(ENGINE_LANES),
-                            .OPT_EXT_ENGINE(SHARED)) u_core (
+                            .OPT_EXT_ENGINE(SHARED),
+                            .EXT_PERIOD(SHARED ? AXES * TDM_L : 0)) u_core (
                 .clk(clk), .rst(rst),
                 .s_valid(s_valid[i]), .s_u1(s_u1[ADC_W*i +: ADC_W]),
                 .s_u2(s_u2[ADC_W*i +: ADC_W]),

@@ -16,7 +16,8 @@ Clock-edge timing (the RTL implements exactly this; edges are numbered from 0):
                         restarts. A pending reset takes no new candidate.
     - no reset pending, the slot empty, strobed at least r clocks after the last UPDATE's
                         decision (the dither, dither() below: r random in 0..DSPAN, a
-                        point of the running UPDATE) -> the sample becomes the candidate,
+                        point of the running UPDATE, or with a shared engine of the
+                        axis's window period) -> the sample becomes the candidate,
                         whether or not a program is running.
   The candidate is checked on c = t_k + PHASE_STAGE, when its fine phase and the
   monitor's verdict are known (the first failing check drops it; the slot is empty
@@ -209,24 +210,28 @@ def lfsr_step(v: int) -> int:
     return (v >> 1) ^ (0xB400 if v & 1 else 0)
 
 
-def dither_span(cycles: dict) -> int:
-    """DSPAN: the latest clock after an UPDATE's decision D at which a candidate strobed
-    is still checked by the edge the UPDATE ends (D + START_DELAY + CYCLES[update])."""
-    span = cycles["update"] + START_DELAY - PHASE_STAGE
-    if not 64 <= span <= 127:
-        raise ValueError(f"dither span {span} outside 64..127 (rtl/estimator.v DSPAN)")
+def dither_span(cycles: dict, period: int = 0) -> int:
+    """DSPAN: the latest clock after an UPDATE's decision D at which a strobed candidate
+    is still checked by the edge the next UPDATE may be decided on: the end of this one
+    (D + START_DELAY + CYCLES[update]), or with a shared engine (period: this axis's
+    window period, Config.tdm axes * L) the same edge of its next window."""
+    span = (period if period else cycles["update"] + START_DELAY) - PHASE_STAGE
+    if not 1 <= span < 1 << 15:          # (15 bits of the 16-bit LFSR: every value occurs)
+        raise ValueError(f"dither span {span} outside 1..32767 (rtl/estimator.v DSPAN)")
     return span
 
 
-def dither(v: int, cycles: dict) -> int:
+def dither(v: int, span: int) -> int:
     """The clocks r after an UPDATE's decision before a sample may become the next
-    candidate, from the LFSR state v: r7 = v & 127, r7 - 64 where r7 > DSPAN, so r covers
-    0..DSPAN (rtl/estimator.v dith). The candidates' instants spread over the update
-    period, so at a speed where the signal period divides it (fs / 128 at a sample per
-    clock, 3 fs / 128 at one every 3 clocks) the updates still see the whole circle; a
+    candidate, from the LFSR state v: the low N bits, N = bits of span (2**(N-1) <= span),
+    minus 2**(N-1) where they exceed span, so r covers 0..span (rtl/estimator.v dith).
+    The candidates' instants spread over the update period, so at a speed where the
+    signal period divides it (fs / 128 at a sample per clock, 3 fs / 128 at one every 3
+    clocks; a shared engine's axis period) the updates still see the whole circle; a
     dither counted in samples (0..15, before) left such speeds uncalibrated."""
-    r7 = v & 127
-    return r7 - 64 if r7 > dither_span(cycles) else r7
+    n = span.bit_length()
+    r = v & ((1 << n) - 1)
+    return r - (1 << (n - 1)) if r > span else r
 
 
 def gsel(peak: int, g: int) -> int:
@@ -337,6 +342,7 @@ class Core:
                                  f"{tdm_period(max(w, 1), cfg.ENGINE_LANES)}")
             if axes > 1:
                 self.tdm = (axes * ln, index * ln, w)   # period, window start, length
+        self.dspan = dither_span(self.est.cycles, self.tdm[0] if self.tdm else 0)
 
     def _granted(self, e):
         """The first edge >= e on which this axis may decide a program (Config.tdm)."""
@@ -607,7 +613,7 @@ class Core:
             self.cover, self.cwin = 0, 0
         self.cover |= 1 << cand["oct"]
         self.cwin += 1
-        self.cand_from, self.lfsr = d + dither(self.lfsr, self.est.cycles), lfsr_step(self.lfsr)
+        self.cand_from, self.lfsr = d + dither(self.lfsr, self.dspan), lfsr_step(self.lfsr)
         lam_k = min(max(cfg.lam_k, 1), 23)
         kappa = max(cfg.kappa, 1)
         ok = self.est.run("update", x1=x1, x2=x2, lam_k=lam_k, freeze=self.freeze)

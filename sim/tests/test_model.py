@@ -128,21 +128,44 @@ def test_constant_speed_where_signal_and_update_rates_alias(div, f_over_fs):
     assert_near_floor(r, x, a, siggen.Signal(), 30000)
 
 
-def test_dither_covers_the_span_and_stays_inside_the_update():
-    """dither(): every value 0..DSPAN occurs over the LFSR's period and none above, so a
-    candidate is checked before the UPDATE it follows ends (no update lost to it)."""
+def test_dither_covers_the_span_and_no_more():
+    """dither(): every value 0..DSPAN occurs over the LFSR's period and none above: a
+    candidate strobed at any of them is checked by the edge the UPDATE ends (one axis)
+    or the axis's next window opens (a shared engine)."""
     from sim.model import core, estimator
+    spans = []
     for lanes in (1, 2):
         cyc = estimator.CYCLES_BY_LANES[lanes]
-        span = core.dither_span(cyc)
-        assert span == cyc["update"] + core.START_DELAY - core.PHASE_STAGE
+        spans.append(core.dither_span(cyc))
+        assert spans[-1] == cyc["update"] + core.START_DELAY - core.PHASE_STAGE
+        for axes in (2, 4):
+            ln = core.tdm_period(64, lanes)
+            spans.append(core.dither_span(cyc, axes * ln))
+            assert spans[-1] == axes * ln - core.PHASE_STAGE
+    assert spans[0] == 120 and spans[3] == 79
+    for span in spans + [1, 2, 64, 32767]:
         v, seen = core.LFSR_SEED, set()
         for _ in range(65535):
-            seen.add(core.dither(v, cyc))
+            seen.add(core.dither(v, span))
             v = core.lfsr_step(v)
-        assert v == core.LFSR_SEED and seen == set(range(span + 1)), lanes
-    with pytest.raises(ValueError, match="dither span 200"):
-        core.dither_span({"update": 200 - core.START_DELAY + core.PHASE_STAGE})
+        assert v == core.LFSR_SEED and seen == set(range(span + 1)), span
+    with pytest.raises(ValueError, match="dither span 32768"):
+        core.dither_span({"update": 0}, 32768 + core.PHASE_STAGE)
+
+
+def test_shared_engine_axis_calibrates_where_its_update_period_aliases():
+    """Two axes on one engine (rtl/finequad_multi.v): an axis decides its UPDATE in its
+    window, one every 2 L = 518 clocks, so its dither must span that period: at a signal
+    period of 518 clocks (36 clocks per sample) a dither over one UPDATE (120 clocks)
+    saw a fixed arc and never handed over."""
+    from sim.model import core
+    ln = core.tdm_period(64)
+    n, div = 30000, 36
+    x = siggen.constant_speed(n, 1e6, div / (2 * ln) * 1e6 * 4000.0)
+    u1, u2, a = siggen.encode(x, 4000.0, siggen.Signal(), seed=3)
+    r = core.run(u1, u2, core.Config(div=div, tdm=(2, 0, ln, 64)))
+    assert [k for _, k, _, c in r["sched"] if c is not None], "never handed over"
+    assert_near_floor(r, x, a, siggen.Signal(), 15000)
 
 
 def test_servo_dither_over_a_short_arc_does_not_corrupt_the_correction():
