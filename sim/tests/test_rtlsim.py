@@ -1,7 +1,6 @@
 """`make rtlsim` (compiled Verilator harness) and `make model` give identical files."""
 import pathlib
 import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -11,7 +10,6 @@ from sim.model import core
 from sim.run_model import write_codes
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(ROOT / "scripts"))       # scripts/demo.py (its recording)
 
 
 # the ECP5 build's parameters (scripts/report.py)
