@@ -761,8 +761,8 @@ def check_preplace(dev, netlist):
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
     top = json.loads(pathlib.Path(netlist).read_text())["modules"]["top_report"]
-    cells = [(name, collections.namedtuple("Cell", "type")(c["type"]))
-             for name, c in top["cells"].items()]
+    cell = collections.namedtuple("Cell", "type")      # what the script reads of a cell
+    cells = [(name, cell(c["type"])) for name, c in top["cells"].items()]
     try:
         return mod.floorplan(cells)
     except ValueError as e:
