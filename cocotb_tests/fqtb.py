@@ -58,8 +58,21 @@ def core_sources():
 
 
 # include folders of the RTL: generated headers (rtl/tables/*.vh) and hand-written ones
-# (rtl/*.vh)
+# (rtl/*.vh); a board top's builds.vh is in rtl/boards (run_block's extra_includes)
 INCLUDES = [RTL / "tables", RTL]
+
+
+def builds():
+    """scripts/builds.py, the named builds of rtl/builds.toml (build(), core_overrides(),
+    clock()): tests take a build's parameters from there, never from a copy."""
+    import importlib.util
+    if "fq_builds" not in sys.modules:
+        spec = importlib.util.spec_from_file_location("fq_builds",
+                                                      REPO / "scripts" / "builds.py")
+        mod = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(mod)
+        sys.modules["fq_builds"] = mod
+    return sys.modules["fq_builds"]
 
 
 def param_tag(params: dict) -> str:
@@ -152,20 +165,21 @@ def _patch_verilator(runner):
     runner._build_command = build_command
 
 
-def _stamp(sim, toplevel, srcs, parameters, build_args) -> str:
+def _stamp(sim, toplevel, srcs, parameters, build_args, includes=INCLUDES) -> str:
     import hashlib
     h = hashlib.sha1(repr((sim, toplevel, sorted(parameters.items()), build_args)).encode())
     h.update(_tool_versions())
-    for s in list(srcs) + sorted(p for d in INCLUDES for p in Path(d).glob("*.vh")):
+    for s in list(srcs) + sorted(p for d in includes for p in Path(d).glob("*.vh")):
         h.update(Path(s).read_bytes())
     return h.hexdigest()
 
 
 def run_block(sim, toplevel, srcs, test_module, parameters=None, extra_env=None,
-              tag=None, testcase=None, seed=12345, extra_build_args=()):
+              tag=None, testcase=None, seed=12345, extra_build_args=(), extra_includes=()):
     """Build `toplevel` for `sim` (unless an identical build is there) and run the cocotb
     tests of `test_module` on it (all of them, or `testcase`). `extra_build_args` go to
-    the simulator's compiler after the defaults."""
+    the simulator's compiler after the defaults; `extra_includes` are include folders
+    after INCLUDES."""
     from cocotb_tools.runner import get_runner
 
     setup_paths()
@@ -179,7 +193,8 @@ def run_block(sim, toplevel, srcs, test_module, parameters=None, extra_env=None,
         build_args = ["-Wno-fatal", "-Wno-lint", "-Wno-style", "-CFLAGS", "-O1"]
         _patch_verilator(runner)
     build_args += list(extra_build_args)
-    stamp = _stamp(sim, toplevel, srcs, parameters, build_args)
+    includes = INCLUDES + [Path(d) for d in extra_includes]
+    stamp = _stamp(sim, toplevel, srcs, parameters, build_args, includes)
     stamp_file = build_dir / "fq_build.stamp"
     exe = build_dir / (toplevel if sim == "verilator" else "sim.vvp")
     up_to_date = (exe.is_file() and stamp_file.is_file()
@@ -192,7 +207,7 @@ def run_block(sim, toplevel, srcs, test_module, parameters=None, extra_env=None,
         stamp_file.unlink()
     runner.build(
         sources=list(srcs),
-        includes=INCLUDES,
+        includes=includes,
         hdl_toplevel=toplevel,
         parameters=parameters,
         build_dir=build_dir,

@@ -1,7 +1,8 @@
 `timescale 1ns / 1ps
 `default_nettype none
 // tb_axil_core: test bench top of cocotb_tests/test_axil_regs.py (axil_core): axil_regs
-// (ADDR_TOP 0x1f, as in rtl/finequad_system.v) in front of finequad_core, no samples.
+// (ADDR_TOP the core's top word, as in rtl/finequad_system.v) in front of finequad_core,
+// no samples.
 module tb_axil_core #(
     // folder of the core's $readmemh tables
     parameter TABLE_DIR = "rtl/tables/"
@@ -28,10 +29,11 @@ module tb_axil_core #(
     output wire        s_axil_rvalid,
     input  wire        s_axil_rready
 );
+    `include "finequad_regs.vh"
     wire        reg_we, reg_re;
     wire [5:0]  reg_addr;
     wire [31:0] reg_wdata, reg_rdata;
-    axil_regs #(.ADDR_W(16), .ADDR_TOP(6'h1f)) u_regs (
+    axil_regs #(.ADDR_W(16), .ADDR_TOP(FQ_ADDR_TOP)) u_regs (
         .clk(clk), .rst(rst),
         .s_axil_awaddr(s_axil_awaddr), .s_axil_awprot(s_axil_awprot),
         .s_axil_awvalid(s_axil_awvalid), .s_axil_awready(s_axil_awready),

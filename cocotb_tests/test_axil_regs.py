@@ -18,7 +18,7 @@ read like the core) with ADDR_TOP = 0x2f (word indices 0x30.. are unmapped: SLVE
              in; every response and the port's write log checked against the model, and
              the handshake rules on every channel (axil_check.AxilMonitor) on every clock
 Against the real finequad_core (cocotb_tests/tb_axil_core.v: axil_regs in front of it):
-  core       ID (0x1f) = sim.model.core.ID, reset values, INTERP/EPS/GATE write/read-back,
+  core       ID = sim.model.finequad_core.ID, reset values, INTERP/EPS/GATE write/read-back,
              read-only ID ignores writes, CTRL's counter-mode bit, partial write rejected,
              a word above the system's ADDR_TOP (0x1f) -> SLVERR
 """
@@ -303,7 +303,8 @@ async def axil_core(dut):
     """axil_regs in front of the real finequad_core (tb_axil_core.v)."""
     from cocotbext.axi import AxiLiteBus, AxiLiteMaster
     from axil_check import AxilMonitor
-    from sim.model import core as core_model
+    from sim.model import finequad_core as core_model
+    from sim.model import regs
 
     bench = fqtb.ClockedBench(dut)
     dut.rst.value = 1
@@ -323,28 +324,28 @@ async def axil_core(dut):
         assert r.resp == resp, (hex(w), r)
 
     cfg = core_model.Config()
-    assert await rd(0x1f) == core_model.ID
-    assert await rd(0x01) == cfg.interp
-    assert await rd(0x02) == cfg.eps
-    assert await rd(0x07) == cfg.gate
-    assert await rd(0x08) == 0                     # no samples: count 0
-    await wr(0x01, 37)
-    await wr(0x02, 0x1234)
-    await wr(0x07, 0x1abc)
-    assert await rd(0x01) == 37
-    assert await rd(0x02) == 0x1234
-    assert await rd(0x07) == 0x1abc
-    await wr(0x1f, 0)                              # read-only: ignored
-    assert await rd(0x1f) == core_model.ID
-    r = await m.write(4 * 0x01 + 1, b"\x05")      # partial: rejected, INTERP kept
+    assert await rd(regs.ID) == core_model.ID
+    assert await rd(regs.INTERP) == cfg.interp
+    assert await rd(regs.EPS) == cfg.eps
+    assert await rd(regs.GATE) == cfg.gate
+    assert await rd(regs.COUNT) == 0               # no samples: count 0
+    await wr(regs.INTERP, 37)
+    await wr(regs.EPS, 0x1234)
+    await wr(regs.GATE, 0x1abc)
+    assert await rd(regs.INTERP) == 37
+    assert await rd(regs.EPS) == 0x1234
+    assert await rd(regs.GATE) == 0x1abc
+    await wr(regs.ID, 0)                           # read-only: ignored
+    assert await rd(regs.ID) == core_model.ID
+    r = await m.write(4 * regs.INTERP + 1, b"\x05")   # partial: rejected, INTERP kept
     assert r.resp == SLVERR
-    assert await rd(0x01) == 37
-    st = await rd(0x00)
-    await wr(0x00, 1 << 3)                         # counter mode 1 (edge)
-    assert await rd(0x00) == st | 1 << 3
-    r = await m.read(4 * 0x20, 4)
+    assert await rd(regs.INTERP) == 37
+    st = await rd(regs.STATUS)
+    await wr(regs.CTRL, regs.word("CTRL", count_mode=1))   # counter mode 1 (edge)
+    assert await rd(regs.STATUS) == st | regs.word_read("STATUS", count_mode=1)
+    r = await m.read(4 * (regs.ADDR_TOP + 1), 4)
     assert r.resp == SLVERR and r.data == bytes(4)
-    r = await m.write(4 * 0x20, _word(1))
+    r = await m.write(4 * (regs.ADDR_TOP + 1), _word(1))
     assert r.resp == SLVERR
     assert not mon.errors, mon.errors[:5]
 

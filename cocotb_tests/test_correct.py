@@ -1,7 +1,7 @@
-"""correct: alignment, input gain, offsets and Eq. 9 against sim.model.fastpath.align and
+"""correct: alignment, input gain, offsets and Eq. 9 against sim.model.align and
 correct (bit for bit), for 16- and 12-bit ADC codes.
 
-Timing (rtl/correct.v; sim.model.core.CORR_AT): a sample with its coefficient bundle
+Timing (rtl/correct.v; sim.model.finequad_core.CORR_AT): a sample with its coefficient bundle
 presented for edge e gives raw1_o, raw2_o, amax_o, clip_o, nsat_o, dsat_o, valid0_o after
 edge e, and ax_o, ay_o, xn_o, yn_o, rsat_o, zl_o, valid_o after edge e + CORR_AT. Every output
 of every sample is checked; the valid outputs must be high after exactly those edges.
@@ -15,8 +15,8 @@ to the rails and just inside, the |u| = 2 (32768) saturation of the magnitudes, 
 of the low 13 bits of p12 + p2 into v2 >> 13 (exactly 2**13 and one short of it, around
 zero, both signs), the truncation of (v ^ sign) >> 13 at multiples of 2**13 +-1 for both
 signs; then seeded random bundles, realistic (a calibration's range) and arbitrary.
-Model values: fastpath.align and fastpath.correct; amax_o is max(|raw1|, |raw2|) capped at
-32767, as sim.model.core computes the estimator's peak; zl_o = fastpath.lzc15(ax | ay),
+Model values: align and correct; amax_o is max(|raw1|, |raw2|) capped at
+32767, as sim.model.finequad_core computes the estimator's peak; zl_o = lzc15(ax | ay),
 the octant's normalising shift."""
 import random
 
@@ -135,17 +135,17 @@ def random_vectors(rng, n, adc_w):
 def model(vec, adc_w):
     """Per sample: (outputs after edge e, outputs after edge e + CORR_AT)."""
     import numpy as np
-    from sim.model import fastpath as fp
+    from sim.model import correct as correct_m, octant as octant_m
 
     a = np.array(vec, dtype=np.int64)
     u1, u2, g, m1, m2, c1, c12, c2, clip = a.T
-    r1, k1 = fp.align(u1, adc_w, clip)
-    r2, k2 = fp.align(u2, adc_w, clip)
-    fr = fp.correct(r1, r2, g, m1, m2, c1, c12, c2)
+    r1, k1 = correct_m.align(u1, adc_w, clip)
+    r2, k2 = correct_m.align(u2, adc_w, clip)
+    fr = correct_m.correct(r1, r2, g, m1, m2, c1, c12, c2)
     amax = np.minimum(np.maximum(np.abs(r1), np.abs(r2)), 32767)
     early = zip(r1, r2, amax, k1 | k2, fr["nsat"], fr["dsat"])
     late = zip(fr["ax"], fr["ay"], fr["xn"], fr["yn"], fr["rsat"],
-               fp.lzc15(fr["ax"] | fr["ay"]))
+               octant_m.lzc15(fr["ax"] | fr["ay"]))
     return ([tuple(int(x) for x in t) for t in early],
             [tuple(int(x) for x in t) for t in late])
 
@@ -155,7 +155,7 @@ PORTS_IN = ("u1_i", "u2_i", "g_i", "m1_i", "m2_i", "c1_i", "c12_i", "c2_i", "cli
 
 async def stream(dut, vec, gaps, rng, adc_w):
     """Present vec[i] for edge e_i (gaps[i] idle clocks before it); check every output."""
-    from sim.model.core import CORR_AT
+    from sim.model.finequad_core import CORR_AT
 
     bench = fqtb.ClockedBench(dut)
     await bench.start()

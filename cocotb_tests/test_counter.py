@@ -1,8 +1,8 @@
-"""counter (phase mode and edge mode) against sim.model.fastpath.counter / edge_steps with
-the core's timing (sim.model.core), and against an independent reference computed here
+"""counter (phase mode and edge mode) against sim.model.counter / edge_steps with
+the core's timing (sim.model.finequad_core), and against an independent reference computed here
 from the test's own unwrapped phase.
 
-Timing (rtl/counter.v; sim.model.core's *_AT constants, edges after the core's strobe
+Timing (rtl/counter.v; sim.model.finequad_core's *_AT constants, edges after the core's strobe
 edge t of a sample): valid_i, hold_i, phase_i and n_i are sampled on t + PHASE_AT + 1,
 prod_i =
 n * phase on t + NTH_AT + 1 (rtl/lut.v registers it on t + NTH_AT), mode_i on
@@ -10,15 +10,15 @@ t + LATENCY; count_o, ovs_o and valid_o show the sample after edge t + LATENCY. 
 pulses of a sample (pv_i, a_i, b_i) are sampled on t + EDGE_AT (rtl/pulse.v registers
 them on t + PULSE_AT); ill_o and ill_count_o change on that edge. In edge mode count_o
 of a sample is the x4 decoder's count E after the pulses sampled on edges
-<= t + LATENCY - 1 (as sim.model.core.Core.feed). Off its edge every input carries random
+<= t + LATENCY - 1 (as sim.model.finequad_core.Core.feed). Off its edge every input carries random
 garbage (valid_i and pv_i low), so a block that samples an input on the wrong edge fails.
 
 Every output is compared on every edge, not only with valid_o: count_o holds its value
 between samples (0 after rst), ovs_o and ill_o are low off their edges, ill_count_o holds
 between pulses.
 
-  * RTL == model: per epoch (power-up or rst to the next rst) fastpath.counter on the
-    samples that survive and fastpath.edge_steps on the pulses, E and the illegal count
+  * RTL == model: per epoch (power-up or rst to the next rst) counter on the
+    samples that survive and edge_steps on the pulses, E and the illegal count
     (mod 2**16) as cumulative sums, the edge-mode count picked by the core's rule;
   * RTL == the reference of this file: phase mode 4 n W + floor(n f / 2048) for
     Phi = 8192 W + f, the period part accumulated with the n of each period step
@@ -57,7 +57,7 @@ import random
 import pytest
 
 import fqtb
-from sim.model.core import EDGE_AT, LATENCY, NTH_AT, PHASE_AT, PULSE_AT
+from sim.model.finequad_core import EDGE_AT, LATENCY, NTH_AT, PHASE_AT, PULSE_AT
 
 COUNT_WS = [32, 16]
 
@@ -69,7 +69,7 @@ def test_counter(sim, count_w):
                    parameters=dict(COUNT_W=count_w))
 
 
-# ---- timing: edges after the core's strobe edge t of a sample (sim/model/core.py) -------
+# ---- timing: edges after the core's strobe edge t of a sample (sim/model/finequad_core.py) -------
 T_PHASE = PHASE_AT + 1    # valid_i, phase_i, n_i sampled (registered upstream on PHASE_AT)
 T_PROD = NTH_AT + 1       # prod_i sampled (rtl/lut.v registers n * phase on NTH_AT)
 T_OUT = LATENCY           # mode_i sampled; count_o, ovs_o, valid_o registered
@@ -325,10 +325,10 @@ def epochs(samples, resets):
 
 
 def model_trace(samples, resets, preloads, count_w, length):
-    """The expected outputs from sim.model.fastpath, epoch by epoch, with the core's
-    timing for the edge-mode count (sim.model.core.Core.feed)."""
+    """The expected outputs from sim.model.counter, epoch by epoch, with the core's
+    timing for the edge-mode count (sim.model.finequad_core.Core.feed)."""
     import numpy as np
-    from sim.model import fastpath as fp
+    from sim.model import counter as counter_m
 
     outs, pulses = {}, {}
     m = 1 << count_w
@@ -338,12 +338,12 @@ def model_trace(samples, resets, preloads, count_w, length):
         ph = np.array([samples[k]["phase"] for k in ks], dtype=np.int64)
         n = np.array([samples[k]["n"] for k in ks], dtype=np.int64)
         hold = np.array([samples[k]["hold"] for k in ks], dtype=bool)
-        cnt, ovs, _ = fp.counter(ph, ph * n, n, count_w,
+        cnt, ovs, _ = counter_m.counter(ph, ph * n, n, count_w,
                                  state=(b0, 0, False, 0) if b0 else None, hold=hold)
         tp = np.array([samples[k]["t"] for k in ps], dtype=np.int64)
         a = np.array([samples[k]["a"] for k in ps], dtype=np.int64)
         b = np.array([samples[k]["b"] for k in ps], dtype=np.int64)
-        steps, ill, _ = fp.edge_steps(a, b)
+        steps, ill, _ = counter_m.edge_steps(a, b)
         ecum = e0 + np.cumsum(steps)
         illc = np.cumsum(ill) & 0xFFFF
         for j, k in enumerate(ps):
@@ -549,11 +549,11 @@ async def counter_sequences(dut):
 @cocotb.test()
 async def counter_ill_count_wraps(dut):
     """A double step on every edge past 65536 illegal steps: ill_count_o wraps at 16 bits
-    (fastpath.edge_steps, counted modulo 2**16), E does not move, the first pulse after
+    (edge_steps, counted modulo 2**16), E does not move, the first pulse after
     rst is not flagged. A and B are driven by clocks (a simulator-speed run)."""
     import numpy as np
     from cocotb.clock import Clock
-    from sim.model import fastpath as fp
+    from sim.model import counter as counter_m
 
     count_w = len(dut.count_o)
     n_edges = 65545
@@ -574,7 +574,7 @@ async def counter_ill_count_wraps(dut):
     for c in clocks:                                # (1, 1) on edge 1, (0, 0) on edge 2 ...
         c.start(start_high=True)
     a = np.arange(n_edges) % 2 == 0                 # pulse k sampled on edge k + 1
-    steps, ill, _ = fp.edge_steps(a.astype(np.int64), a.astype(np.int64))
+    steps, ill, _ = counter_m.edge_steps(a.astype(np.int64), a.astype(np.int64))
     illc = np.cumsum(ill) & 0xFFFF
     ecum = np.cumsum(steps)
     checks = list(range(1, 20)) + list(range(65530, n_edges + 1))

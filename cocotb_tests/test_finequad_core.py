@@ -1,16 +1,15 @@
-"""finequad_core, the whole pipeline, against sim.model.core.run (bit-true, every sample).
+"""finequad_core, the whole pipeline, against sim.model.finequad_core.run (bit-true, every sample).
 
 Each scenario is a generated encoder recording (sim/siggen.py: s-curve moves, imperfect
 signals, 0.5 % noise) driven sample by sample with the model's timing contract
-(sim/model/core.py): the registers are written on edges 0, 1, ... from the scenario's
-core.Config (setup_writes(): 1..7 interp, eps, lam_k, kappa, period, settle, gate, then
-CTRL 0x00 (counter mode), HARM 0x12, JUMP 0x13, ABGEN 0x15, AB_BOUND 0x16; defaults are
-written too), sample k is strobed (s_valid high for one clock) on edge t_k, and its result
-must be on m_* after edge t_k + LATENCY (the constant of sim/model/core.py, which
-rtl/finequad_core.v declares), with m_valid high after exactly those edges. count, a, b
-and the 7-bit fault word of every sample must equal the model's. During the run the
-registered read port is held on the A/B backlog (reg_re high, reg_addr 0x17 except on a
-write edge): the value read after each sample's output edge must equal the backlog of
+(sim/model/finequad_core.py): the registers are written on edges 0, 1, ... from the
+scenario's Config (setup_writes(): every settings register, defaults too, CTRL last:
+sim.model.finequad_core.register_writes), sample k is strobed (s_valid high for one clock)
+on edge t_k, and its result must be on m_* after edge t_k + LATENCY (the constant of
+sim/model/finequad_core.py, which rtl/finequad_core.v declares), with m_valid high after
+exactly those edges. count, a, b and the 11-bit fault word of every sample must equal the
+model's. During the run the registered read port is held on AB_BACKLOG (reg_re high
+except on a write edge): the value read after each sample's output edge must equal the backlog of
 the model's A/B follower (backlog_at()).
 
 Scenarios (one simulator process each, from power-up):
@@ -22,14 +21,14 @@ Scenarios (one simulator process each, from power-up):
              at least 12 clocks apart with a backlog bound of 6 counts (backlog during
              the bursts, overflow: fault bit 6), jump floor 60
   paper      TABLE_EXACT=0 (the paper's table), n = 7, strobes every 24 clocks, edge
-             mode (CTRL bit 3), the Eq. 12 pulses on the A/B pins, harmonic step 2^-6
-  reset_req  reset requests written to register 0 (see below), TABLE_EXACT=1, jump
+             mode (CTRL.count_mode), the Eq. 12 pulses on the A/B pins, harmonic step 2^-6
+  reset_req  reset requests written to CTRL.cov_reset (see below), TABLE_EXACT=1, jump
              detector off
   highspeed  calibration at 0.02 fs, the signal frequency ramped to 0.4 fs, held, ramped
              to standstill, a dwell (HIGHSPEED); n = 10, A/B edges 3 clocks apart
              (backlog, overflow, catch-up); overspeed flags (3/4 pi per sample) at the top
   faults     a calibration (the model's final bundle on the same recording) staged in
-             0x0b..0x10 and LOADed (CTRL bit 1) before the first sample, so the radius
+             GAIN..C2 and LOADed (CTRL.load) before the first sample, so the radius
              checks are armed from the start while "not calibrated" stays up until the
              estimator hands over; during one move: the signal lost (amplitude x 0.03),
              channel 1 stuck, single-sample glitches (a point at a random angle), a short
@@ -43,7 +42,7 @@ Scenarios (one simulator process each, from power-up):
              until the signal returns) but for two short spikes back to full size (the
              residual saturates: invalid updates, each resetting P), with the radius
              checks opened and the glitch test off so those samples reach the
-             estimator; the engine saturates a register (STATUS bit 2). The model must
+             estimator; the engine saturates a register (STATUS.sat). The model must
              see each of these, or the test fails
   faults_lean  the faults recording through the UP5K report build's options (OPT_MONITOR=0:
              no fault checks, OPT_JUMP=0: no jump detector; Verilator only): nothing is
@@ -58,24 +57,22 @@ count of every sample the monitor trusts stays within pitch / 8 of the true posi
 slips) from calibration on (check_truth), so every fault is ridden through.
 
 After the last sample the bench reads the registers back through the registered read
-port (reg_re with reg_addr for one edge, reg_rdata after it): ID (0x1f), the run-time
-registers (0x01..0x07, HARM 0x12, JUMP 0x13, ABGEN 0x15, AB_BOUND 0x16), count (0x08),
-illegal count (0x09), updates (0x11), jumps (0x14), status (0x00: counter mode, uncal,
-hold, engine saturated, loaded), gain and coefficients (0x0b..0x10), the A/B backlog (0x17), CLIP, RADIUS,
-MONITOR (0x18..0x1a) and the travel (0x1c) must equal the model's final state. Two writes
-during the run: a capture (CTRL bit 2) on the output edge of a sample near the middle
-whose count differs from the final one, which 0x1b must hold after the run, and
-FAULT_STICKY cleared (ones written to 0x0a) on the edge that ORs in the fault word of the
-last sample that has a fault bit no later sample has (where the scenario allows, after
-a bit none of them has): 0x0a must read the OR of that sample's word and all later ones
-(a fault on the clearing edge stays; a clear that lost to it reads otherwise). Then a capture of the final count (0x1b), and
-writing ones to 0x0a clears those bits (0x15, then 0, then 0x40 for the A/B overflow,
-then 0x7f, then 0x7ff).
+port (reg_re with reg_addr for one edge, reg_rdata after it): ID, every settings
+register, COUNT, ILLEGAL, UPDATES, JUMPS, STATUS, GAIN and M1..C2, AB_BACKLOG and TRAVEL
+must equal the model's final state. Two writes during the run: CTRL.capture on the
+output edge of a sample near the middle whose count differs from the final one, which
+CAPTURE must hold after the run, and FAULT_STICKY cleared (ones written) on the edge that
+ORs in the fault word of the last sample that has a fault bit no later sample has (where
+the scenario allows, after a bit none of them has): FAULT_STICKY must read the OR of that
+sample's word and all later ones (a fault on the clearing edge stays; a clear that lost
+to it reads otherwise). Then a capture of the final count, and writing ones to
+FAULT_STICKY clears those bits (0x15, then 0, then 0x40 for the A/B overflow, then 0x7f,
+then all).
 The model's final bundle is that of a phantom sample strobed (in the model only) after every
 program has ended; a reset request on that phantom keeps it from starting an update.
 
-Reset requests (register 0, bit 0): the model (Config.resets) takes the index k of the sample
-whose arrival decision (edge t_k + RESET_STAGE, sim.model.core.RESET_STAGE: the estimator
+Reset requests (CTRL.cov_reset): the model (Config.resets) takes the index k of the sample
+whose arrival decision (edge t_k + RESET_STAGE, sim.model.finequad_core.RESET_STAGE: the estimator
 decides on a reset on the edge after a sample's arrival) is the first to see the request.
 A write on edge w is seen by decisions on edges w + 1 and later, so it belongs to sample k
 exactly when t_(k-1) + RESET_STAGE <= w <= t_k + RESET_STAGE - 1 (the write keeps CTRL's
@@ -90,16 +87,22 @@ import os
 import pytest
 
 import fqtb
-from sim.model import core as core_model
+from sim.model import finequad_core as core_model
+from sim.model import regs
+from sim.model import estimator
 
 CORE_SOURCES = fqtb.core_sources()
+# the report builds' finequad_core parameters (rtl/builds.toml): the ECP5's, and the UP5K's
+# options that change results (its other RTL is make rtlsim's: sim/tests/test_rtlsim.py)
+ECP5 = fqtb.builds().core_overrides("ecp5")
+UP5K_LEAN = {k: v for k, v in fqtb.builds().core_overrides("up5k").items()
+             if k in ("OPT_MONITOR", "OPT_JUMP")}
 
 
-OUT_LATENCY = core_model.LATENCY   # sim/model/core.py: the pipeline timing the RTL must have
+OUT_LATENCY = core_model.LATENCY   # sim/model/finequad_core.py: the RTL's pipeline timing
 T_FIRST = 16                # first strobe edge (sim/harness/harness.cpp)
 T_FIRST_LOAD = 32           # with a LOAD before it (more register writes)
-REG_ORDER = ("interp", "eps", "lam_k", "kappa", "period", "settle", "gate")   # addr 1..7
-BACKLOG = 0x17              # A/B backlog register (read every sample during the run)
+BACKLOG = regs.AB_BACKLOG   # read every sample during the run
 
 # samples per simulator: Icarus simulates this core at some 10k clocks/s, Verilator with
 # cocotb some 20x faster. regs: core.Config fields (the model's configuration), written to
@@ -107,22 +110,22 @@ BACKLOG = 0x17              # A/B backlog register (read every sample during the
 # defaults, which the bench writes too.
 SCENARIOS = {
     "uniform": dict(exact=1, n={"icarus": 7000, "verilator": 40000},
-                    regs=dict(interp=100, eps=1638, lam_k=8, kappa=64 << 8, period=4096,
+                    regs=dict(interp=100, eps=1638, lambda_k=8, kappa=64 << 8, period=4096,
                               settle=64, gate=64)),
     # A/B pacing slower than the count in the bursts, with a small bound: backlog and the
     # overflow (fault bit 6) during the run; jump detector floor raised
     "gaps": dict(exact=1, n={"icarus": 8000, "verilator": 30000},
-                 regs=dict(interp=256, eps=3000, lam_k=6, kappa=32 << 8, period=200,
+                 regs=dict(interp=256, eps=3000, lambda_k=6, kappa=32 << 8, period=200,
                            settle=16, gate=40, ab_sep=12, ab_bound=6, jump_min=60)),
     # edge mode (the count from the x4 decoder of the pulses), the pulses on the A/B pins,
     # the slowest harmonic step
     "paper": dict(exact=0, n={"icarus": 6000, "verilator": 30000},
-                  regs=dict(interp=7, eps=1638, lam_k=8, kappa=64 << 8, period=4096,
-                            settle=32, gate=64, count_mode=1, ab_src=1, harm_mu=6)),
+                  regs=dict(interp=7, eps=1638, lambda_k=8, kappa=64 << 8, period=4096,
+                            settle=32, gate=64, count_mode=1, ab_src=1, harm_mu=3)),
     # jump detector off (JUMP bit 15)
     "reset_req": dict(exact=1, n={"icarus": 5000, "verilator": 20000},
-                      regs=dict(interp=100, eps=1000, lam_k=9, kappa=100 << 8, period=0,
-                                settle=24, gate=48, jump_on=0)),
+                      regs=dict(interp=100, eps=1000, lambda_k=9, kappa=100 << 8, period=0,
+                                settle=24, gate=48, jump_off=1)),
     # the signal frequency ramps up to 0.4 fs and back (HIGHSPEED): the phase-mode counter
     # against the truth; n = 10 and A/B edges 3 clocks apart (12 counts per sample at 36
     # clocks per sample) fall behind the count (16 counts per sample at 0.4 fs): backlog,
@@ -133,28 +136,28 @@ SCENARIOS = {
     "faults": dict(exact=1, n={"icarus": 6000, "verilator": 30000},
                    regs=dict(interp=100, clip=32000, loss=4000, over=21000, glitch_k=9,
                              stuck_n=6), load=True),
-    # the ECP5 build's RTL (scripts/report.py): two engine lanes (the model's
+    # the ECP5 build's RTL (rtl/builds.toml [ecp5]): two engine lanes (the model's
     # ENGINE_LANES), the harmonic table in distributed RAM, the 4096-row phase table, Eq. 12
-    # on the sine table's address side; the bursts of "gaps" (samples on consecutive
-    # clocks), Verilator only
+    # on the sine table's address side (OPT_ECP5_MULT: synthesis only); the bursts of
+    # "gaps" (samples on consecutive clocks), Verilator only
     "ecp5": dict(exact=1, n={"icarus": 0, "verilator": 30000},
-                 regs=dict(interp=256, eps=3000, lam_k=6, kappa=32 << 8, period=200,
+                 regs=dict(interp=256, eps=3000, lambda_k=6, kappa=32 << 8, period=200,
                            settle=16, gate=40, ab_sep=12, ab_bound=6, jump_min=60),
-                 build=dict(ENGINE_LANES=2, OPT_DISTRAM=1, OPT_PHASE_4K=1,
-                            OPT_PULSE_ADDR=1), like="gaps"),
+                 build=ECP5, like="gaps"),
     # the estimator's exceptions: jumps, a failed extraction (hold), engine saturation,
     # KAPPA at its maximum (UPSETS)
     "upsets": dict(exact=1, n={"icarus": 0, "verilator": 20000},
-                   regs=dict(interp=100, kappa=0xFFFF, lam_k=7, period=0, settle=16,
+                   regs=dict(interp=100, kappa=0xFFFF, lambda_k=7, period=0, settle=16,
                              gate=32, loss=800, over=65535, glitch_k=0)),
-    # the UP5K report build's (scripts/report.py) options: no fault checks in the monitor,
-    # no jump detector (OPT_MONITOR=0, OPT_JUMP=0); the signal and registers of "faults":
+    # the UP5K report build's (rtl/builds.toml [up5k]) options: no fault checks in the
+    # monitor, no jump detector (OPT_MONITOR=0, OPT_JUMP=0); the signal and registers of
+    # "faults":
     # nothing is flagged or held (the model with the same options), RADIUS and MONITOR
     # read 0, JUMP 0x8000 (off) and JUMPS 0; Verilator only
     "faults_lean": dict(exact=1, n={"icarus": 0, "verilator": 30000},
                         regs=dict(interp=100, clip=32000, loss=4000, over=21000, glitch_k=9,
                                   stuck_n=6), load=True,
-                        build=dict(OPT_MONITOR=0, OPT_JUMP=0), like="faults"),
+                        build=UP5K_LEAN, like="faults"),
 }
 # faults: (fraction of the recording where it starts, what, length in samples); the move
 # runs from 0.05 to 0.95 of the recording at about 1800 samples per signal period at any
@@ -176,48 +179,34 @@ HIGHSPEED = ((0.0, 0.25, 0.02, 0.02), (0.25, 0.4, 0.02, 0.4), (0.4, 0.55, 0.4, 0
 SLIP = 1 / 8                # a slip: the counter off the truth by more than pitch / 8
 
 
-# ---- register words from a core.Config (rtl/finequad_core.v, README's register map) ----
-def ctrl_word(cfg, reset=0):
-    """CTRL (0x00): bit 0 reset request (a pulse), bit 3 counter mode."""
-    return reset | cfg.count_mode << 3
+# ---- register words from a Config (the model's settings, named as the registers' fields) --
+def ctrl_word(cfg, **pulses):
+    """CTRL: the counter mode and the pulses given (cov_reset, load, capture)."""
+    return regs.word("CTRL", count_mode=cfg.count_mode, **pulses)
 
 
-def harm_word(cfg):
-    """HARM (0x12): bit 0 apply, bit 1 learn, [5:4] LMS step 2^-(3 + x)."""
-    return cfg.harm_apply | cfg.harm_learn << 1 | (cfg.harm_mu - 3) << 4
-
-
-def jump_word(cfg):
-    """JUMP (0x13): bit 15 detector off, [10:0] its floor."""
-    return (0 if cfg.jump_on else 1 << 15) | cfg.jump_min
-
-
-def abgen_word(cfg):
-    """ABGEN (0x15): [7:0] minimum clocks between A/B edges, bit 8 A/B = Eq. 12 pulses."""
-    return cfg.ab_src << 8 | cfg.ab_sep
-
-
-def radius_word(cfg):
-    """RADIUS (0x19): [15:0] loss, [31:16] over-range thresholds."""
-    return cfg.over << 16 | cfg.loss
-
-
-def monitor_word(cfg):
-    """MONITOR (0x1a): [3:0] glitch exponent K, [23:16] stuck samples."""
-    return cfg.stuck_n << 16 | cfg.glitch_k
+def readback(cfg, name):
+    """A settings register as it reads back after register_writes(cfg): the fields a read
+    returns (the build's options zero some, rtl/regs/finequad.rdl)."""
+    r = regs.REGS[name]
+    if (name == "HARM" and not cfg.OPT_HARMONIC) or \
+            (name in ("RADIUS", "MONITOR") and not cfg.OPT_MONITOR):
+        return 0
+    if name == "JUMP" and not cfg.OPT_JUMP:
+        return regs.word("JUMP", jump_off=1, jump_min=0)
+    return dict(core_model.register_writes(cfg))[r.index] & r.rmask
 
 
 def setup_writes(cfg):
-    """[(addr, data)] written on edges 0, 1, ... before the first strobe; with cfg.loads
-    (one LOAD) the bundle staged in 0x0b..0x10, then CTRL with bit 1 on its edge w."""
-    w = ([(a, getattr(cfg, name)) for a, name in zip(range(1, 8), REG_ORDER)] +
-         [(0x00, ctrl_word(cfg)), (0x12, harm_word(cfg)), (0x13, jump_word(cfg)),
-          (0x15, abgen_word(cfg)), (0x16, cfg.ab_bound), (0x18, cfg.clip),
-          (0x19, radius_word(cfg)), (0x1A, monitor_word(cfg))])
+    """[(addr, data)] written on edges 0, 1, ... before the first strobe: the settings
+    (core_model.register_writes); with cfg.loads (one LOAD) the bundle staged in
+    GAIN..C2, then CTRL.load on its edge w."""
+    w = core_model.register_writes(cfg)
     for edge, bundle in cfg.loads:
-        w += [(0x0B + i, v & 0xFFFF) for i, v in enumerate(bundle)]
+        w += [(regs.REGS[r].index, regs.word(r, **{r.lower(): v}))
+              for r, v in zip(core_model.BUNDLE_REGS, bundle)]
         assert edge == len(w), (edge, len(w))
-        w.append((0x00, ctrl_word(cfg) | 2))
+        w.append((regs.CTRL, ctrl_word(cfg, load=1)))
     return w
 
 
@@ -227,9 +216,9 @@ def load_edge(cfg):
 
 
 def backlog_at(count, t, reads, cfg):
-    """The A/B backlog register (0x17, registered from rtl/abgen.v's backlog_o) as read
+    """The A/B backlog register (AB_BACKLOG, registered from rtl/abgen.v's backlog_o) as read
     back after each edge of `reads` (increasing), from the model (sim/model/abgen.py,
-    the Follower that sim/model/core.py runs on m_count): reg_rdata after edge r holds
+    the Follower that sim/model/finequad_core.py runs on m_count): reg_rdata after edge r holds
     backlog_o after edge r - 1, the saturated distance of edge r - 2. m_count takes sample
     k's count on t_k + LATENCY, the target of edges t_k + LATENCY + 1 on."""
     from sim.model import abgen
@@ -358,7 +347,7 @@ def recording(scenario, n):
 def _config(scenario, resets, n=None):
     """The model's configuration of a scenario; with a LOAD (faults) the bundle to load
     is the model's final bundle on the same recording of n samples."""
-    from sim.model import core
+    from sim.model import finequad_core as core
     sc = SCENARIOS[scenario]
     build = sc.get("build", {})
     cfg = core.Config(TABLE="exact" if sc["exact"] else "paper", resets=list(resets),
@@ -372,7 +361,7 @@ def _config(scenario, resets, n=None):
 
 def calibration(scenario, n):
     """A saved calibration: the bundle in use after the model's run without a LOAD."""
-    from sim.model import core
+    from sim.model import finequad_core as core
     u1, u2, t, _ = recording(scenario, n)
     r = core.run(u1, u2, _config(scenario, []), strobes=t, trace=True)
     assert r["fault"][-1] >> core.FAULT_BITS["uncal"] & 1 == 0, "never calibrated"
@@ -390,7 +379,7 @@ def pick_requests(u1, u2, t):
     one edge later would be sample k + 1), one on the earliest (t_(k-1) + RESET_STAGE, one
     edge earlier would be sample k - 1), alternately, during the moves (REQUEST_AT)."""
     import numpy as np
-    from sim.model import core
+    from sim.model import finequad_core as core
 
     n = len(u1)
 
@@ -405,8 +394,8 @@ def pick_requests(u1, u2, t):
         for k in range(int(n * frac), int(n * frac) + 100):
             alt = k + 1 if latest else k - 1
             if not (outputs(base + [k]) == outputs(base + [alt])).all():
-                w = int(t[k]) + core.RESET_STAGE - 1 if latest else \
-                    int(t[k - 1]) + core.RESET_STAGE
+                w = int(t[k]) + estimator.RESET_STAGE - 1 if latest else \
+                    int(t[k - 1]) + estimator.RESET_STAGE
                 chosen.append((k, w))
                 break
         else:
@@ -418,12 +407,12 @@ def pick_requests(u1, u2, t):
 def model_run(scenario, n):
     """Model results for the recording plus the phantom sample (index n)."""
     import numpy as np
-    from sim.model import core
-    from sim.model.estimator import CYCLES
+    from sim.model import finequad_core as core
+    from sim.model.rls_engine import CYCLES
 
     u1, u2, t, requests = recording(scenario, n)
     start_delay = getattr(core, "START_DELAY", 0)
-    t_ph = int(t[-1]) + core.PHASE_STAGE + start_delay + max(CYCLES.values()) + 16
+    t_ph = int(t[-1]) + estimator.PHASE_STAGE + start_delay + max(CYCLES.values()) + 16
     cfg = _config(scenario, [k for k, _ in requests] + [n], n)
     res = core.run(np.append(u1, u1[-1]), np.append(u2, u2[-1]), cfg,
                    strobes=np.append(t, t_ph), trace=True)
@@ -454,7 +443,7 @@ def _intervals(edges):
 
 
 # x4 quadrature decoder, independent of rtl/abgen.v and sim/model/abgen.py: the Gray
-# sequence (A, B) = (1,1) -> (0,1) -> (0,0) -> (1,0) -> (1,1) counts up (README, A/B)
+# sequence (A, B) = (1,1) -> (0,1) -> (0,0) -> (1,0) -> (1,1) counts up (rtl/README.md, Paced A/B outputs)
 GRAY_UP = {(1, 1): 0, (0, 1): 1, (0, 0): 2, (1, 0): 3}
 
 
@@ -569,7 +558,7 @@ async def core_run(dut):
     assert max(reg_writes) < int(t[0])
     for k, w in requests:
         assert w not in reg_writes
-        reg_writes[w] = (0, ctrl_word(cfg, reset=1))
+        reg_writes[w] = (regs.CTRL, ctrl_word(cfg, cov_reset=1))
     # mid-run: a capture (CTRL bit 2) on the output edge of sample kc (it latches m_count
     # one edge later: kc's count; kc the sample nearest the middle whose count differs
     # from the final one), and FAULT_STICKY cleared (write 1s) on the edge that ORs
@@ -588,8 +577,8 @@ async def core_run(dut):
     kf = next((k for k in own if before[k] & ~later[k]), own[0] if own else None)
     assert kf is not None, f"{scenario}: no fault word to clear in the middle of the run"
     w_clr = int(t[kf]) + OUT_LATENCY + 1
-    for w, wd in ((w_cap, (0, ctrl_word(cfg) | 4)),
-                  (w_clr, (0x0A, (1 << core_model.FAULT_W) - 1))):
+    for w, wd in ((w_cap, (regs.CTRL, ctrl_word(cfg, capture=1))),
+                  (w_clr, (regs.FAULT_STICKY, (1 << core_model.FAULT_W) - 1))):
         assert w not in reg_writes and w > int(t[0]), w
         reg_writes[w] = wd
     slots = set()
@@ -677,7 +666,7 @@ async def core_run(dut):
     if len(diff):
         lines = [f"sample {k} (output edge {rd_edges[k]}): rtl {int(got_bl[k]):#x}, "
                  f"model {int(exp_bl[k]):#x}" for k in diff[:12]]
-        raise AssertionError(f"{scenario}: the A/B backlog (0x17) differs at {len(diff)} of "
+        raise AssertionError(f"{scenario}: AB_BACKLOG differs at {len(diff)} of "
                              f"{int(seen.sum())} samples, first:\n" + "\n".join(lines))
 
     # ---- m_valid high after exactly the edges t_k + LATENCY --------------------------------
@@ -728,29 +717,25 @@ async def core_run(dut):
         if got_v != exp_v:
             bad.append(f"{what}: rtl {got_v:#x}, model {exp_v:#x}")
 
-    check(f"capture 0x1b (CTRL bit 2 on edge {w_cap}, sample {kc})", await rd(0x1B),
+    check(f"CAPTURE (CTRL.capture on edge {w_cap}, sample {kc})", await rd(regs.CAPTURE),
           u32(res["count"][kc]))
 
-    check("ID 0x1f", await rd(0x1F), core_model.ID)
-    masks = dict(interp=0x1FF, eps=0xFFFF, lam_k=0x1F, kappa=0xFFFF, period=0xFFFF,
-                 settle=0x3FF, gate=0x1FFF)
-    for a, name in zip(range(1, 8), REG_ORDER):
-        check(f"{name} 0x{a:02x}", await rd(a), getattr(cfg, name) & masks[name])
-    check("count 0x08", await rd(0x08), u32(res["count"][n - 1]))
-    check("illegal count 0x09", await rd(0x09), int(np.sum(res["ill"][:n])) & 0xFFFF)
-    check("updates 0x11", await rd(0x11), u32(res["n_updates"]))
+    check("ID", await rd(regs.ID), core_model.ID)
+    for name in ("INTERP", "EPS", "LAMBDA_K", "KAPPA", "PERIOD", "SETTLE", "GATE", "HARM",
+                 "JUMP", "ABGEN", "AB_BOUND", "CLIP", "RADIUS", "MONITOR"):
+        check(name, await rd(regs.REGS[name].index), readback(cfg, name))
+    check("COUNT", await rd(regs.COUNT), u32(res["count"][n - 1]))
+    check("ILLEGAL", await rd(regs.ILLEGAL), int(np.sum(res["ill"][:n])) & 0xFFFF)
+    check("UPDATES", await rd(regs.UPDATES), u32(res["n_updates"]))
     fault_ph = int(res["fault"][ph])
-    check("status 0x00 [4:0] (loaded, counter mode, engine saturated, hold, uncal)",
-          await rd(0x00), ctrl_word(cfg) | ((fault_ph >> 4) & 1)
-          | (((fault_ph >> 5) & 1) << 1) | int(res["sat"]) << 2 | int(res["loaded"][ph]) << 4)
-    check("CLIP 0x18", await rd(0x18), cfg.clip)
-    check("RADIUS 0x19", await rd(0x19), radius_word(cfg) if cfg.OPT_MONITOR else 0)
-    check("MONITOR 0x1a", await rd(0x1A), monitor_word(cfg) if cfg.OPT_MONITOR else 0)
-    check("travel 0x1c", await rd(0x1C), int(res["travel"][n - 1]))   # real samples only
-    check("gain 0x0b", await rd(0x0B), int(res["g"][ph]))
-    check("HARM 0x12", await rd(0x12), harm_word(cfg))
-    check("JUMP 0x13", await rd(0x13), jump_word(cfg) if cfg.OPT_JUMP else 0x8000)
-    check("jumps 0x14", await rd(0x14), len(res["jumps"]) & 0xFFFF)
+    fb = core_model.FAULT_BITS
+    check("STATUS", await rd(regs.STATUS),
+          regs.word_read("STATUS", uncal=(fault_ph >> fb["uncal"]) & 1,
+                         hold=(fault_ph >> fb["hold"]) & 1, sat=int(res["sat"]),
+                         count_mode=cfg.count_mode, loaded=int(res["loaded"][ph])))
+    check("TRAVEL", await rd(regs.TRAVEL), int(res["travel"][n - 1]))   # real samples only
+    check("GAIN", await rd(regs.GAIN), int(res["g"][ph]))
+    check("JUMPS", await rd(regs.JUMPS), len(res["jumps"]) & 0xFFFF)
     if not cfg.OPT_MONITOR:
         held = sum(1 << core_model.FAULT_BITS[b] for b in ("loss", "over", "stuck", "glitch"))
         assert not np.bitwise_and(res["fault"][:n], held).any(), \
@@ -766,32 +751,26 @@ async def core_run(dut):
                               dataclasses.replace(_config(scenario, [], n), OPT_JUMP=1),
                               strobes=t)["jumps"], \
             f"{scenario}: the jump detector would not fire on this signal"
-    check("ABGEN 0x15", await rd(0x15), abgen_word(cfg))
-    check("AB_BOUND 0x16", await rd(0x16), cfg.ab_bound)
     bl_got = await rd(BACKLOG)
-    check(f"A/B backlog 0x17 (after edge {bench.edge})", bl_got,
+    check(f"AB_BACKLOG (after edge {bench.edge})", bl_got,
           backlog_at(res["count"][:n], t, [bench.edge], cfg)[0])
-    for a, f in zip(range(0x0C, 0x11), ("m1", "m2", "c1", "c12", "c2")):
-        check(f"{f} 0x{a:02x}", await rd(a), u32(res[f][ph]))
+    for f in ("m1", "m2", "c1", "c12", "c2"):
+        check(f.upper(), await rd(regs.REGS[f.upper()].index), u32(res[f][ph]))
     # (cleared on sample kf's edge, which ORs kf's word in)
     sticky = int(later[kf])
-    check(f"sticky faults 0x0a (cleared with sample {kf})", await rd(0x0A), sticky)
+    check(f"FAULT_STICKY (cleared with sample {kf})", await rd(regs.FAULT_STICKY), sticky)
     # write 1 to clear: a read-only register first (no effect), then two steps
-    await wr(0x1F, 0)
-    check("ID 0x1f after a write", await rd(0x1F), core_model.ID)
-    await wr(0x0A, 0x15)
-    check("sticky after writing 0x15", await rd(0x0A), sticky & ~0x15)
-    await wr(0x0A, 0x00)
-    check("sticky after writing 0", await rd(0x0A), sticky & ~0x15)
-    await wr(0x0A, 0x40)
-    check("sticky after writing 0x40", await rd(0x0A), sticky & ~0x55)
-    await wr(0x0A, 0x7F)
-    check("sticky after writing 0x7f", await rd(0x0A), sticky & ~0x7F)
-    await wr(0x0A, (1 << core_model.FAULT_W) - 1)
-    check("sticky after writing all ones", await rd(0x0A), 0)
-    # a capture (CTRL bit 2) of the count; reading the count register does not latch
-    await wr(0x00, ctrl_word(cfg) | 4)
-    check("capture 0x1b", await rd(0x1B), u32(res["count"][n - 1]))
+    await wr(regs.ID, 0)
+    check("ID after a write", await rd(regs.ID), core_model.ID)
+    cleared = 0
+    for ones in (0x15, 0x00, 0x40, 0x7F, (1 << core_model.FAULT_W) - 1):
+        await wr(regs.FAULT_STICKY, ones)
+        cleared |= ones
+        check(f"FAULT_STICKY after writing {ones:#x}", await rd(regs.FAULT_STICKY),
+              sticky & ~cleared)
+    # a capture (CTRL.capture) of the count; reading the count register does not latch
+    await wr(regs.CTRL, ctrl_word(cfg, capture=1))
+    check("CAPTURE", await rd(regs.CAPTURE), u32(res["count"][n - 1]))
     assert not bad, f"{scenario}: register read-back differs:\n" + "\n".join(bad)
 
     # ---- the A/B pins, edge by edge (paced outputs only) ------------------------------------

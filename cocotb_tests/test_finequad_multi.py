@@ -1,12 +1,12 @@
 """finequad_multi (AXES axes sharing one time-multiplexed RLS engine) against the bit-true
-model, axis by axis: axis i of the RTL must equal sim.model.core.run on that axis's own
-samples with Config.tdm = (AXES, i, L, W) (the window predicate, sim/model/core.py), on
+model, axis by axis: axis i of the RTL must equal sim.model.finequad_core.run on that axis's own
+samples with Config.tdm = (AXES, i, L, W) (the window predicate, sim/model/finequad_core.py), on
 every sample.
 
 Every axis gets a different recording (sim/siggen.py: its own signal imperfections,
 motion, noise seed and interpolation factor) at a different pacing (strobes every 36, 24
 or 50 clocks, or random gaps of 1..60 clocks), and its own register settings, written
-through the shared register port with reg_axis before the first strobe (interp, lam_k,
+through the shared register port with reg_axis before the first strobe (interp, lambda_k,
 kappa, period, settle, gate, HARM, ABGEN); recording 1 runs KAPPA at its maximum, with
 which P / lambda reaches the limit of its s9.23 format, so the engine saturates a
 register of that axis only (STATUS bit 2 per axis; the test checks that the model sees
@@ -43,10 +43,10 @@ AXIS_SPECS = [
          regs=dict(interp=100)),
     dict(sig=dict(A1=0.3, A2=0.33, m1=-0.02, m2=0.03, phi=-0.12), div="gaps", seed=2,
          moves=[(90, 0.35, 0.05), (-70, 0.3, 0.5)],
-         regs=dict(interp=64, lam_k=7, kappa=0xFFFF, period=700, settle=24, gate=48),
+         regs=dict(interp=64, lambda_k=7, kappa=0xFFFF, period=700, settle=24, gate=48),
          reset_at=0.55),
     dict(sig=dict(A1=0.7, A2=0.62, m1=0.01, m2=-0.035, phi=0.15), div=24, seed=3,
-         moves=[(260, 0.8, 0.1)], regs=dict(interp=200, harm_mu=5)),
+         moves=[(260, 0.8, 0.1)], regs=dict(interp=200, harm_mu=2)),
     dict(sig=dict(A1=0.5, A2=0.5, m1=0.02, m2=0.0, phi=0.05, noise=0.01), div=50, seed=4,
          moves=[(-150, 0.6, 0.02), (60, 0.2, 0.7)], regs=dict(interp=37, ab_sep=6)),
 ]
@@ -55,8 +55,6 @@ CASES = {
     "other": dict(axes=2, specs=[0, 3], n=40000),
     "four": dict(axes=4, specs=[0, 1, 2, 3], n=20000),
 }
-REG_FIELDS = ((0x01, "interp"), (0x03, "lam_k"), (0x04, "kappa"), (0x05, "period"),
-              (0x06, "settle"), (0x07, "gate"))
 
 
 def multi_sources():
@@ -114,27 +112,30 @@ def recording(spec, n, t0):
 
 
 def config(spec, axes, index, resets=()):
-    from sim.model import core
-    tdm = None if axes is None else (axes, index, core.tdm_period(TDM_W), TDM_W)
+    from sim.model import finequad_core as core
+    from sim.model import estimator
+    tdm = None if axes is None else (axes, index, estimator.tdm_period(TDM_W), TDM_W)
     return core.Config(tdm=tdm, resets=list(resets), **spec["regs"])
 
 
 def setup_writes(case):
-    """[(axis, addr, data)] written on edges 0, 1, ...: each axis's registers."""
-    from sim.model import core
+    """[(axis, addr, data)] written on edges 1, 2, ...: each axis's settings registers
+    that its Config sets off their reset values (sim.model.finequad_core.register_writes)."""
+    from sim.model import estimator
+    from sim.model import finequad_core as core
+    from sim.model import regs
+    reset = {r.index: r.reset for r in regs.REGS.values() if r.write}
     out = []
     for i, s in enumerate(CASES[case]["specs"]):
         cfg = config(AXIS_SPECS[s], None, i)
-        out += [(i, a, getattr(cfg, f)) for a, f in REG_FIELDS]
-        out.append((i, 0x12, cfg.harm_apply | cfg.harm_learn << 1 | (cfg.harm_mu - 3) << 4))
-        out.append((i, 0x15, cfg.ab_src << 8 | cfg.ab_sep))
-    assert len(out) < T_FIRST and core.RESET_STAGE == 1
+        out += [(i, a, w) for a, w in core.register_writes(cfg) if w != reset[a]]
+    assert len(out) + 1 < T_FIRST and estimator.RESET_STAGE == 1
     return out
 
 
 def axis_stimulus(case, n):
     """Per axis: (u1, u2, t, [(sample k, write edge w)] reset requests)."""
-    from sim.model import core
+    from sim.model import estimator
     c = CASES[case]
     out = []
     for i, s in enumerate(c["specs"]):
@@ -143,20 +144,21 @@ def axis_stimulus(case, n):
         req = []
         if "reset_at" in spec:
             k = int(spec["reset_at"] * n)
-            req.append((k, int(t[k]) + core.RESET_STAGE - 1))
+            req.append((k, int(t[k]) + estimator.RESET_STAGE - 1))
         out.append((u1, u2, t, req))
     return out
 
 
 def model_runs(case, n, tdm=True):
     """Per axis the model's results with a phantom sample (index n) after every program."""
-    from sim.model import core
-    from sim.model.estimator import CYCLES
+    from sim.model import finequad_core as core
+    from sim.model import estimator
+    from sim.model.rls_engine import CYCLES
     c = CASES[case]
     stim = axis_stimulus(case, n)
     t_last = max(int(t[-1]) for _, _, t, _ in stim)
-    t_ph = (t_last + core.PHASE_STAGE + c["axes"] * core.tdm_period(TDM_W)
-            + 2 * core.START_DELAY + CYCLES["update"] + CYCLES["extract"] + 16)
+    t_ph = (t_last + estimator.PHASE_STAGE + c["axes"] * estimator.tdm_period(TDM_W)
+            + 2 * estimator.START_DELAY + CYCLES["update"] + CYCLES["extract"] + 16)
     res = []
     for i, (s, (u1, u2, t, req)) in enumerate(zip(c["specs"], stim)):
         cm = core.Core(config(AXIS_SPECS[s], c["axes"] if tdm else None, i,
@@ -173,7 +175,8 @@ import cocotb  # noqa: E402
 
 @cocotb.test()
 async def multi_run(dut):
-    from sim.model import core
+    from sim.model import finequad_core as core
+    from sim.model import regs
     case = fqtb.env_str("CASE")
     n = fqtb.env_int("SAMPLES")
     c = CASES[case]
@@ -199,11 +202,12 @@ async def multi_run(dut):
         for k, e in enumerate(t.tolist()):
             strobe.setdefault(e, []).append((i, k))
             reads.setdefault(e + core.LATENCY, []).append((i, k))
-    writes = {e: w for e, w in enumerate(setup_writes(case))}
+    # (from edge 1: the inputs of edge e are set in slot e - 1, the first slot is 0)
+    writes = {e: w for e, w in enumerate(setup_writes(case), start=1)}
     for i, (_, _, _, req) in enumerate(stim):
         for k, w in req:
             assert w not in writes
-            writes[w] = (i, 0x00, 1)              # CTRL: reset request, phase mode
+            writes[w] = (i, regs.CTRL, regs.word("CTRL", cov_reset=1))   # phase mode
     slots = set(reads)
     for e in list(strobe) + list(writes):
         slots.update((e - 1, e))
@@ -279,16 +283,22 @@ async def multi_run(dut):
             if g != e:
                 bad.append(f"axis {i} {what}: rtl {g:#x}, model {e:#x}")
         fph = int(r["fault"][n])
-        check("ID", await rd(i, 0x1F), core.ID)
-        check("interp", await rd(i, 0x01), config(AXIS_SPECS[c["specs"][i]], None, i).interp)
-        check("count", await rd(i, 0x08), u32(r["count"][n - 1]))
-        check("updates", await rd(i, 0x11), u32(r["n_updates"]))
-        check("status [2:0] (sat, hold, uncal)", (await rd(i, 0x00)) & 7,
-              (fph >> 4) & 1 | ((fph >> 5) & 1) << 1 | int(r["sat"]) << 2)
-        check("sticky faults", await rd(i, 0x0A), int(np.bitwise_or.reduce(r["fault"][:n])))
-        check("gain", await rd(i, 0x0B), int(r["g"][n]))
-        for a, f in zip(range(0x0C, 0x11), ("m1", "m2", "c1", "c12", "c2")):
-            check(f, await rd(i, a), u32(r[f][n]))
+        fb = core.FAULT_BITS
+        st = regs.REGS["STATUS"].fields
+        est_bits = sum(((1 << st[f].width) - 1) << st[f].lsb for f in ("uncal", "hold", "sat"))
+        check("ID", await rd(i, regs.ID), core.ID)
+        check("INTERP", await rd(i, regs.INTERP),
+              config(AXIS_SPECS[c["specs"][i]], None, i).interp)
+        check("COUNT", await rd(i, regs.COUNT), u32(r["count"][n - 1]))
+        check("UPDATES", await rd(i, regs.UPDATES), u32(r["n_updates"]))
+        check("STATUS uncal, hold, sat", (await rd(i, regs.STATUS)) & est_bits,
+              regs.word_read("STATUS", uncal=(fph >> fb["uncal"]) & 1,
+                             hold=(fph >> fb["hold"]) & 1, sat=int(r["sat"])))
+        check("FAULT_STICKY", await rd(i, regs.FAULT_STICKY),
+              int(np.bitwise_or.reduce(r["fault"][:n])))
+        check("GAIN", await rd(i, regs.GAIN), int(r["g"][n]))
+        for f in ("m1", "m2", "c1", "c12", "c2"):
+            check(f.upper(), await rd(i, regs.REGS[f.upper()].index), u32(r[f][n]))
     assert not bad, f"{case}: register read-back differs:\n" + "\n".join(bad)
     np.save(fqtb.env_str("OUT"), got[0])
     for i, r in enumerate(res):

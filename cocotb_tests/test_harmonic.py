@@ -1,9 +1,9 @@
 """harmonic (rtl/harmonic.v: fine-phase assembly and adaptive compensation) against
-sim.model.harmonic, and the block inside finequad_core against sim.model.core: bit for
+sim.model.harmonic, and the block inside finequad_core against sim.model.finequad_core: bit for
 bit, every output, every sample.
 
 Block (test_harmonic). Timing, from rtl/harmonic.v's header, with the offsets that the
-core model has taken from sim.model.core (HARM_AT, ADDR_AT, PHASE_AT): a sample arrives on
+core model has taken from sim.model.finequad_core (HARM_AT, ADDR_AT, PHASE_AT): a sample arrives on
 the edge a on which valid_i is high (t + HARM_AT in the core), with oct2_i and neg_i;
 t_i (the octant address's scale, from which rtl/hbin.v finds the bin) is presented for
 edge a + BIN_AT (ADDR_AT - HARM_AT: the tables are read) and ph_i
@@ -15,8 +15,8 @@ learning) those arriving on w .. w + SWEEP (harmonic.sweep_flags). oct2_i, neg_i
 and ph_i carry a sample's values only on the edge they are read on and garbage on every
 other edge; apply_i, learn_i and mu_i are levels (the core's registers).
 The stimulus is a stream of angles (a moving stage with a periodic error and noise) made
-into corrected signals on a circle and put through sim.model.fastpath.octant and Lut
-(front()), so that oct2 (base / 2048), neg, t (fastpath.scale), ph (PH[j], ~PH[j] for
+into corrected signals on a circle and put through sim.model.octant and Lut
+(front()), so that oct2 (base / 2048), neg, t (scale), ph (PH[j], ~PH[j] for
 neg: rtl/lut.v ph_o) and the model's bin = phase >> 7 are what the core's octant and
 phase table give (hbin(t) = bin: cocotb_tests/test_hbin.py). Both table memories: block
 RAM (OPT_DISTRAM = 0, read on a + 1 with the same-edge collision undone) and distributed
@@ -65,7 +65,7 @@ the gear switch at C = 256 by one, the gears' gains, learning from C = 2047, the
 and lost thresholds, the sweep length, the commit delay, the candidates, the mean, the
 anchor, the entry and update limits), changes the directed stream's expected output.
 
-Core (test_core_harmonic): finequad_core (TABLE_EXACT=1) against sim.model.core.run, a
+Core (test_core_harmonic): finequad_core (TABLE_EXACT=1) against sim.model.finequad_core.run, a
 stage at 40 units/sample with a 1 % third harmonic, strobes back to back, then random
 gaps; n = 511 (written to 0x01 before the first sample) so that the count resolves 4
 phase units. HARM (0x12) writes are placed like the block's events (Planner on the
@@ -80,7 +80,7 @@ with reg_addr for edge e, reg_rdata after it) on the edge of every HARM write (t
 before it) and on the edge after (the value written, without the clear bit). s_u1, s_u2
 and the register port carry garbage on idle edges. test_core_sensitivity (no
 simulator): every placed write moved by one edge (the directions that matter) changes
-sim.model.core's outputs.
+sim.model.finequad_core's outputs.
 """
 import bisect
 import copy
@@ -91,15 +91,16 @@ import numpy as np
 import pytest
 
 import fqtb
-from sim.model import core as core_model
-from sim.model import fastpath as fp
+from sim.model import finequad_core as core_model
+from sim.model import lut as lut_m, octant as octant_m
 from sim.model import harmonic as hm
+from sim.model import regs
 from sim.model import tables
 
 # ---- timing, in edges after a sample's arrival a (the edge on which valid_i is high) --------
 # The core strobes sample k on edge t and the block sees its arrival on t + HARM_AT; the
 # phase table and the harmonic table are read on t + ADDR_AT, the phases registered on
-# t + PHASE_AT (sim/model/core.py).
+# t + PHASE_AT (sim/model/finequad_core.py).
 ARRIVE_AT = core_model.HARM_AT
 BIN_AT = core_model.ADDR_AT - ARRIVE_AT       # t_i read
 OUT_AT = core_model.PHASE_AT - ARRIVE_AT      # ph_i used; phase_o, phase_c_o, valid_o after
@@ -172,8 +173,8 @@ def test_directed_sensitivity(monkeypatch):
 def front(x, kind, rng, spread):
     """What the core's octant and phase table give for a stream of angles x (float, phase
     units): corrected signals on a circle of radius 16384 (1 +- spread) (s2.14, rounded)
-    through sim.model.fastpath.octant and Lut(kind). Returns int64 arrays oct2 (base
-    phase / 2048), neg, t = the address's scale (fastpath.scale), ph = the phase table's
+    through sim.model.octant and Lut(kind). Returns int64 arrays oct2 (base
+    phase / 2048), neg, t = the address's scale (scale), ph = the phase table's
     word (PH[j], its 12-bit complement for neg: rtl/lut.v ph_o), bin = phase >> 7 and
     phase (Lut.phase)."""
     a = 2 * np.pi * np.asarray(x, dtype=float) / tables.PH_PERIOD
@@ -181,10 +182,10 @@ def front(x, kind, rng, spread):
     u1 = np.rint(r * np.cos(a)).astype(np.int64)
     u2 = np.rint(r * np.sin(a)).astype(np.int64)
     ax, ay = np.minimum(np.abs(u1), 32767), np.minimum(np.abs(u2), 32767)
-    j, base, neg = fp.octant(ax, ay, u1 < 0, u2 < 0, kind)
-    lut = fp.Lut(kind)
+    j, base, neg = octant_m.octant(ax, ay, u1 < 0, u2 < 0, kind)
+    lut = lut_m.Lut(kind)
     phase = lut.phase(j, base, neg)
-    return dict(oct2=base // (tables.PH_PERIOD // 4), neg=neg, t=fp.scale(ax, ay, kind),
+    return dict(oct2=base // (tables.PH_PERIOD // 4), neg=neg, t=octant_m.scale(ax, ay, kind),
                 ph=lut.ph[j] ^ (neg * ((1 << tables.PHT_W) - 1)),
                 bin=phase >> hm.BIN_SHIFT, phase=phase)
 
@@ -727,11 +728,11 @@ async def harmonic_stream(dut):
     log.info("%s: %d samples equal (%d corrected), %d updates", pattern, n, nc, h.learned)
 
 
-# ==== the block in the core: finequad_core against sim.model.core.run ========================
+# ==== the block in the core: finequad_core against sim.model.finequad_core.run ========================
 CORE_SOURCES = fqtb.core_sources()
-INTERP_ADDR = 0x01
-HARM_ADDR = 0x12
-HARM_READ = 0x33           # the bits HARM reads back: [5:4] mu - 3, 1 learn, 0 apply
+INTERP_ADDR = regs.INTERP
+HARM_ADDR = regs.HARM
+HARM_READ = regs.REGS["HARM"].rmask   # the bits HARM reads back
 CORE_INTERP = 511          # n: the count resolves 8192 / (4 n) = 4 phase units
 CORE_SAMPLES = {"icarus": 7000, "verilator": 40000}
 CORE_PLAN = 7000           # the placed writes lie in the first CORE_PLAN samples
@@ -747,7 +748,7 @@ def test_core_harmonic(sim):
 
 def test_core_sensitivity():
     """Every placed HARM write moved by one edge (the directions that matter for it)
-    changes sim.model.core's outputs (count, A/B, faults) of the first CORE_PLAN samples."""
+    changes sim.model.finequad_core's outputs (count, A/B, faults) of the first CORE_PLAN samples."""
     n = CORE_PLAN
     u1, u2, t, writes, events = core_plan(n)
     ref = core_outputs(u1, u2, t, writes)
@@ -761,8 +762,9 @@ def test_core_sensitivity():
 
 
 def harm_word(apply, learn, mu, clear=0):
-    """HARM register word."""
-    return apply | learn << 1 | (mu - hm.MU_MIN) << 4 | clear << 8
+    """HARM register word (mu: the block's step exponent, 2^-mu)."""
+    return regs.word("HARM", harm_apply=apply, harm_learn=learn, harm_mu=mu - hm.MU_MIN,
+                     harm_clear=clear)
 
 
 def core_stimulus(n):
@@ -793,10 +795,10 @@ def core_config(t, writes):
             continue
         a_new = t + ARRIVE_AT + APPLY_AT > w
         l_new = t + ARRIVE_AT + LEARN_AT > w
-        apply[a_new] = v & 1
-        learn[l_new] = (v >> 1) & 1
-        mu[l_new] = ((v >> 4) & 3) + hm.MU_MIN
-        if v >> 8 & 1:
+        apply[a_new] = regs.value("HARM", "harm_apply", v)
+        learn[l_new] = regs.value("HARM", "harm_learn", v)
+        mu[l_new] = regs.value("HARM", "harm_mu", v)
+        if regs.value("HARM", "harm_clear", v):
             clears.append(w)
     return core_model.Config(interp=CORE_INTERP, harm_apply=apply, harm_learn=learn,
                              harm_mu=mu, harm_clears=clears)
@@ -864,8 +866,7 @@ def core_plan(n):
 
 
 # HARM after reset (the model's Config defaults)
-HARM_RESET = harm_word(core_model.Config().harm_apply, core_model.Config().harm_learn,
-                       core_model.Config().harm_mu)
+HARM_RESET = regs.REGS["HARM"].reset
 
 
 def harm_reads(writes):

@@ -1,9 +1,9 @@
 """lut (Table 1 through the phase table and the quarter-wave sine table) against
-sim.model.fastpath.Lut, bit for bit, every output of every sample and both valid outputs
+sim.model.Lut, bit for bit, every output of every sample and both valid outputs
 on every edge, for both table kinds, sine widths 8..16 and both forms of the n * phase
 product (DSP `*` and the carry-save rows in logic).
 
-Timing (rtl/lut.v header; sim.model.core ADDR_AT, PHASE_AT, NTH_AT, SIN_AT): an address
+Timing (rtl/lut.v header; sim.model.finequad_core ADDR_AT, PHASE_AT, NTH_AT, SIN_AT): an address
 j_i presented for edge A (= t + ADDR_AT in the core), with the octant's sign neg_i
 presented for edge A - 1, gives ph_o = PH[j] after edge A, or its 12-bit complement for
 neg (the block RAM's output register; the complement after it); with OPT_PHASE_4K the
@@ -106,8 +106,8 @@ def check_sine_coverage(pn):
 @cocotb.test()
 async def lut_all(dut):
     import numpy as np
-    from sim.model import core
-    from sim.model import fastpath as fp
+    from sim.model import finequad_core as core
+    from sim.model import lut as lut_m
 
     exact = fqtb.env_int("TABLE_EXACT")
     if fqtb.env_int("MULT18", 0):
@@ -115,7 +115,7 @@ async def lut_all(dut):
         assert dut.g_mult18.u_mult is not None
     sin_w = fqtb.env_int("SIN_W")
     assert len(dut.cos_mag_o) == sin_w - 1
-    lut = fp.Lut("exact" if exact else "paper", sin_w)
+    lut = lut_m.Lut("exact" if exact else "paper", sin_w)
     rng = random.Random(400 + 10 * exact + sin_w)
     d_ph = 0                                      # ph_o: the RAM's output register
     d_prod = core.NTH_AT - core.PHASE_AT - 1      # prod_o after edge E + d_prod

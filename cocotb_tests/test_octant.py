@@ -1,7 +1,7 @@
-"""octant (Table 2 and the address's scale) against sim.model.fastpath.octant and scale,
+"""octant (Table 2 and the address's scale) against sim.model.octant and scale,
 both table kinds, bit for bit: every output of every sample, and valid_o on every edge.
 
-Timing (rtl/octant.v header; sim.model.core CORR_AT, OCT_AT, ADDR_AT): the magnitudes and
+Timing (rtl/octant.v header; sim.model.finequad_core CORR_AT, OCT_AT, ADDR_AT): the magnitudes and
 signs presented for edge E (= t + CORR_AT + 1 in the core, the edge after correct
 registers them), with zl_i = lzc15(ax | ay) (rtl/correct.v forms it beside them), give
 valid_o, oct2_o and neg_o after edge E + (OCT_AT - CORR_AT - 1), and j_o and t_o
@@ -9,7 +9,7 @@ valid_o, oct2_o and neg_o after edge E + (OCT_AT - CORR_AT - 1), and j_o and t_o
 E + (ADDR_AT - CORR_AT - 2). Expected values: oct2_o = the model's base / 2048, neg_o its
 neg, j_o its j (exact: round(2048 |small| / |large|) through the reciprocal table and the
 multiply, clipped at 2047; paper: min(2047, (|small| + 4) >> 3)), t_o its scale
-(fastpath.scale: exact min(4095, floor(p / 2**15)) of the ratio product, so that j =
+(scale: exact min(4095, floor(p / 2**15)) of the ratio product, so that j =
 (t + 1) >> 1 clipped; paper 2 j): the address of the 4096-row phase table and the input of
 the harmonic bin (rtl/hbin.v, tested exhaustively over t in test_hbin.py).
 
@@ -126,7 +126,7 @@ def threshold_vectors(kind, rng):
     with j < T and the first with j >= T, by the model's j, each in two octants with
     neg = 0 and two with neg = 1."""
     import numpy as np
-    from sim.model import fastpath as fp
+    from sim.model import octant as octant_m
     from sim.model import tables
 
     thr = sorted({t for s in tables.bin_thresholds(kind) for t in s if t < tables.ROWS})
@@ -135,7 +135,7 @@ def threshold_vectors(kind, rng):
     v = []
     for lg in lgs:
         sm = np.arange(lg + 1, dtype=np.int64)
-        j, _, _ = fp.octant(np.full_like(sm, lg), sm, 0 * sm, 0 * sm, kind)
+        j, _, _ = octant_m.octant(np.full_like(sm, lg), sm, 0 * sm, 0 * sm, kind)
         for t in thr:
             first = int(np.searchsorted(j, t))     # j is non-decreasing in |small|
             if 0 < first <= lg:
@@ -216,8 +216,8 @@ def check_threshold_coverage(kind, j, neg):
 @cocotb.test()
 async def octant_all(dut):
     import numpy as np
-    from sim.model import core
-    from sim.model import fastpath as fp
+    from sim.model import finequad_core as core
+    from sim.model import lut as lut_m, octant as octant_m
 
     exact = fqtb.env_int("TABLE_EXACT")
     if fqtb.env_int("MULT18", 0):
@@ -231,8 +231,8 @@ async def octant_all(dut):
     assert all(0 <= ax <= UMAX and 0 <= ay <= UMAX and xn in (0, 1) and yn in (0, 1)
                for ax, ay, xn, yn in vec)
     a = np.array(vec, dtype=np.int64)
-    j, base, neg = fp.octant(a[:, 0], a[:, 1], a[:, 2], a[:, 3], kind)
-    phase = fp.Lut(kind).phase(j, base, neg)
+    j, base, neg = octant_m.octant(a[:, 0], a[:, 1], a[:, 2], a[:, 3], kind)
+    phase = lut_m.Lut(kind).phase(j, base, neg)
     assert set((base & 2047).tolist()) == {0}
     check_threshold_coverage(kind, j, neg)
     # the sweep's t (worked out here from rtl/octant.v's formats) agrees with the model's
@@ -240,7 +240,7 @@ async def octant_all(dut):
     js = j[len(head):len(head) + len(sweep)]
     assert js.tolist() == [min(2047, (t + 1) >> 1) if exact else t >> 1 for t in sweep_t]
     assert len(set(sweep_t)) == (4097 if exact else 2048)
-    t = fp.scale(a[:, 0], a[:, 1], kind)
+    t = octant_m.scale(a[:, 0], a[:, 1], kind)
     # the sweep's t is the model's too
     assert t[len(head):len(head) + len(sweep)].tolist() == [min(4095, x) for x in sweep_t]
     exp1 = list(zip((base >> 11).tolist(), neg.tolist()))
@@ -287,7 +287,7 @@ async def octant_all(dut):
                  rng.randint(0, 1))
             dut.valid_i.value = 0
         dut.ax_i.value, dut.ay_i.value, dut.xn_i.value, dut.yn_i.value = x
-        dut.zl_i.value = int(fp.lzc15(x[0] | x[1]))
+        dut.zl_i.value = int(octant_m.lzc15(x[0] | x[1]))
         await bench.step()
         if len(bad) > 50:
             break

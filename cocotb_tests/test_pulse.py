@@ -1,4 +1,4 @@
-"""pulse (Eq. 12, comparators with hysteresis) against sim.model.fastpath.pulse, in both
+"""pulse (Eq. 12, comparators with hysteresis) against sim.model.pulse, in both
 forms of the comparison: the sine table's word (OPT_ADDR = 0) and its address against the
 inverse threshold table (OPT_ADDR = 1, sim.model.tables.eq12_k_table).
 
@@ -56,7 +56,7 @@ def segment(rng, sin_w, eps, n):
 @cocotb.test()
 async def pulse_sequences(dut):
     import numpy as np
-    from sim.model import fastpath as fp
+    from sim.model import pulse as pulse_m
 
     sin_w = len(dut.cos_mag_i) + 1
     sh = 16 - sin_w
@@ -84,7 +84,7 @@ async def pulse_sequences(dut):
         nonlocal a_state, b_state
         c = np.array([v for (_, v), _ in vals], dtype=np.int64)
         sv = np.array([v for _, (_, v) in vals], dtype=np.int64)
-        ea, eb = fp.pulse(c, sv, eps, sin_w, a0=a_state, b0=b_state)
+        ea, eb = pulse_m.pulse(c, sv, eps, sin_w, a0=a_state, b0=b_state)
         for i, ((ck, cv), (sk, svi)) in enumerate(vals):
             # idle clocks with values that would flip the outputs if taken
             for _ in range(rng.choice((0, 0, 0, 1, 2)) if idle else 0):

@@ -1,4 +1,4 @@
-"""rls_engine (microcoded RLS machine) against sim.model.estimator.Estimator, for every
+"""rls_engine (microcoded RLS machine) against sim.model.rls_engine.RlsEngine, for every
 LANES (the engine's parameter; the model executes the ROM image scheduled for it).
 
 A RESET program (entry ENTRY['reset']) and then many UPDATE and EXTRACT programs
@@ -7,7 +7,7 @@ that change the input gain (dg_i != 0, theta rescaled) and kappa, varying lambda
 trace-bound freeze. Programs start back to back (the next on the edge after the last
 one's END) or after random gaps, so results are forwarded across programs too. For every
 program started on edge S the bench checks: busy_o high after edges S .. S+C-1 and low
-after edge S+C, done_o high exactly after edge S+C-1 (C = sim.model.estimator.CYCLES
+after edge S+C, done_o high exactly after edge S+C-1 (C = sim.model.rls_engine.CYCLES
 [program] of the model with the same LANES); then valid_o, out_o (the seven 16-bit OUT
 registers) and the sticky sat_o equal the model's after that program. A few programs run
 on garbage samples so that invalid results and saturation occur."""
@@ -37,12 +37,12 @@ def s16(v):
 
 
 def make_programs(rng, n):
-    """[(name, x1, x2, lam_k, kappa, dg)]"""
+    """[(name, x1, x2, lambda_k, kappa, dg)]"""
     progs = [("reset", 0, 0, 8, 64 << 8, 0)]
     g = 0
     ang = rng.uniform(0, 2 * math.pi)
     A1, A2, m1, m2, phi = 0.22, 0.2, 0.01, -0.008, 0.07
-    lam_k = 8
+    lambda_k = 8
     while len(progs) < n:
         if len(progs) in (n // 3, 2 * n // 3):
             # a burst that winds the estimate up (garbage samples, then a standing point,
@@ -53,18 +53,18 @@ def make_programs(rng, n):
                 x = (rng.randint(-32768, 32767), rng.randint(-32768, 32767)) if i < 15 \
                     else const
                 progs.append(("update", *x, 1, 0, 0))
-            progs.append(("reset", 0, 0, lam_k, 64 << 8, 0))
+            progs.append(("reset", 0, 0, lambda_k, 64 << 8, 0))
             continue
         r = rng.random()
         if r < 0.02:            # reset with a gain change (and a new kappa)
             dg = rng.choice([d for d in (-3, -2, -1, 1, 2, 3) if 0 <= g + d <= 3])
             g += dg
             progs.append(("reset", rng.randint(-32768, 32767), rng.randint(-32768, 32767),
-                          lam_k, rng.choice((64 << 8, 16 << 8, 200 << 8, 1 << 8)), dg))
-            lam_k = rng.choice((4, 6, 8, 8, 10, 12))
+                          lambda_k, rng.choice((64 << 8, 16 << 8, 200 << 8, 1 << 8)), dg))
+            lambda_k = rng.choice((4, 6, 8, 8, 10, 12))
             continue
         if r < 0.03:            # reset without a gain change
-            progs.append(("reset", 0, 0, lam_k, 64 << 8, 0))
+            progs.append(("reset", 0, 0, lambda_k, 64 << 8, 0))
             continue
         if r < 0.05:            # garbage sample (saturations, invalid extraction)
             x1, x2 = rng.randint(-32768, 32767), rng.randint(-32768, 32767)
@@ -74,7 +74,7 @@ def make_programs(rng, n):
             sc = 32768 * (1 << g)
             x1 = s16(sc * (A1 * math.cos(ang) + m1 + rng.gauss(0, 0.002)))
             x2 = s16(sc * (A2 * math.sin(ang - phi) + m2 + rng.gauss(0, 0.002)))
-            k = lam_k
+            k = lambda_k
         progs.append(("update", x1, x2, k, rng.randint(0, 65535), rng.randint(-3, 3)))
         if rng.random() < 0.15:
             progs.append(("extract", 0, 0, k, 0, 0))
@@ -84,12 +84,12 @@ def make_programs(rng, n):
 @cocotb.test()
 async def rls_programs(dut):
     from sim.model import program as prog
-    from sim.model.estimator import Estimator
+    from sim.model.rls_engine import RlsEngine
 
     lanes = fqtb.env_int("LANES", 1)
     rng = random.Random(707)
     progs = make_programs(rng, fqtb.env_int("N_PROGRAMS", 300))
-    est = Estimator(lanes)
+    est = RlsEngine(lanes)
     CYCLES = est.cycles
     bench = fqtb.ClockedBench(dut)
     dut.rst.value = 1
@@ -100,7 +100,7 @@ async def rls_programs(dut):
     await bench.step()
     bad = []
     n_invalid = n_updates = n_resets = n_extracts = 0
-    for pi, (name, x1, x2, lam_k, kappa, dg) in enumerate(progs):
+    for pi, (name, x1, x2, lambda_k, kappa, dg) in enumerate(progs):
         C = CYCLES[name]
         S = bench.edge + 1 + rng.choice((0, 0, 1, 2, rng.randint(0, 30)))
         freeze = rng.random() < 0.2
@@ -109,7 +109,7 @@ async def rls_programs(dut):
         dut.entry_i.value = prog.ENTRY[name]
         dut.x1_i.value = x1
         dut.x2_i.value = x2
-        dut.lam_k_i.value = lam_k
+        dut.lambda_k_i.value = lambda_k
         dut.freeze_i.value = int(freeze)
         dut.kappa_i.value = kappa
         dut.dg_i.value = dg
@@ -119,14 +119,14 @@ async def rls_programs(dut):
         dut.entry_i.value = rng.randint(0, 255)
         dut.x1_i.value = rng.randint(-32768, 32767)
         dut.x2_i.value = rng.randint(-32768, 32767)
-        dut.lam_k_i.value = rng.randint(1, 23)
+        dut.lambda_k_i.value = rng.randint(1, 23)
         dut.freeze_i.value = rng.randint(0, 1)
         dut.kappa_i.value = rng.randint(0, 65535)
         dut.dg_i.value = rng.randint(-3, 3)
         if fqtb.uval(dut.busy_o) != 1:
             bad.append(f"program {pi} ({name}) started on edge {S}: busy_o low after it")
         if name == "update":
-            ok = est.run("update", x1=x1, x2=x2, lam_k=lam_k, freeze=int(freeze))
+            ok = est.run("update", x1=x1, x2=x2, lambda_k=lambda_k, freeze=int(freeze))
             n_updates += 1
         elif name == "extract":
             ok = est.run("extract")
@@ -156,7 +156,7 @@ async def rls_programs(dut):
         got = (fqtb.uval(dut.valid_o), got_out, fqtb.uval(dut.sat_o))
         exp = (int(ok), list(est.out), int(est.sat))
         if got != exp:
-            bad.append(f"program {pi} ({name} x=({x1},{x2}) lam_k={lam_k} kappa={kappa} "
+            bad.append(f"program {pi} ({name} x=({x1},{x2}) lambda_k={lambda_k} kappa={kappa} "
                        f"dg={dg} freeze={freeze}): (valid,out[m1,m2,c1,c12,c2,e,tr],sat)="
                        f"{got}, model {exp}")
         if len(bad) > 20:

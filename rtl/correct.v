@@ -1,7 +1,7 @@
 `timescale 1ns / 1ps
 `default_nettype none
 // correct: input gain, offsets and Eq. 9 as three products, ending in the magnitudes and
-// signs of the corrected signals that the octant logic needs (sim/model/fastpath.py
+// signs of the corrected signals that the octant logic needs (sim/model/correct.py
 // correct()). One sample per clock; the sample is strobed on edge t (valid_i high before
 // t) and the coefficient bundle is sampled on the same edge, so a sample never mixes two
 // bundles.

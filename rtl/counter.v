@@ -1,6 +1,6 @@
 `timescale 1ns / 1ps
 `default_nettype none
-// counter: position count of the n-th order, two modes (sim/model/fastpath.py counter()).
+// counter: position count of the n-th order, two modes (sim/model/counter.py counter()).
 // Counts up when the phase increases (u1 leads u2).
 //
 // Phase mode (mode_i = 0, the default): the count follows the unwrapped fine phase Phi

@@ -2,47 +2,16 @@
 `default_nettype none
 // estimator: decides which samples the RLS engine takes, manages covariance resets and
 // the input gain, and hands the correction coefficients over to the fast path.
-// Mirrors the estimator schedule in sim/model/core.py (documented there in full).
+// Mirrors sim/model/estimator.py, whose docstring is the edge-exact specification.
 //
-// One candidate slot keeps the next sample ready while the engine runs, so that at a
-// sample per clock the engine runs program after program with one idle clock between
-// them (the next program starts on the edge after the one that ends its predecessor).
-// On the edge after a sample is presented (smp_valid_i):
-//   reset pending, slot empty, no program running -> RESET program: P = kappa I; gain g
-//                           chosen from the peak |u| since the last reset (theta rescaled
-//                           to it); peak cleared. A pending reset takes no candidate.
-//   no reset pending, slot empty, the dither count at 0 -> the sample becomes the
-//                           candidate, also while a program runs (the dither: after each
-//                           update decision the count is loaded with a random 0..DSPAN
-//                           and counts clocks down, so the candidate is the first sample
-//                           strobed that many clocks after the decision: a random point
-//                           of the update period, below)
-// The candidate is checked when its fine phase is known (t + PH_DELAY + 2):
-//   not trusted (excl_i: rtl/monitor.v; clipped samples too) -> dropped (no reset either)
-//   u << g saturates     -> dropped, reset pending
-//   |travel - travel at the last update| < gate -> dropped (no new information: the
-//                           monitor's smoothed travel does not move at standstill, also
-//                           with noise, so the estimator does not wind up)
-//   otherwise            -> UPDATE program (Eqs. 5-8) on this sample, at once if the
-//                           engine is free, else on the edge its program ends (an EXTRACT
-//                           due then goes first); the slot is held until then
-// After WARMUP updates from power-up the gain is checked (a reset only if it changes);
-// until then an update whose candidate's peak asks for another gain hands nothing over.
-// Then a reset every period_i updates (0: never) or when the jump detector fires.
-// Samples that arrive while the engine is busy are skipped by the estimator (they still
-// pass the fast path). With OPT_EXT_ENGINE (an engine shared by several axes,
-// rtl/finequad_multi.v) a RESET or an UPDATE is decided only on an edge with tdm_ok_i
-// (the axis's window): a RESET on the arrival decision if that edge is in the window (the
-// reset stays pending otherwise), an UPDATE on the first edge in the window at or after
-// the check and the end of the running program (the candidate waits in the slot); the
-// EXTRACT follows its UPDATE at once. sim/model/core.py Config.tdm mirrors it.
-// When an UPDATE ends valid and at least `settle` updates have ended since the last reset,
-// and the updates since the last commit and the last reset covered all eight octants
-// within one coverage window (an update that finds COVER_WIN updates counted since the
-// coverage restarted restarts it with its own octant: the octants must come within
-// COVER_WIN consecutive updates, about the RLS's memory, so a fit dominated by a short
-// arc, e.g. a servo dither, is never handed over; sim/model/core.py),
-// the bundle {g, m1, m2, c1, c12, c2} is committed atomically.
+// The schedule (the candidate slot, its check on t + PH_DELAY + 2, the travel gate, the
+// dither, the warm-up's gain check, periodic resets, the jump detector, the octant
+// coverage and the hand-over, and with OPT_EXT_ENGINE the axis's windows) is specified
+// edge by edge in sim/model/estimator.py, and why it is so in sim/README.md; this file
+// implements it: the slot is a register set loaded on the arrival decision, the dither a
+// down-counter of clocks loaded with a random 0..DSPAN on each update decision (an LFSR),
+// the coverage an 8-bit octant mask with a COVER_WIN counter, the jump detector two
+// running means of the engine's a-priori |e|.
 // load_i (a LOAD written through the registers on the edge before) replaces the bundle
 // with the staged one (ld_*) on this edge, unless a hand-over happens on the same edge
 // (the hand-over wins); uncal_o stays as it is (the ellipse is still not identified by
@@ -56,7 +25,7 @@ module estimator #(
     // edges from a sample's arrival (smp_valid_i) to its fine phase (ph_valid_i)
     parameter PH_DELAY = 6,
     // lanes of the RLS engine (rtl/rls_engine.v LANES): 1, or 2 on devices with 4 DSP
-    // blocks to spare (shorter programs: sim/model/estimator.py CYCLES_BY_LANES)
+    // blocks to spare (shorter programs: sim/model/rls_engine.py CYCLES_BY_LANES)
     parameter ENGINE_LANES = 1,
     // 0: the RLS engine inside (one axis: eng_cmd_o is 0, eng_rsp_i and tdm_ok_i are
     // unused); 1: an engine outside, shared by several axes (rtl/finequad_multi.v), driven
@@ -95,7 +64,7 @@ module estimator #(
     input  wire signed [15:0] ld_c12_i,
     input  wire signed [15:0] ld_c2_i,
     input  wire               req_reset_i, // reset P before the next update
-    input  wire [4:0]         lam_k_i,     // lambda = 1/(1 + 2**-k)
+    input  wire [4:0]         lambda_k_i,     // lambda = 1/(1 + 2**-k)
     input  wire [15:0]        kappa_i,     // u8.8 (0 is taken as 1/256)
     input  wire [14:0]        kappa5_i,    // u11.4 5 max(kappa_i, 1/256) >> 4 (a register)
     input  wire [15:0]        period_i,    // updates between resets, 0 = never
@@ -103,7 +72,7 @@ module estimator #(
                                            // one edge before the decision)
     input  wire [12:0]        gate_i,      // u13 phase progress between updates
     input  wire               jump_on_i,   // jump detector enabled
-    input  wire [10:0]        jump_min_i,  // its floor, s3.13 units of |e|
+    input  wire [10:0]        jump_min_i,  // its floor, u0.13 (|e| is s3.13)
     // committed bundle
     output reg  [1:0]         g_o,         // input gain 2**g
     output reg  signed [15:0] m1_o,        // s1.15 offsets (normalised units)
@@ -120,7 +89,7 @@ module estimator #(
     output wire               sat_o,       // engine saturated a register (sticky)
     // OPT_EXT_ENGINE = 1: the shared engine (rtl/rls_engine.v ports, the estimator's side)
     input  wire               tdm_ok_i,    // a program may be decided on the coming edge
-    // {start_i, entry_i[7:0], x1_i (s1.15), x2_i (s1.15), lam_k_i[4:0], freeze_i,
+    // {start_i, entry_i[7:0], x1_i (s1.15), x2_i (s1.15), lambda_k_i[4:0], freeze_i,
     //  kappa_i (u8.8), dg_i (s3)}: registered, the engine starts on the edge after the
     // decision and latches the rest with start_i
     output wire [65:0]        eng_cmd_o,
@@ -236,7 +205,7 @@ module estimator #(
     // that encloses the origin (offsets below the amplitudes) passes all eight sectors
     // whatever the bundle in use; the fine phase's octants depend on the bundle, and a
     // wrong one (a bad LOAD, a bad fit) let the phase visit three octants: no hand-over
-    // ever again (sim/model/core.py)
+    // ever again (sim/model/finequad_core.py)
     reg [2:0]  pre_oct = 0;
     function automatic [2:0] octant(input [15:0] u1, input [15:0] u2);
         reg [16:0] cs1, cs2, cm1, cm2;
@@ -306,7 +275,7 @@ module estimator #(
     // the octant and travel of the sample an update takes (checked now or in the slot)
     wire [2:0]  u_oct = pre_oct;
     wire [19:0] u_s = cand_s;
-    wire [4:0] lam_k = (lam_k_i == 0) ? 5'd1 : (lam_k_i > 5'd23) ? 5'd23 : lam_k_i;
+    wire [4:0] lambda_k = (lambda_k_i == 0) ? 5'd1 : (lambda_k_i > 5'd23) ? 5'd23 : lambda_k_i;
     // an EXTRACT program follows an UPDATE that ends valid when a hand-over is due: at
     // least settle_i updates since the last reset, all octants covered since the last
     // hand-over, and no jump detected (trig, below)
@@ -366,7 +335,7 @@ module estimator #(
                 x1_q <= x1w;
                 x2_q <= x2w;
             end
-            assign eng_cmd_o = {start_q, entry_q, x1_q, x2_q, lam_k, freeze, kappa, dg_q};
+            assign eng_cmd_o = {start_q, entry_q, x1_q, x2_q, lambda_k, freeze, kappa, dg_q};
             assign {sat_o, done, valid, outs} = eng_rsp_i;
             assign eng_busy = 1'b0;
         end else begin : g_int
@@ -376,7 +345,7 @@ module estimator #(
                 // decision; the candidate and g_eng do not change on the decision edge (the
                 // slot is not empty, no reset), so it is the decided sample
                 .start_i(start_q), .entry_i(entry_q), .x1_i(x1w), .x2_i(x2w),
-                .lam_k_i(lam_k), .freeze_i(freeze), .kappa_i(kappa), .dg_i(dg_q),
+                .lambda_k_i(lambda_k), .freeze_i(freeze), .kappa_i(kappa), .dg_i(dg_q),
                 .axis_i(1'b0), .busy_o(eng_busy), .done_o(done), .valid_o(valid),
                 .out_o(outs), .sat_o(sat_o)
             );
@@ -392,7 +361,7 @@ module estimator #(
     wire        tr_hi = !tr_out[15] && (OPT_TUNABLE ? tr_out[14:0] >= kappa5_i
                                                     : geu({17'd0, tr_out[14:0]}, {17'd0, kappa5_i}));
 
-    // ---- jump detector (sim/model/core.py) -----------------------------------------------
+    // ---- jump detector (sim/model/finequad_core.py) -----------------------------------------------
     //   eabs  u15.5  |e| of the running update (OUT e, s3.13), saturated, 5 fraction bits
     //   jf    u15.5  fast mean: jf += (eabs - jf) / 4
     //   jl    u15.5  slow mean: jl += (eabs - jl) / 64 (frozen while disarmed after a jump)

@@ -1,7 +1,7 @@
 `timescale 1ns / 1ps
 `default_nettype none
 // finequad_core: adaptive quadrature interpolator (Ulu, Gecer Ulu, Cakmakci 2014, and
-// beyond). Bit-true model: sim/model/core.py. One sample per clock on the fast path.
+// beyond). Bit-true model: sim/model/finequad_core.py. One sample per clock on the fast path.
 //
 //   s_u1/s_u2 -> correct (gain, Eq. 9, |u|) -> octant (Table 2) -> lut: phase table
 //        |                                              | bin                | ph
@@ -28,7 +28,7 @@
 // nothing holds the counter; clipped samples are still kept from the estimator.
 // Register port: reg_we writes reg_wdata to reg_addr on the edge; reg_re reads reg_addr,
 // reg_rdata holds the value after that edge (registered; rtl/axil_regs.v puts an AXI4-Lite
-// slave in front). The register map is in README.md.
+// slave in front). The register map: rtl/regs/finequad.rdl (reference: rtl/regs/README.md).
 module finequad_core #(
     parameter TABLE_DIR = "rtl/tables/",
     // ADC word width, 12..16, two's complement, MSB-aligned to s1.15 internally
@@ -76,7 +76,7 @@ module finequad_core #(
     // disabled, and JUMPS 0: for a small device)
     parameter [0:0] OPT_JUMP = 1'b1,
     // lanes of the estimator's RLS engine, 1 or 2 (2: four more DSP blocks, shorter
-    // programs: rtl/rls_engine.v, sim/model/estimator.py CYCLES_BY_LANES)
+    // programs: rtl/rls_engine.v, sim/model/rls_engine.py CYCLES_BY_LANES)
     parameter ENGINE_LANES = 1,
     // 0: the RLS engine inside (tdm_ok_i, eng_rsp_i unused, eng_cmd_o 0); 1: the engine
     // outside, shared by several axes, through eng_cmd_o / eng_rsp_i, a program decided
@@ -131,36 +131,24 @@ module finequad_core #(
         end
     endgenerate
 
-    // ---- registers ------------------------------------------------------------------------
-    localparam [31:0] ID = 32'h46510004;        // "FQ", version 0.4
-    reg [8:0]  r_interp = 9'd100;               // n
-    reg [15:0] r_eps = 16'd1638;                // u0.15 (0.05); a write on edge w (or rst)
-                                                // decides the pulses from w + 3 (rtl/pulse.v)
-    reg [4:0]  r_lam_k = 5'd8;                  // lambda = 1/(1 + 2**-k)
-    reg [15:0] r_kappa = 16'h4000;              // u8.8 (64)
+    // ---- registers: the map is generated from rtl/regs/finequad.rdl (make regs) ---------
+    // FQ_<REG> word indices, FQ_<REG>_<FIELD>_LSB/_W/_RESET field positions and reset values
+    `include "finequad_regs.vh"
+    // m_fault is declared 11 bits wide (a port cannot use the header's localparams)
+    generate
+        if (FQ_FAULT_W != 11) begin : g_bad_fault_w
+            finequad_core_m_fault_width_differs_from_FAULT_STICKY u_bad ();
+        end
+    endgenerate
+    localparam [31:0] ID = FQ_ID_ID_RESET;
+    reg [FQ_INTERP_INTERP_W-1:0]     r_interp = FQ_INTERP_INTERP_RESET;        // n
+    // EPS u0.15: a write on edge w (or rst) decides the pulses from w + 3 (rtl/pulse.v)
+    reg [FQ_EPS_EPS_W-1:0]           r_eps = FQ_EPS_EPS_RESET;
+    reg [FQ_LAMBDA_K_LAMBDA_K_W-1:0] r_lambda_k = FQ_LAMBDA_K_LAMBDA_K_RESET;  // 1/(1 + 2**-k)
+    reg [FQ_KAPPA_KAPPA_W-1:0]       r_kappa = FQ_KAPPA_KAPPA_RESET;           // u8.8
     // u11.4 5 max(kappa, 1/256) >> 4, the estimator's trace bound, formed with the write
     // (rtl/estimator.v; a register, so no adder lies between kappa and the comparison);
     // 5 * 255.996 = 1279.98 needs the 11 integer bits
-    reg [14:0] r_kappa5 = 15'd5120;
-    reg [15:0] r_period = 16'd0;                // updates between resets (0: never)
-    reg [9:0]  r_settle = 10'd32;               // updates after a reset before a commit
-    reg [12:0] r_gate = 13'd64;                 // u13 phase progress between updates
-    reg        r_jump_off = 1'b0;               // JUMP bit 15: jump detector disabled
-    reg [10:0] r_jump_min = 11'd41;             // JUMP [10:0]: its floor, s3.13 |e| units
-    reg [10:0] r_sticky = 11'd0;                // sticky fault bits, write 1 to clear
-    reg        r_cmode = 1'b0;                  // CTRL bit 3: counter mode, 0 phase, 1 edge
-    reg        r_happly = 1'b1;                 // HARM bit 0: apply the harmonic correction
-    reg        r_hlearn = 1'b1;                 // HARM bit 1: learn the harmonic table
-    reg [1:0]  r_hmu = 2'd1;                    // HARM [5:4]: LMS step 2^-(3 + r_hmu)
-    reg        r_hclear = 1'b0;                 // HARM bit 8 written 1: clear (pulse)
-    reg [7:0]  r_absep = 8'd4;                  // ABGEN [7:0]: min clocks between A/B edges
-    reg        r_absrc = 1'b0;                  // ABGEN bit 8: A/B = Eq. 12 pulses
-    reg [15:0] r_abbound = 16'd1024;            // AB_BOUND: backlog bound (counts)
-    reg [15:0] r_clip = 16'd32512;              // CLIP: u16 |u| at or above: clipped
-    reg [15:0] r_loss = 16'd3277;               // RADIUS [15:0]: u16 radius, loss (0.2)
-    reg [15:0] r_over = 16'd22118;              // RADIUS [31:16]: over-range (1.35)
-    reg [3:0]  r_glitch = 4'd10;                // MONITOR [3:0]: max |phase accel.| 2^K
-    reg [7:0]  r_stuckn = 8'd8;                 // MONITOR [23:16]: stuck after n samples
     /* verilator lint_off UNUSEDSIGNAL */
     function automatic [14:0] kappa5(input [15:0] k);
         reg [15:0] kk;
@@ -172,89 +160,136 @@ module finequad_core #(
         end
     endfunction
     /* verilator lint_on UNUSEDSIGNAL */
-    // staged bundle (writes to 0x0b..0x10), handed to the fast path by a LOAD (CTRL 1)
-    reg [1:0]  st_g = G_INIT;
-    reg signed [15:0] st_m1 = 0, st_m2 = 0, st_c1 = 16'sd8192, st_c12 = 0, st_c2 = 16'sd8192;
-    reg        req_reset = 1'b0;
-    reg        req_load = 1'b0;                 // CTRL bit 1: LOAD (a pulse)
-    reg        req_cap = 1'b0;                  // CTRL bit 2: capture the count (a pulse)
+    localparam [14:0] KAPPA5_RESET = kappa5(FQ_KAPPA_KAPPA_RESET);
+    reg [14:0] r_kappa5 = KAPPA5_RESET;
+    reg [FQ_PERIOD_PERIOD_W-1:0]     r_period = FQ_PERIOD_PERIOD_RESET;  // updates per reset
+    reg [FQ_SETTLE_SETTLE_W-1:0]     r_settle = FQ_SETTLE_SETTLE_RESET;  // before a hand-over
+    reg [FQ_GATE_GATE_W-1:0]         r_gate = FQ_GATE_GATE_RESET;        // u13 travel gate
+    reg                              r_jump_off = FQ_JUMP_JUMP_OFF_RESET;
+    reg [FQ_JUMP_JUMP_MIN_W-1:0]     r_jump_min = FQ_JUMP_JUMP_MIN_RESET;  // u0.13 of |e|
+    reg [FQ_FAULT_W-1:0]             r_fault_sticky = 0;      // write 1 to clear
+    reg                              r_count_mode = FQ_CTRL_COUNT_MODE_RESET;  // 0 phase, 1 edge
+    reg                              r_harm_apply = FQ_HARM_HARM_APPLY_RESET;
+    reg                              r_harm_learn = FQ_HARM_HARM_LEARN_RESET;
+    reg [FQ_HARM_HARM_MU_W-1:0]      r_harm_mu = FQ_HARM_HARM_MU_RESET;  // step 2^-(3 + mu)
+    reg                              r_harm_clear = 1'b0;                // a pulse
+    reg [FQ_ABGEN_AB_SEP_W-1:0]      r_ab_sep = FQ_ABGEN_AB_SEP_RESET;   // clocks per edge
+    reg                              r_ab_src = FQ_ABGEN_AB_SRC_RESET;   // 1: Eq. 12 pulses
+    reg [FQ_AB_BOUND_AB_BOUND_W-1:0] r_ab_bound = FQ_AB_BOUND_AB_BOUND_RESET;  // counts
+    reg [FQ_CLIP_CLIP_W-1:0]         r_clip = FQ_CLIP_CLIP_RESET;        // |u| clipped at
+    reg [FQ_RADIUS_LOSS_W-1:0]       r_loss = FQ_RADIUS_LOSS_RESET;      // s2.14 radius
+    reg [FQ_RADIUS_OVER_W-1:0]       r_over = FQ_RADIUS_OVER_RESET;      // s2.14 radius
+    reg [FQ_MONITOR_GLITCH_K_W-1:0]  r_glitch_k = FQ_MONITOR_GLITCH_K_RESET;  // 2^K
+    reg [FQ_MONITOR_STUCK_N_W-1:0]   r_stuck_n = FQ_MONITOR_STUCK_N_RESET;    // samples
+    // staged bundle (GAIN, M1, M2, C1, C12, C2), handed to the fast path by CTRL.load
+    reg [1:0]  st_gain = G_INIT;
+    reg signed [15:0] st_m1 = FQ_M1_M1_RESET[15:0], st_m2 = FQ_M2_M2_RESET[15:0];
+    reg signed [15:0] st_c1 = FQ_C1_C1_RESET[15:0], st_c12 = FQ_C12_C12_RESET[15:0];
+    reg signed [15:0] st_c2 = FQ_C2_C2_RESET[15:0];
+    reg        req_cov_reset = 1'b0;            // CTRL.cov_reset (a pulse)
+    reg        req_load = 1'b0;                 // CTRL.load (a pulse)
+    reg        req_capture = 1'b0;              // CTRL.capture (a pulse)
     always @(posedge clk) begin
-        req_reset <= 1'b0;
+        req_cov_reset <= 1'b0;
         req_load <= 1'b0;
-        req_cap <= 1'b0;
-        r_hclear <= 1'b0;
+        req_capture <= 1'b0;
+        r_harm_clear <= 1'b0;
         if (reg_we) begin
             case (reg_addr)
-                6'h00: begin
-                    req_reset <= reg_wdata[0];
-                    req_load <= reg_wdata[1];
-                    req_cap <= reg_wdata[2];
-                    r_cmode <= reg_wdata[3];
+                FQ_CTRL: begin
+                    req_cov_reset <= reg_wdata[FQ_CTRL_COV_RESET_LSB];
+                    req_load <= reg_wdata[FQ_CTRL_LOAD_LSB];
+                    req_capture <= reg_wdata[FQ_CTRL_CAPTURE_LSB];
+                    r_count_mode <= reg_wdata[FQ_CTRL_COUNT_MODE_LSB];
                 end
-                6'h01: r_interp <= reg_wdata[8:0];
-                6'h0b: st_g <= reg_wdata[1:0];
-                6'h0c: st_m1 <= reg_wdata[15:0];
-                6'h0d: st_m2 <= reg_wdata[15:0];
-                6'h0e: st_c1 <= reg_wdata[15:0];
-                6'h0f: st_c12 <= reg_wdata[15:0];
-                6'h10: st_c2 <= reg_wdata[15:0];
+                FQ_INTERP: r_interp <= reg_wdata[FQ_INTERP_INTERP_MSB:FQ_INTERP_INTERP_LSB];
+                FQ_GAIN: st_gain <= reg_wdata[FQ_GAIN_GAIN_MSB:FQ_GAIN_GAIN_LSB];
+                FQ_M1: st_m1 <= reg_wdata[FQ_M1_M1_LSB + 15:FQ_M1_M1_LSB];
+                FQ_M2: st_m2 <= reg_wdata[FQ_M2_M2_LSB + 15:FQ_M2_M2_LSB];
+                FQ_C1: st_c1 <= reg_wdata[FQ_C1_C1_LSB + 15:FQ_C1_C1_LSB];
+                FQ_C12: st_c12 <= reg_wdata[FQ_C12_C12_LSB + 15:FQ_C12_C12_LSB];
+                FQ_C2: st_c2 <= reg_wdata[FQ_C2_C2_LSB + 15:FQ_C2_C2_LSB];
                 default: ;
             endcase
         end
         if (reg_we && OPT_TUNABLE) begin
             case (reg_addr)
-                6'h02: r_eps <= reg_wdata[15:0];
-                6'h03: r_lam_k <= reg_wdata[4:0];
-                6'h04: begin
-                    r_kappa <= reg_wdata[15:0];
-                    r_kappa5 <= kappa5(reg_wdata[15:0]);
+                FQ_EPS: r_eps <= reg_wdata[FQ_EPS_EPS_MSB:FQ_EPS_EPS_LSB];
+                FQ_LAMBDA_K:
+                    r_lambda_k <= reg_wdata[FQ_LAMBDA_K_LAMBDA_K_MSB:FQ_LAMBDA_K_LAMBDA_K_LSB];
+                FQ_KAPPA: begin
+                    r_kappa <= reg_wdata[FQ_KAPPA_KAPPA_MSB:FQ_KAPPA_KAPPA_LSB];
+                    r_kappa5 <= kappa5(reg_wdata[FQ_KAPPA_KAPPA_MSB:FQ_KAPPA_KAPPA_LSB]);
                 end
-                6'h05: r_period <= reg_wdata[15:0];
-                6'h06: r_settle <= reg_wdata[9:0];
-                6'h07: r_gate <= reg_wdata[12:0];
-                6'h12: begin
-                    r_happly <= reg_wdata[0];
-                    r_hlearn <= reg_wdata[1];
-                    r_hmu <= reg_wdata[5:4];
-                    r_hclear <= reg_wdata[8];
+                FQ_PERIOD: r_period <= reg_wdata[FQ_PERIOD_PERIOD_MSB:FQ_PERIOD_PERIOD_LSB];
+                FQ_SETTLE: r_settle <= reg_wdata[FQ_SETTLE_SETTLE_MSB:FQ_SETTLE_SETTLE_LSB];
+                FQ_GATE: r_gate <= reg_wdata[FQ_GATE_GATE_MSB:FQ_GATE_GATE_LSB];
+                FQ_HARM: begin
+                    r_harm_apply <= reg_wdata[FQ_HARM_HARM_APPLY_LSB];
+                    r_harm_learn <= reg_wdata[FQ_HARM_HARM_LEARN_LSB];
+                    r_harm_mu <= reg_wdata[FQ_HARM_HARM_MU_MSB:FQ_HARM_HARM_MU_LSB];
+                    r_harm_clear <= reg_wdata[FQ_HARM_HARM_CLEAR_LSB];
                 end
-                6'h13: begin
-                    r_jump_off <= reg_wdata[15];
-                    r_jump_min <= reg_wdata[10:0];
+                FQ_JUMP: begin
+                    r_jump_off <= reg_wdata[FQ_JUMP_JUMP_OFF_LSB];
+                    r_jump_min <= reg_wdata[FQ_JUMP_JUMP_MIN_MSB:FQ_JUMP_JUMP_MIN_LSB];
                 end
-                6'h15: begin
-                    r_absep <= reg_wdata[7:0];
-                    r_absrc <= reg_wdata[8];
+                FQ_ABGEN: begin
+                    r_ab_sep <= reg_wdata[FQ_ABGEN_AB_SEP_MSB:FQ_ABGEN_AB_SEP_LSB];
+                    r_ab_src <= reg_wdata[FQ_ABGEN_AB_SRC_LSB];
                 end
-                6'h16: r_abbound <= reg_wdata[15:0];
-                6'h18: r_clip <= reg_wdata[15:0];
-                6'h19: begin
-                    r_loss <= reg_wdata[15:0];
-                    r_over <= reg_wdata[31:16];
+                FQ_AB_BOUND:
+                    r_ab_bound <= reg_wdata[FQ_AB_BOUND_AB_BOUND_MSB:FQ_AB_BOUND_AB_BOUND_LSB];
+                FQ_CLIP: r_clip <= reg_wdata[FQ_CLIP_CLIP_MSB:FQ_CLIP_CLIP_LSB];
+                FQ_RADIUS: begin
+                    r_loss <= reg_wdata[FQ_RADIUS_LOSS_MSB:FQ_RADIUS_LOSS_LSB];
+                    r_over <= reg_wdata[FQ_RADIUS_OVER_MSB:FQ_RADIUS_OVER_LSB];
                 end
-                6'h1a: begin
-                    r_glitch <= reg_wdata[3:0];
-                    r_stuckn <= reg_wdata[23:16];
+                FQ_MONITOR: begin
+                    r_glitch_k <= reg_wdata[FQ_MONITOR_GLITCH_K_MSB:FQ_MONITOR_GLITCH_K_LSB];
+                    r_stuck_n <= reg_wdata[FQ_MONITOR_STUCK_N_MSB:FQ_MONITOR_STUCK_N_LSB];
                 end
                 default: ;
             endcase
         end
         // write 1 to clear; a fault arriving on the same edge stays set
-        r_sticky <= (r_sticky & ~((reg_we && reg_addr == 6'h0a) ? reg_wdata[10:0] : 11'd0))
-                    | (m_valid ? m_fault : 11'd0);
+        r_fault_sticky <= (r_fault_sticky & ~((reg_we && reg_addr == FQ_FAULT_STICKY) ?
+                                              reg_wdata[FQ_FAULT_W-1:0] : {FQ_FAULT_W{1'b0}}))
+                          | (m_valid ? m_fault : {FQ_FAULT_W{1'b0}});
         if (rst) begin
-            r_interp <= 9'd100; r_eps <= 16'd1638; r_lam_k <= 5'd8; r_kappa <= 16'h4000;
-            r_kappa5 <= 15'd5120;
-            r_period <= 16'd0; r_settle <= 10'd32; r_gate <= 13'd64;
-            r_jump_off <= 1'b0; r_jump_min <= 11'd41;
-            r_sticky <= 11'd0; req_reset <= 1'b0; req_load <= 1'b0; req_cap <= 1'b0;
-            r_cmode <= 1'b0;
-            r_clip <= 16'd32512; r_loss <= 16'd3277; r_over <= 16'd22118;
-            r_glitch <= 4'd10; r_stuckn <= 8'd8;
-            st_g <= G_INIT; st_m1 <= 0; st_m2 <= 0; st_c1 <= 16'sd8192; st_c12 <= 0;
-            st_c2 <= 16'sd8192;
-            r_happly <= 1'b1; r_hlearn <= 1'b1; r_hmu <= 2'd1; r_hclear <= 1'b0;
-            r_absep <= 8'd4; r_absrc <= 1'b0; r_abbound <= 16'd1024;
+            r_interp <= FQ_INTERP_INTERP_RESET;
+            r_eps <= FQ_EPS_EPS_RESET;
+            r_lambda_k <= FQ_LAMBDA_K_LAMBDA_K_RESET;
+            r_kappa <= FQ_KAPPA_KAPPA_RESET;
+            r_kappa5 <= KAPPA5_RESET;
+            r_period <= FQ_PERIOD_PERIOD_RESET;
+            r_settle <= FQ_SETTLE_SETTLE_RESET;
+            r_gate <= FQ_GATE_GATE_RESET;
+            r_jump_off <= FQ_JUMP_JUMP_OFF_RESET;
+            r_jump_min <= FQ_JUMP_JUMP_MIN_RESET;
+            r_fault_sticky <= 0;
+            req_cov_reset <= 1'b0;
+            req_load <= 1'b0;
+            req_capture <= 1'b0;
+            r_count_mode <= FQ_CTRL_COUNT_MODE_RESET;
+            r_clip <= FQ_CLIP_CLIP_RESET;
+            r_loss <= FQ_RADIUS_LOSS_RESET;
+            r_over <= FQ_RADIUS_OVER_RESET;
+            r_glitch_k <= FQ_MONITOR_GLITCH_K_RESET;
+            r_stuck_n <= FQ_MONITOR_STUCK_N_RESET;
+            st_gain <= G_INIT;
+            st_m1 <= FQ_M1_M1_RESET[15:0];
+            st_m2 <= FQ_M2_M2_RESET[15:0];
+            st_c1 <= FQ_C1_C1_RESET[15:0];
+            st_c12 <= FQ_C12_C12_RESET[15:0];
+            st_c2 <= FQ_C2_C2_RESET[15:0];
+            r_harm_apply <= FQ_HARM_HARM_APPLY_RESET;
+            r_harm_learn <= FQ_HARM_HARM_LEARN_RESET;
+            r_harm_mu <= FQ_HARM_HARM_MU_RESET;
+            r_harm_clear <= 1'b0;
+            r_ab_sep <= FQ_ABGEN_AB_SEP_RESET;
+            r_ab_src <= FQ_ABGEN_AB_SRC_RESET;
+            r_ab_bound <= FQ_AB_BOUND_AB_BOUND_RESET;
         end
     end
 
@@ -297,8 +332,8 @@ module finequad_core #(
         if (OPT_HARMONIC) begin : g_harm
             harmonic #(.TABLE_EXACT(TABLE_EXACT), .OPT_DISTRAM(OPT_DISTRAM)) u_harmonic (
                 .clk(clk), .valid_i(o_valid), .oct2_i(o_oct2), .neg_i(o_neg), .t_i(o_t),
-                .ph_i(l_ph), .apply_i(r_happly), .learn_i(r_hlearn), .mu_i(r_hmu),
-                .clear_i(r_hclear), .valid_o(h_valid), .phase_o(h_phase),
+                .ph_i(l_ph), .apply_i(r_harm_apply), .learn_i(r_harm_learn), .mu_i(r_harm_mu),
+                .clear_i(r_harm_clear), .valid_o(h_valid), .phase_o(h_phase),
                 .phase_c_o(h_phase_c)
             );
         end else begin : g_noharm
@@ -306,7 +341,7 @@ module finequad_core #(
                 .clk(clk), .valid_i(o_valid), .oct2_i(o_oct2), .neg_i(o_neg), .ph_i(l_ph),
                 .valid_o(h_valid), .phase_o(h_phase), .phase_c_o(h_phase_c)
             );
-            wire unused_h = &{1'b0, r_happly, r_hlearn, r_hmu, r_hclear, 1'b0};
+            wire unused_h = &{1'b0, r_harm_apply, r_harm_learn, r_harm_mu, r_harm_clear, 1'b0};
         end
     endgenerate
     // ---- signal monitor: faults, the counter's hold (stage t+6 .. t+7), the travel ------------
@@ -315,8 +350,8 @@ module finequad_core #(
     monitor #(.OPT_MONITOR(OPT_MONITOR)) u_monitor (
         .clk(clk), .rst(rst), .valid0_i(c_v0), .raw1_i(c_raw1), .raw2_i(c_raw2),
         .clip_i(c_clip), .ref_i(b_ref), .ax_i(c_ax), .ay_i(c_ay), .xn_i(c_xn), .yn_i(c_yn), .pvalid_i(h_valid), .phase_i(h_phase),
-        .loss_th_i(r_loss), .over_th_i(r_over), .glitch_k_i(r_glitch),
-        .stuck_n_i(r_stuckn), .hold_o(mon_hold), .excl_o(mon_excl), .loss_o(mon_loss),
+        .loss_th_i(r_loss), .over_th_i(r_over), .glitch_k_i(r_glitch_k),
+        .stuck_n_i(r_stuck_n), .hold_o(mon_hold), .excl_o(mon_excl), .loss_o(mon_loss),
         .over_o(mon_over), .stuck_o(mon_stuck), .glitch_o(mon_glitch),
         .travel_o(mon_travel)
     );
@@ -350,7 +385,7 @@ module finequad_core #(
     counter #(.COUNT_W(COUNT_W)) u_counter (
         .clk(clk), .rst(rst), .valid_i(h_valid), .hold_i(mon_hold), .phase_i(h_phase_c),
         .prod_i(n_prod),
-        .n_i(r_interp), .mode_i(r_cmode), .pv_i(p_valid), .a_i(p_a), .b_i(p_b),
+        .n_i(r_interp), .mode_i(r_count_mode), .pv_i(p_valid), .a_i(p_a), .b_i(p_b),
         .valid_o(m_valid), .count_o(m_count), .ovs_o(k_ovs), .ill_o(k_ill),
         .ill_count_o(k_ill_count)
     );
@@ -359,12 +394,12 @@ module finequad_core #(
     wire signed [COUNT_W-1:0] g_pos;
     wire signed [15:0] g_backlog;
     abgen #(.COUNT_W(COUNT_W), .OPT_TUNABLE(OPT_TUNABLE)) u_abgen (
-        .clk(clk), .rst(rst), .target_i(m_count), .sep_i(r_absep), .bound_i(r_abbound),
+        .clk(clk), .rst(rst), .target_i(m_count), .sep_i(r_ab_sep), .bound_i(r_ab_bound),
         .a_o(g_a), .b_o(g_b), .pos_o(g_pos), .backlog_o(g_backlog), .ovf_o(g_ovf),
         .ovf_sticky_o(g_sticky)
     );
-    assign m_a = r_absrc ? p_a : g_a;
-    assign m_b = r_absrc ? p_b : g_b;
+    assign m_a = r_ab_src ? p_a : g_a;
+    assign m_b = r_ab_src ? p_b : g_b;
 
     // ---- estimator: every sample on arrival (t), its fine phase PHASE_AT = 6 edges after (t+6) -----
     estimator #(.TABLE_DIR(TABLE_DIR), .G_INIT(G_INIT), .PH_DELAY(PHASE_AT),
@@ -375,9 +410,9 @@ module finequad_core #(
         .smp_valid_i(c_v0), .u1_i(c_raw1), .u2_i(c_raw2), .amax_i(c_amax),
         .ph_valid_i(h_valid), .phase_i(h_phase), .excl_i(mon_excl),
         .travel_i(mon_travel),
-        .load_i(req_load), .ld_g_i(st_g), .ld_m1_i(st_m1), .ld_m2_i(st_m2), .ld_c1_i(st_c1),
+        .load_i(req_load), .ld_g_i(st_gain), .ld_m1_i(st_m1), .ld_m2_i(st_m2), .ld_c1_i(st_c1),
         .ld_c12_i(st_c12), .ld_c2_i(st_c2),
-        .req_reset_i(req_reset), .lam_k_i(r_lam_k), .kappa_i(r_kappa),
+        .req_reset_i(req_cov_reset), .lambda_k_i(r_lambda_k), .kappa_i(r_kappa),
         .kappa5_i(r_kappa5),
         .period_i(r_period), .settle_i(r_settle), .gate_i(r_gate),
         .jump_on_i(OPT_JUMP && !r_jump_off), .jump_min_i(r_jump_min), .jumps_o(e_jumps),
@@ -409,57 +444,75 @@ module finequad_core #(
     reg [3:0] mon_q = 4'd0;                      // {glitch, stuck, over, loss}
     always @(posedge clk)
         mon_q <= {mon_glitch, mon_stuck, mon_over, mon_loss};
-    assign m_fault = {mon_q, g_sticky, hold_d[LATENCY-1], uncal_d[LATENCY-1], k_ovs,
-                      dsat_d[LATENCY-1] | rsat_d[LATENCY-CORR_AT-1], nsat_d[LATENCY-1],
-                      clip_d[LATENCY-1]};
+    // the fault word: its bits where FAULT_STICKY has them; csat: the offset removal (t)
+    // or the correction's products (t + 2) saturated
+    assign m_fault[FQ_FAULT_STICKY_CLIP_LSB] = clip_d[LATENCY-1];
+    assign m_fault[FQ_FAULT_STICKY_NSAT_LSB] = nsat_d[LATENCY-1];
+    assign m_fault[FQ_FAULT_STICKY_CSAT_LSB] = dsat_d[LATENCY-1] | rsat_d[LATENCY-CORR_AT-1];
+    assign m_fault[FQ_FAULT_STICKY_OVS_LSB] = k_ovs;
+    assign m_fault[FQ_FAULT_STICKY_UNCAL_LSB] = uncal_d[LATENCY-1];
+    assign m_fault[FQ_FAULT_STICKY_HOLD_LSB] = hold_d[LATENCY-1];
+    assign m_fault[FQ_FAULT_STICKY_ABOVF_LSB] = g_sticky;
+    assign m_fault[FQ_FAULT_STICKY_LOSS_LSB] = mon_q[0];
+    assign m_fault[FQ_FAULT_STICKY_OVER_LSB] = mon_q[1];
+    assign m_fault[FQ_FAULT_STICKY_STUCK_LSB] = mon_q[2];
+    assign m_fault[FQ_FAULT_STICKY_GLITCH_LSB] = mon_q[3];
 
-    // ---- register read-back (registered) ---------------------------------------------------------
+    // CTRL.capture: the count captured (a coherent copy for a narrow or slow host link)
+    reg signed [COUNT_W-1:0] r_capture = 0;
+    always @(posedge clk) begin
+        if (req_capture)
+            r_capture <= m_count;
+        if (rst)
+            r_capture <= 0;
+    end
+
+    // ---- register read-back (registered): `FQ_RD_<REG>() places the fields by position
+    // (signed fields sign-extended here; unmapped words read 0) ----------------------------
     always @(posedge clk) begin
         if (reg_re) begin
             case (reg_addr)
-                6'h00: reg_rdata <= {27'd0, b_loaded, r_cmode, e_sat, b_hold, b_uncal};
-                6'h01: reg_rdata <= {23'd0, r_interp};
-                6'h02: reg_rdata <= {16'd0, r_eps};
-                6'h03: reg_rdata <= {27'd0, r_lam_k};
-                6'h04: reg_rdata <= {16'd0, r_kappa};
-                6'h05: reg_rdata <= {16'd0, r_period};
-                6'h06: reg_rdata <= {22'd0, r_settle};
-                6'h07: reg_rdata <= {19'd0, r_gate};
-                6'h08: reg_rdata <= {{(32-COUNT_W+1){m_count[COUNT_W-1]}}, m_count[COUNT_W-2:0]};
-                6'h09: reg_rdata <= {16'd0, k_ill_count};
-                6'h0a: reg_rdata <= {21'd0, r_sticky};
-                6'h0b: reg_rdata <= {30'd0, b_g};
-                6'h0c: reg_rdata <= {{16{b_m1[15]}}, b_m1};
-                6'h0d: reg_rdata <= {{16{b_m2[15]}}, b_m2};
-                6'h0e: reg_rdata <= {{16{b_c1[15]}}, b_c1};
-                6'h0f: reg_rdata <= {{16{b_c12[15]}}, b_c12};
-                6'h10: reg_rdata <= {{16{b_c2[15]}}, b_c2};
-                6'h11: reg_rdata <= e_updates;
-                6'h12: reg_rdata <= OPT_HARMONIC ? {26'd0, r_hmu, 2'd0, r_hlearn, r_happly} : 32'd0;
-                6'h13: reg_rdata <= OPT_JUMP ? {16'd0, r_jump_off, 4'd0, r_jump_min} : 32'h8000;
-                6'h14: reg_rdata <= OPT_JUMP ? {16'd0, e_jumps} : 32'd0;
-                6'h15: reg_rdata <= {23'd0, r_absrc, r_absep};
-                6'h16: reg_rdata <= {16'd0, r_abbound};
-                6'h17: reg_rdata <= {{16{g_backlog[15]}}, g_backlog};
-                6'h18: reg_rdata <= {16'd0, r_clip};
-                6'h19: reg_rdata <= OPT_MONITOR ? {r_over, r_loss} : 32'd0;
-                6'h1a: reg_rdata <= OPT_MONITOR ? {8'd0, r_stuckn, 12'd0, r_glitch} : 32'd0;
-                6'h1b: reg_rdata <= {{(32-COUNT_W+1){r_cap[COUNT_W-1]}}, r_cap[COUNT_W-2:0]};
-                6'h1c: reg_rdata <= {12'd0, mon_travel};
-                6'h1f: reg_rdata <= ID;
+                FQ_STATUS: reg_rdata <= `FQ_RD_STATUS(b_uncal, b_hold, e_sat, r_count_mode,
+                                                     b_loaded);
+                FQ_INTERP: reg_rdata <= `FQ_RD_INTERP(r_interp);
+                FQ_EPS: reg_rdata <= `FQ_RD_EPS(r_eps);
+                FQ_LAMBDA_K: reg_rdata <= `FQ_RD_LAMBDA_K(r_lambda_k);
+                FQ_KAPPA: reg_rdata <= `FQ_RD_KAPPA(r_kappa);
+                FQ_PERIOD: reg_rdata <= `FQ_RD_PERIOD(r_period);
+                FQ_SETTLE: reg_rdata <= `FQ_RD_SETTLE(r_settle);
+                FQ_GATE: reg_rdata <= `FQ_RD_GATE(r_gate);
+                FQ_COUNT: reg_rdata <= `FQ_RD_COUNT({{(32-COUNT_W+1){m_count[COUNT_W-1]}},
+                                                    m_count[COUNT_W-2:0]});
+                FQ_ILLEGAL: reg_rdata <= `FQ_RD_ILLEGAL(k_ill_count);
+                FQ_FAULT_STICKY: reg_rdata <= {{(32-FQ_FAULT_W){1'b0}}, r_fault_sticky};
+                FQ_GAIN: reg_rdata <= `FQ_RD_GAIN(b_g);
+                FQ_M1: reg_rdata <= `FQ_RD_M1({{16{b_m1[15]}}, b_m1});
+                FQ_M2: reg_rdata <= `FQ_RD_M2({{16{b_m2[15]}}, b_m2});
+                FQ_C1: reg_rdata <= `FQ_RD_C1({{16{b_c1[15]}}, b_c1});
+                FQ_C12: reg_rdata <= `FQ_RD_C12({{16{b_c12[15]}}, b_c12});
+                FQ_C2: reg_rdata <= `FQ_RD_C2({{16{b_c2[15]}}, b_c2});
+                FQ_UPDATES: reg_rdata <= `FQ_RD_UPDATES(e_updates);
+                FQ_HARM: reg_rdata <= OPT_HARMONIC ?
+                                      `FQ_RD_HARM(r_harm_apply, r_harm_learn, r_harm_mu) : 32'd0;
+                FQ_JUMP: reg_rdata <= OPT_JUMP ? `FQ_RD_JUMP(r_jump_min, r_jump_off) :
+                                      `FQ_RD_JUMP(11'd0, 1'b1);          // the detector off
+                FQ_JUMPS: reg_rdata <= OPT_JUMP ? `FQ_RD_JUMPS(e_jumps) : 32'd0;
+                FQ_ABGEN: reg_rdata <= `FQ_RD_ABGEN(r_ab_sep, r_ab_src);
+                FQ_AB_BOUND: reg_rdata <= `FQ_RD_AB_BOUND(r_ab_bound);
+                FQ_AB_BACKLOG: reg_rdata <= `FQ_RD_AB_BACKLOG({{16{g_backlog[15]}}, g_backlog});
+                FQ_CLIP: reg_rdata <= `FQ_RD_CLIP(r_clip);
+                FQ_RADIUS: reg_rdata <= OPT_MONITOR ? `FQ_RD_RADIUS(r_loss, r_over) : 32'd0;
+                FQ_MONITOR: reg_rdata <= OPT_MONITOR ? `FQ_RD_MONITOR(r_glitch_k, r_stuck_n) :
+                                         32'd0;
+                FQ_CAPTURE: reg_rdata <= `FQ_RD_CAPTURE({{(32-COUNT_W+1){r_capture[COUNT_W-1]}},
+                                                        r_capture[COUNT_W-2:0]});
+                FQ_TRAVEL: reg_rdata <= `FQ_RD_TRAVEL(mon_travel);
+                FQ_ID: reg_rdata <= ID;
                 default: reg_rdata <= 32'd0;
             endcase
         end
     end
     initial reg_rdata = 32'd0;
-    // CTRL bit 2: the count captured (a coherent copy for a narrow or slow host link)
-    reg signed [COUNT_W-1:0] r_cap = 0;
-    always @(posedge clk) begin
-        if (req_cap)
-            r_cap <= m_count;
-        if (rst)
-            r_cap <= 0;
-    end
     wire unused = &{1'b0, reg_wdata[31:16], l_pn, n_valid, k_ill, g_pos, g_ovf, 1'b0};
 endmodule
 `resetall

@@ -3,7 +3,7 @@
 // finequad_multi: AXES encoder axes, each a finequad_core (fast path, monitor, counter,
 // A/B, registers, the estimator's control), sharing one RLS engine (rtl/rls_engine.v:
 // microcode ROM, multipliers, seed table; a register file and a sticky saturation flag
-// per axis). Bit-true model: each axis is sim/model/core.py's Core with Config.tdm =
+// per axis). Bit-true model: each axis is sim/model/finequad_core.py's Core with Config.tdm =
 // (AXES, i, TDM_L, TDM_W) on its own samples.
 //
 //   s_valid[i], s_u1/s_u2 (axis i) -> finequad_core i -> m_valid[i], m_count, m_fault, m_a/m_b
@@ -29,7 +29,7 @@
 // does).
 // AXES = 1: one finequad_core with its own engine (no windows), exactly rtl/finequad_core.v.
 //
-// Register port: the core registers (README's register map) of axis reg_axis; reg_we
+// Register port: the core registers (rtl/regs/finequad.rdl) of axis reg_axis; reg_we
 // writes on the edge, reg_re reads, reg_rdata holds the value after that edge (the axis
 // read last). Axes reg_axis >= AXES: writes ignored, reads 0.
 // Latency and formats per axis as rtl/finequad_core.v (m_count s(COUNT_W), m_fault 11
@@ -99,7 +99,7 @@ module finequad_multi #(
 `include "rls_cycles.vh"                  // CYCLES_<PROGRAM>_<LANES> (estimator.py)
 /* verilator lint_on UNUSEDPARAM */
     localparam AXW = (AXES > 1) ? $clog2(AXES) : 1;
-    // window spacing (sim/model/core.py tdm_period)
+    // window spacing (sim/model/finequad_core.py tdm_period)
     localparam integer TDM_L = TDM_W + 1 + ((ENGINE_LANES == 2) ?
                                CYCLES_UPDATE_2 + CYCLES_EXTRACT_2 :
                                CYCLES_UPDATE_1 + CYCLES_EXTRACT_1);
@@ -208,7 +208,7 @@ module finequad_multi #(
             wire [7:0]         e_entry = cmd[64:57];
             wire signed [15:0] e_x1 = cmd[56:41];          // s1.15
             wire signed [15:0] e_x2 = cmd[40:25];          // s1.15
-            wire [4:0]         e_lam_k = cmd[24:20];
+            wire [4:0]         e_lambda_k = cmd[24:20];
             wire               e_freeze = cmd[19];
             wire [15:0]        e_kappa = cmd[18:3];        // u8.8
             wire signed [2:0]  e_dg = cmd[2:0];
@@ -218,7 +218,7 @@ module finequad_multi #(
             rls_engine #(.TABLE_DIR(TABLE_DIR), .LANES(ENGINE_LANES), .AXES(AXES)) u_engine (
                 .clk(clk), .rst(rst),
                 .start_i(e_start), .entry_i(e_entry), .x1_i(e_x1), .x2_i(e_x2),
-                .lam_k_i(e_lam_k), .freeze_i(e_freeze), .kappa_i(e_kappa), .dg_i(e_dg),
+                .lambda_k_i(e_lambda_k), .freeze_i(e_freeze), .kappa_i(e_kappa), .dg_i(e_dg),
                 .axis_i(own), .busy_o(e_busy), .done_o(e_done), .valid_o(e_valid),
                 .out_o(e_out), .sat_o(e_sat)
             );

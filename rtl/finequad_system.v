@@ -11,8 +11,8 @@
 //   uart_tx_o <-'
 //
 // AXI address map (byte addresses, 32-bit words): 0x0000 + 4 k = finequad_core register k
-// for k = 0 .. ADDR_TOP (README.md "Register map"; e.g. 0x7C = ID, 0x20 =
-// COUNT); words above ADDR_TOP answer SLVERR; partial writes (WSTRB != 4'hF) SLVERR.
+// for k = 0 .. FQ_ADDR_TOP (rtl/regs/finequad.rdl; e.g. 0x7C = ID, 0x20 = COUNT); words
+// above it answer SLVERR; partial writes (WSTRB != 4'hF) SLVERR.
 // UART: 8N1 at f_clk / BAUD_DIV, protocol in rtl/uart_axil.v and scripts/fqhost.py.
 //
 // Timing: a conversion every ADC_PERIOD clocks; the core takes sample k on the edge
@@ -52,8 +52,6 @@ module finequad_system #(
     parameter BAUD_DIV = 286,
     // clocks between two bytes of a UART frame before it is abandoned
     parameter [19:0] UART_TIMEOUT = 20'd262143,
-    // highest AXI word index mapped to the core (0x1f: ID, the top of its map today)
-    parameter [5:0] ADDR_TOP = 6'h1f,
     // 1: the UART host link and the AXI4-Lite registers; 0: none (the core's registers
     // keep their reset values, which synthesis folds into the logic; uart_tx_o idles
     // high): for a device the core with a live register port does not fit (the UP5K)
@@ -75,6 +73,9 @@ module finequad_system #(
     // status (see above)
     output wire [3:0] status_o
 );
+    // the core's register map (FQ_ADDR_TOP, the fault bits): rtl/regs/finequad.rdl
+    `include "finequad_regs.vh"
+
     // ---- ADC front end ---------------------------------------------------------------------
     wire               s_valid, adc_err;
     wire signed [11:0] s_u1, s_u2;
@@ -110,7 +111,7 @@ module finequad_system #(
                 .m_axil_rdata(rdata), .m_axil_rresp(rresp), .m_axil_rvalid(rvalid),
                 .m_axil_rready(rready), .frame_err_o(uart_ferr), .drop_o(uart_drop)
             );
-            axil_regs #(.ADDR_W(16), .ADDR_TOP(ADDR_TOP)) u_regs (
+            axil_regs #(.ADDR_W(16), .ADDR_TOP(FQ_ADDR_TOP)) u_regs (
                 .clk(clk), .rst(rst),
                 .s_axil_awaddr(awaddr), .s_axil_awprot(awprot), .s_axil_awvalid(awvalid),
                 .s_axil_awready(awready), .s_axil_wdata(wdata), .s_axil_wstrb(wstrb),
@@ -137,7 +138,7 @@ module finequad_system #(
     // ---- the core ---------------------------------------------------------------------------
     wire        m_valid, m_a, m_b;
     wire [31:0] m_count;
-    wire [10:0] m_fault;         // finequad_core: 11 fault bits (0..3 faults, 4 uncalibrated)
+    wire [FQ_FAULT_W-1:0] m_fault;   // finequad_core: FAULT_STICKY's bits
     wire [65:0] eng_cmd;                 // 0: the core's engine is inside
     finequad_core #(.TABLE_DIR(TABLE_DIR), .ADC_W(12), .OPT_NTH_DSP(OPT_NTH_DSP),
                     .OPT_HARMONIC(OPT_HARMONIC), .OPT_DISTRAM(OPT_DISTRAM),
@@ -148,13 +149,7 @@ module finequad_system #(
         .s_valid(s_valid), .s_u1(s_u1), .s_u2(s_u2),
         .reg_we(reg_we), .reg_re(reg_re), .reg_addr(reg_addr), .reg_wdata(reg_wdata),
         .reg_rdata(reg_rdata),
-        // the core's fault word grows (7 bits at commit f1d8707, 11 with the signal
-        // monitor); bits 0..4, which this module uses, mean the same in both
-        /* verilator lint_off WIDTH */
-        /* verilator lint_off UNDRIVEN */
         .m_fault(m_fault),
-        /* verilator lint_on UNDRIVEN */
-        /* verilator lint_on WIDTH */
         .m_valid(m_valid), .m_count(m_count), .m_a(m_a), .m_b(m_b),
         .tdm_ok_i(1'b1), .eng_cmd_o(eng_cmd), .eng_rsp_i(115'd0)   // the engine inside
     );
@@ -170,8 +165,9 @@ module finequad_system #(
         a_o <= m_a;
         b_o <= m_b;
         if (m_valid) begin
-            cal_q <= !m_fault[4];
-            if (|m_fault[3:0])
+            cal_q <= !m_fault[FQ_FAULT_STICKY_UNCAL_LSB];
+            if (m_fault[FQ_FAULT_STICKY_CLIP_LSB] || m_fault[FQ_FAULT_STICKY_NSAT_LSB] ||
+                m_fault[FQ_FAULT_STICKY_CSAT_LSB] || m_fault[FQ_FAULT_STICKY_OVS_LSB])
                 fault_q <= 1'b1;
         end
         if (s_valid && adc_err)
@@ -186,6 +182,6 @@ module finequad_system #(
         end
     end
     assign status_o = {uart_err_q, adc_err_q, fault_q, cal_q};
-    wire unused = &{1'b0, m_count, m_fault[10:5], 1'b0};
+    wire unused = &{1'b0, m_count, m_fault, 1'b0};
 endmodule
 `resetall

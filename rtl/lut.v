@@ -1,6 +1,6 @@
 `timescale 1ns / 1ps
 `default_nettype none
-// lut: Table 1 of the paper through two block-RAM look-ups (sim/model/fastpath.py Lut).
+// lut: Table 1 of the paper through two block-RAM look-ups (sim/model/lut.py Lut).
 // Row i of Table 1 only depends on (n i) mod 8N, so the octant address first goes through
 // a phase table (one octant, by symmetry) and the n-th order phase indexes one
 // quarter-wave sine table that serves every n:

@@ -2,7 +2,7 @@
 `default_nettype none
 // octant: Table 2 of the paper. The octant comes from the signs of u1c, u2c and the
 // comparison of their magnitudes (as the paper, for both tables); the table address from
-// the magnitudes. Mirrors sim/model/fastpath.py octant(), ratio() and scale().
+// the magnitudes. Mirrors sim/model/octant.py octant(), ratio() and scale().
 //   TABLE_EXACT = 1: the ratio t = |small| / |large| in [0, 1], the tangent of the
 //     octant-local angle (so both signals contribute: the angle noise is sigma/A at every
 //     angle, the Cramer-Rao bound, where the small signal alone gives sigma/(A cos a));

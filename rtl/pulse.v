@@ -1,6 +1,6 @@
 `timescale 1ns / 1ps
 `default_nettype none
-// pulse: Eq. 12, comparators with hysteresis (sim/model/fastpath.py pulse()).
+// pulse: Eq. 12, comparators with hysteresis (sim/model/pulse.py pulse()).
 //   A = 1 if cos(n a) >= eps, 0 if cos(n a) <= -eps, else unchanged (B likewise from sin).
 // The table values (u0.(SIN_W-1) with sign) are compared in u0.15 units with eps.
 // Latency 1; A and B start at 1. eps_i is taken two edges before the pulses it decides

@@ -37,7 +37,7 @@ import numpy as np
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 from sim import baselines, metrics, reference, scenarios, siggen  # noqa: E402
-from sim.model import core  # noqa: E402
+from sim.model import finequad_core as core  # noqa: E402
 from sim.run_model import write_codes, write_result  # noqa: E402
 
 METHODS = ("rtl", "float", "paper_table", "paper", "heydemann", "raw")
@@ -81,7 +81,7 @@ def bench(sc, d, interp, rtl):
     f1, f2 = u1 / full, u2 / full
     paper = baselines.paper_literal(f1, f2, interp)
     counts = {
-        "float": reference.run_schedule(u1, u2, res["sched"], interp, cfg.lam_k,
+        "float": reference.run_schedule(u1, u2, res["sched"], interp, cfg.lambda_k,
                                         cfg.kappa / 256, adc_w=bits)["count"],
         # the gateware with the paper's table (linear octant index, Eq. 11) counting the
         # fine phase: the table's own error, without the edge counter's lost counts
@@ -175,11 +175,18 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--build", default=str(ROOT / "build" / "bench"))
     ap.add_argument("--only", nargs="*", help="scenario names (default: the whole suite)")
-    ap.add_argument("--interp", type=int, default=100)
+    ap.add_argument("--interp", type=int, default=core.Config().interp)
     ap.add_argument("--no-rtl", action="store_true", help="score the bit-true model only")
     ap.add_argument("--target", type=float, default=TARGET,
                     help=f"the largest RMS / floor a scenario may have (default {TARGET})")
+    ap.add_argument("--publish", action="store_true",
+                    help="record the figures (scripts/results/bench_accuracy.*, README.md): "
+                         "make bench-accuracy does; the whole suite with the RTL only")
     args = ap.parse_args()
+    if args.publish and (args.only or args.no_rtl or args.interp != core.Config().interp):
+        print("bench: error: --publish records the whole suite through the RTL at the default "
+              "n only (no --only, --no-rtl or --interp)", file=sys.stderr)
+        raise SystemExit(2)
     if not args.target > 0:                                  # (and not nan)
         print(f"bench: error: --target must be a ratio > 0, got {args.target}", file=sys.stderr)
         raise SystemExit(2)
@@ -223,6 +230,13 @@ def main():
           f"({time.time() - t0:.0f} s); RTL over {args.target}x the floor or slipping: "
           f"{', '.join(over) if over else 'none'}; largest fixed-point loss {loss:+.2f} %")
     bad = [r["scenario"] for r in rows if r["rtl_equals_model"] is False]
+    if args.publish:
+        import figures
+        ratios = [r["rtl"]["ratio"] for r in rows]
+        figures.publish("bench_accuracy", "make bench-accuracy", dict(
+            scenarios=len(rows), ratio_min=min(ratios), ratio_max=max(ratios),
+            slips=sum(r["rtl"]["slips"] for r in rows),
+            rtl_equal=sum(bool(r["rtl_equals_model"]) for r in rows)), md)
     if bad:
         print(f"bench: error: RTL differs from the bit-true model on {', '.join(bad)}",
               file=sys.stderr)

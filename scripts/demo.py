@@ -24,7 +24,7 @@ import numpy as np
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 from sim import metrics, siggen  # noqa: E402
-from sim.model import core  # noqa: E402
+from sim.model import finequad_core as core  # noqa: E402
 from sim.run_model import write_codes, write_result  # noqa: E402
 
 PITCH_NM = 4000.0
@@ -72,7 +72,7 @@ def phase_error(res, x, a, start):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--build", default=str(ROOT / "build" / "demo"))
-    ap.add_argument("--interp", type=int, default=100)
+    ap.add_argument("--interp", type=int, default=core.Config().interp)
     ap.add_argument("--seconds", type=float, default=0.5)
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--amp", type=float, default=0.6,
@@ -83,6 +83,9 @@ def main():
                     help="TABLE=path of a built harness (e.g. exact=build/rtlsim_exact_adc16/...)")
     ap.add_argument("--vcd-samples", type=int, default=4000,
                     help="samples in the VCD excerpt (a VCD of the whole run is large)")
+    ap.add_argument("--publish", action="store_true",
+                    help="record the figures (scripts/results/demo.*, README.md): make demo "
+                         "does, for the default recording with both harnesses")
     args = ap.parse_args()
     d = pathlib.Path(args.build)
     d.mkdir(parents=True, exist_ok=True)
@@ -151,9 +154,36 @@ def main():
     plot(d / "demo.png", x, errs, summary, args.interp)
     (d / "summary.json").write_text(json.dumps(summary, indent=1))
     print(f"  plot: {d / 'demo.png'}; summary: {d / 'summary.json'}")
+    if args.publish:
+        publish(summary, args)
     bad = [t for t in ("exact", "paper") if summary[t]["rtl_equals_model"] is False]
     if bad:
         raise SystemExit(f"demo: error: RTL differs from the bit-true model ({', '.join(bad)})")
+
+
+def publish(summary, args):
+    """The demo's figures as a record (scripts/figures.py): the exact table's error."""
+    import figures
+    defaults = dict(interp=core.Config().interp, seconds=0.5, seed=1, amp=0.6, adc_bits=16)
+    if any(getattr(args, k) != v for k, v in defaults.items()) or \
+            any(summary[t]["rtl_equals_model"] is None for t in ("exact", "paper")):
+        raise SystemExit("demo: error: --publish records the default recording with both "
+                         "harnesses only")
+    lines = ["| table | counter RMS | peak | floor | ratio | slips | fine phase while moving "
+             "| RTL == model |", "|---|---:|---:|---:|---:|---:|---:|---|"]
+    for t in ("exact", "paper"):
+        s = summary[t]
+        lines.append(f"| {t} | {s['rms_nm']:.2f} nm | {s['peak_nm']:.1f} nm | "
+                     f"{s['floor_nm']:.2f} nm | {s['ratio']:.3f} | {s['slips']} | "
+                     f"{s['phase_err_moving_rms_nm']:.1f} nm RMS, "
+                     f"{s['phase_err_moving_peak_nm']:.1f} nm peak | "
+                     f"{'yes' if s['rtl_equals_model'] else 'NO'} |")
+    e = summary["exact"]
+    figures.publish("demo", "make demo", dict(rms_nm=e["rms_nm"], ratio=e["ratio"],
+                                              rtl_equals_model=bool(e["rtl_equals_model"]
+                                                                    and summary["paper"][
+                                                                        "rtl_equals_model"])),
+                    "\n".join(lines))
 
 
 def plot(path, x, errs, summary, interp):

@@ -23,22 +23,18 @@ FqProtocol is transport-free (frames in, values out): this script drives it over
 the cocotb tests (cocotb_tests/fqlink.py) over cocotbext-uart's UartSource/UartSink.
 """
 import argparse
+import pathlib
 import sys
 import time
 
-# finequad_core register words (README.md, "Register map", and
-# rtl/finequad_core.v's read-back: 0x18..0x1c are the signal monitor's CLIP, RADIUS,
-# MONITOR, the count captured by CTRL bit 2, the travel); numbers are accepted for any
-# other word
-REGS = {
-    "ctrl": 0x00, "status": 0x00, "interp": 0x01, "eps": 0x02, "lambda_k": 0x03,
-    "kappa": 0x04, "period": 0x05, "settle": 0x06, "gate": 0x07, "count": 0x08,
-    "illegal": 0x09, "fault_sticky": 0x0a, "gain": 0x0b, "m1": 0x0c, "m2": 0x0d,
-    "c1": 0x0e, "c12": 0x0f, "c2": 0x10, "updates": 0x11, "harm": 0x12, "jump": 0x13,
-    "jumps": 0x14, "abgen": 0x15, "ab_bound": 0x16, "ab_backlog": 0x17, "clip": 0x18,
-    "radius": 0x19, "monitor": 0x1a, "count_cap": 0x1b, "travel": 0x1c, "id": 0x1f,
-}
-SIGNED = {"count", "count_cap", "m1", "m2", "c1", "c12", "c2", "ab_backlog"}
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))
+from sim.model import regs  # noqa: E402
+
+# finequad_core's registers by their names (rtl/regs/finequad.rdl, lower case; word 0 is
+# STATUS when read, CTRL when written); numbers are accepted for any other word
+REGS = {name.lower(): r.index for name, r in regs.REGS.items()}
+SIGNED = {name.lower() for name, r in regs.REGS.items()
+          if any(f.signed for f in r.fields.values())}
 
 
 class ProtocolError(Exception):

@@ -55,16 +55,37 @@ def parse_legal(f, where):
     return lo, hi
 
 
-def load(path=RDL):
-    """The register map as plain data: a list of registers (dicts) in address order."""
+def compile_rdl(path=RDL):
+    """The elaborated description (systemrdl-compiler). Its messages are collected, not
+    printed: a description that does not compile is refused with its first error, as
+    'file:line:col: message'."""
     from systemrdl import RDLCompiler, RDLCompileError
-    rdlc = RDLCompiler()
+    from systemrdl.messages import MessagePrinter, Severity
+
+    class Collect(MessagePrinter):
+        def __init__(self):
+            self.errors = []
+
+        def print_message(self, severity, text, src_ref):
+            if severity >= Severity.ERROR:
+                where = ""
+                if src_ref is not None and getattr(src_ref, "line", None) is not None:
+                    where = f"{src_ref.path}:{src_ref.line}:{src_ref.line_selection[0] + 1}: "
+                self.errors.append(where + text)
+
+    printer = Collect()
+    rdlc = RDLCompiler(message_printer=printer)
     try:
         rdlc.compile_file(str(path))
-        root = rdlc.elaborate()
-    except RDLCompileError as e:
-        raise RdlError(f"{path}: does not compile ({e})") from None
-    top = root.top
+        return rdlc.elaborate()
+    except RDLCompileError:
+        first = printer.errors[0] if printer.errors else f"{path}: unknown error"
+        raise RdlError(f"the description does not compile: {first}") from None
+
+
+def load(path=RDL):
+    """The register map as plain data: a list of registers (dicts) in address order."""
+    top = compile_rdl(path).top
     regs = []
     for r in top.registers():
         addr = r.absolute_address
@@ -123,10 +144,11 @@ def field_access(f):
     return {(True, True): "RW", (True, False): "R", (False, True): "W"}[(f["read"], f["write"])]
 
 
-def reg_mask(r, writable=False):
+def reg_mask(r, writable=False, readable=False):
+    """The bits of the register's fields (those a write reaches, or a read returns)."""
     m = 0
     for f in r["fields"]:
-        if not writable or f["write"]:
+        if (not writable or f["write"]) and (not readable or f["read"]):
             m |= ((1 << f["width"]) - 1) << f["lsb"]
     return m
 
@@ -138,6 +160,16 @@ def reset_word(r):
         if f["write"] and f["reset"] is not None:
             w |= (f["reset"] & ((1 << f["width"]) - 1)) << f["lsb"]
     return w
+
+
+def fault_w(regs):
+    """The width of the fault word m_fault: FAULT_STICKY's fields, bit 0 up, no gaps."""
+    r = next(r for r in regs if r["name"] == FAULT_REG)
+    bits = sorted(f["lsb"] for f in r["fields"])
+    if bits != list(range(len(bits))) or any(f["width"] != 1 for f in r["fields"]):
+        raise RdlError(f"{FAULT_REG}: its fields must be single bits from bit 0 up, no gaps "
+                       "(they are the fault word m_fault)")
+    return len(bits)
 
 
 # ---- Verilog --------------------------------------------------------------------------
@@ -154,10 +186,14 @@ def verilog(regs):
     out = [f"// {STAMP}.",
            "// finequad_core's register map, `include'd inside the body of each module that",
            "// decodes it. FQ_<REG>: the word index (byte address / 4). Per field:",
-           "// FQ_<REG>_<FIELD>_LSB and _W its position, _RESET its reset value (_W bits),",
+           "// FQ_<REG>_<FIELD>_LSB, _MSB, _W its position, _RESET its reset value (_W bits),",
            "// _LO and _HI its legal values (32-bit two's complement for signed fields).",
            "// FQ_<REG>_WMASK: the bits a write reaches; FQ_<REG>_RESET: the word at reset.",
+           "// `FQ_RD_<REG>(): a read's word from the field values (at the end).",
+           "// (a module uses a part of the map: unused localparams are not findings)",
+           "/* verilator lint_off UNUSEDPARAM */",
            f"localparam [{aw - 1}:0] FQ_ADDR_TOP = {aw}'h{top:02x};     // the highest word",
+           f"localparam integer FQ_FAULT_W = {fault_w(regs)};     // m_fault: the fields of {FAULT_REG}",
            ]
     for r in regs:
         n = r["name"]
@@ -170,6 +206,7 @@ def verilog(regs):
         for f in r["fields"]:
             p = f"FQ_{n}_{f['name'].upper()}"
             out.append(f"localparam integer {p}_LSB = {f['lsb']};")
+            out.append(f"localparam integer {p}_MSB = {f['msb']};")
             out.append(f"localparam integer {p}_W = {f['width']};")
             if f["reset"] is not None and (f["write"] or n == "ID"):
                 out.append(f"localparam [{f['width'] - 1}:0] {p}_RESET = "
@@ -177,6 +214,29 @@ def verilog(regs):
             if f["write"] and not f["pulse"] and not f["w1c"]:
                 out.append(f"localparam [31:0] {p}_LO = {vnum(32, f['lo'])};")
                 out.append(f"localparam [31:0] {p}_HI = {vnum(32, f['hi'])};")
+    out.append("/* verilator lint_on UNUSEDPARAM */")
+    out.append("")
+    out.append("// `FQ_RD_<REG>(fields...): the word a read of the register returns, its readable")
+    out.append("// fields (low to high) placed by position, every other bit 0 (macros: textual,")
+    out.append("// so synthesis sees the plain concatenation; give each argument its field's width)")
+    out.append("`ifndef FQ_RD_MACROS")
+    out.append("`define FQ_RD_MACROS")
+    for r in regs:
+        rf = [f for f in r["fields"] if f["read"]]
+        if not rf or r["name"] == "ID":
+            continue
+        parts, pos = [], 0
+        for f in sorted(rf, key=lambda f: f["lsb"]):
+            if f["lsb"] > pos:
+                parts.append(f"{f['lsb'] - pos}'d0")
+            parts.append(f"({f['name']})")
+            pos = f["lsb"] + f["width"]
+        if pos < 32:
+            parts.append(f"{32 - pos}'d0")
+        args = ", ".join(f["name"] for f in rf)
+        out.append(f"`define FQ_RD_{r['name']}({args}) \\")
+        out.append(f"    {{{', '.join(reversed(parts))}}}")
+    out.append("`endif")
     return "\n".join(out) + "\n"
 
 
@@ -194,6 +254,18 @@ def word(reg, **fields):
             raise KeyError(f"{reg}.{name} is not writable")
         m = (1 << f.width) - 1
         w = (w & ~(m << f.lsb)) | ((int(v) & m) << f.lsb)
+    return w
+
+
+def word_read(reg, **fields):
+    """The word a read of `reg` returns with its readable fields as given (others 0)."""
+    r = REGS[reg]
+    w = 0
+    for name, v in fields.items():
+        f = r.fields[name]
+        if not f.read:
+            raise KeyError(f"{reg}.{name} is not readable")
+        w |= (int(v) & ((1 << f.width) - 1)) << f.lsb
     return w
 
 
@@ -225,7 +297,8 @@ def illegal(reg, w):
 def python(regs):
     lines = [f'"""finequad_core\'s register map: {STAMP}.',
              "",
-             "REGS: name -> Reg (index: the word, addr: the byte address, fields by name).",
+             "REGS: name -> Reg (index: the word, addr: the byte address, wmask/rmask: the bits a",
+             "write reaches / a read returns, reset: the written word at reset, fields by name).",
              "SETTINGS: the fields a write stores, by their unique names (the model's Config,",
              "the harnesses' options, fqhost). FAULT_BITS: m_fault's bits (the fields of",
              f"{FAULT_REG}). The names are module constants too (INTERP = the word index).",
@@ -234,13 +307,14 @@ def python(regs):
              "",
              'Field = namedtuple("Field", "name reg lsb width reset read write pulse w1c signed "',
              '                   "lo hi format desc")',
-             'Reg = namedtuple("Reg", "name index addr read write wmask reset fields title desc")',
+             'Reg = namedtuple("Reg", "name index addr read write wmask rmask reset fields title "',
+             '                 "desc")',
              "",
              "REGS = {"]
     for r in regs:
         lines.append(f"    {r['name']!r}: Reg({r['name']!r}, 0x{r['index']:02x}, 0x{r['addr']:02x}, "
                      f"{r['read']}, {r['write']}, 0x{reg_mask(r, True):08x}, "
-                     f"0x{reset_word(r):08x}, {{")
+                     f"0x{reg_mask(r, readable=True):08x}, 0x{reset_word(r):08x}, {{")
         for f in r["fields"]:
             lines.append(f"        {f['name']!r}: Field({f['name']!r}, {r['name']!r}, {f['lsb']}, "
                          f"{f['width']}, {f['reset']!r}, {f['read']}, {f['write']}, "
@@ -258,7 +332,7 @@ def python(regs):
     lines.append("            if f.write and not f.pulse and not f.w1c}")
     lines.append(f"FAULT_BITS = {{f.name: f.lsb for f in REGS[{FAULT_REG!r}].fields.values()}}")
     lines.append("FAULT_W = max(FAULT_BITS.values()) + 1")
-    lines.append(f"ID_VALUE = REGS['ID'].fields['id'].reset")
+    lines.append("ID_VALUE = REGS['ID'].fields['id'].reset")
     return "\n".join(lines) + PY_HELPERS
 
 
@@ -290,12 +364,9 @@ def harness_header(regs):
 
 # ---- C header (PeakRDL-cheader) -------------------------------------------------------
 def c_header(path=RDL):
-    from systemrdl import RDLCompiler
     from peakrdl_cheader.exporter import CHeaderExporter
     from peakrdl_cheader.c_standards import CStandard
-    rdlc = RDLCompiler()
-    rdlc.compile_file(str(path))
-    root = rdlc.elaborate()
+    root = compile_rdl(path)
     with tempfile.TemporaryDirectory() as d:
         out = pathlib.Path(d) / "finequad_regs.h"
         CHeaderExporter().export(root.top, str(out), std=CStandard.gnu99)

@@ -20,9 +20,13 @@ Limits (x4 counting: one count per quarter of an n-th order period, pitch / (4 n
       independent of n.
 """
 import argparse
+import pathlib
 import sys
 
-N_MAX = 511                     # the core's largest n (INTERP is 9 bits)
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))
+from sim.model.regs import SETTINGS  # noqa: E402
+
+N_MAX = SETTINGS["interp"].hi   # the core's largest n (INTERP)
 
 
 def limits(pitch_um, fs, edge_sep=4, fclk=36e6, v=None, interp=None):
@@ -44,10 +48,14 @@ def main(argv=None):
     ap.add_argument("--fs", type=float, required=True, help="sample rate, Hz")
     g = ap.add_mutually_exclusive_group()
     g.add_argument("--v", type=float, help="speed, m/s")
-    g.add_argument("--interp", type=int, help="interpolation factor n")
-    ap.add_argument("--edge-sep", type=int, default=4, help="A/B edge separation, clocks")
+    g.add_argument("--interp", type=int,
+                   help="interpolation factor n (default without --v: INTERP's reset value)")
+    ap.add_argument("--edge-sep", type=int, default=SETTINGS["ab_sep"].reset,
+                    help="A/B edge separation, clocks (ABGEN.ab_sep; default its reset value)")
     ap.add_argument("--fclk", type=float, default=36e6, help="core clock, Hz")
     a = ap.parse_args(argv)
+    if a.v is None and a.interp is None:
+        a.interp = SETTINGS["interp"].reset
     bad = [f"--{k} must be > 0, got {v}" for k, v in
            (("pitch", a.pitch), ("fs", a.fs), ("edge-sep", a.edge_sep), ("fclk", a.fclk),
             ("v", a.v), ("interp", a.interp)) if v is not None and not v > 0]   # (nan too)

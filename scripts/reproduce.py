@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Reproduce the paper's experiments in simulation (Ulu et al. 2014; issue 8).
+"""Reproduce the paper's experiments in simulation (Ulu et al. 2014).
 
     python3 scripts/reproduce.py [--build build/reproduce] [--jobs 2] [--quick]
 
@@ -7,7 +7,7 @@
   --jobs   worker processes for the independent runs (default 2)
   --quick  shortened experiments (a few seconds; for the tests, numbers not comparable)
 
-Every number comes from the bit-true model of the core (sim/model/core.py; the RTL is
+Every number comes from the bit-true model of the core (sim/model/finequad_core.py; the RTL is
 proved equal to it by sim/tests/test_rtlsim.py and the cocotb suite) fed with the seeded
 encoder signals of sim/siggen.py: 4 um signal period, 1 MS/s, 16-bit ADC, the
 paper-like imperfections of siggen.Signal (A1 0.60, A2 0.54 of full scale, offsets
@@ -56,7 +56,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "scripts"))
 from sim import baselines, closedloop, metrics, siggen  # noqa: E402
-from sim.model import core  # noqa: E402
+from sim.model import finequad_core as core  # noqa: E402
 import limits  # noqa: E402
 
 PITCH = 4000.0            # nm
@@ -130,7 +130,7 @@ def fig3_truth(x):
 
 def bundle_params(r):
     """(A1, R, m1, m2, phi) in full-scale units from the coefficient bundle in use
-    (README Q formats: c s4.12 and m s1.15 in units normalised by the input gain 2^g;
+    (rtl/README.md Q formats: c s4.12 and m s1.15 in units normalised by the input gain 2^g;
     c1 = 1/A1, c12 = sin(phi) / (A1 cos phi), c2 = R / (A1 cos phi))."""
     g = 2.0 ** np.asarray(r["g"], float)
     c1 = np.asarray(r["c1"], float) / 4096

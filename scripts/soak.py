@@ -51,7 +51,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from sim import siggen  # noqa: E402
-from sim.model import core  # noqa: E402
+from sim.model import finequad_core as core  # noqa: E402
 
 PITCH_NM = 4000.0
 FS = 1e6

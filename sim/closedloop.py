@@ -2,7 +2,7 @@
 
 A slider driven by a permanent-magnet linear motor follows a 7 um S-curve under a
 discrete PID controller. The position the controller sees is the count of the bit-true
-model of the core (sim/model/core.py, proved equal to the RTL elsewhere), fed piece by
+model of the core (sim/model/finequad_core.py, proved equal to the RTL elsewhere), fed piece by
 piece with the encoder signals (sim/siggen.py) of the plant's true position: one piece
 of `samples_per_tick` ADC samples per control period, so the measurement has exactly the
 resolution, the noise and the interpolation errors of the gateware.
@@ -63,7 +63,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from . import siggen
-from .model import core
+from .model import finequad_core as core
 
 
 # ---------------------------------------------------------------------------- plant

@@ -36,8 +36,8 @@ class Rls:
     theta), and its trace bound: while the trace of P is above its value after a reset
     (5 kappa), the step does not forget (lambda = 1)."""
 
-    def __init__(self, lam_k=8, kappa=64.0, theta0=(4.0, 4.0, 0.0, 0.0, 0.0)):
-        self.lam = 1.0 / (1.0 + 2.0 ** -lam_k)
+    def __init__(self, lambda_k=8, kappa=64.0, theta0=(4.0, 4.0, 0.0, 0.0, 0.0)):
+        self.lam = 1.0 / (1.0 + 2.0 ** -lambda_k)
         self.kappa = kappa
         self.th = np.array(theta0, dtype=float) * [1, 1, 0.5, 1, 1]
         self.P = kappa * np.eye(5)
@@ -68,11 +68,11 @@ class Rls:
         return self.theta
 
 
-def run(u1, u2, interp=100, lam_k=8, kappa=64.0, update_idx=None, period=4096):
+def run(u1, u2, interp=100, lambda_k=8, kappa=64.0, update_idx=None, period=4096):
     """u1, u2 in full-scale units (codes / 32768). Returns per-sample angle (rad,
     unwrapped), count (x4 of the n-th order) and the parameters in force."""
     n = len(u1)
-    rls = Rls(lam_k, kappa, theta0=(4.0, 4.0, 0.0, 0.0, 0.0))
+    rls = Rls(lambda_k, kappa, theta0=(4.0, 4.0, 0.0, 0.0, 0.0))
     p = (0.5, 1.0, 0.0, 0.0, 0.0)
     idx = range(n) if update_idx is None else update_idx
     mask = np.zeros(n, bool)
@@ -94,7 +94,7 @@ def run(u1, u2, interp=100, lam_k=8, kappa=64.0, update_idx=None, period=4096):
     return dict(angle=ang, count=count, params=params)
 
 
-def run_schedule(u1_code, u2_code, sched, interp=100, lam_k=8, kappa=64.0, adc_w=16,
+def run_schedule(u1_code, u2_code, sched, interp=100, lambda_k=8, kappa=64.0, adc_w=16,
                  g0=0):
     """The float twin of the gateware: the same estimator schedule as a bit-true model
     run (core.run(...)["sched"]: which samples update, where P is reset and the input
@@ -104,7 +104,7 @@ def run_schedule(u1_code, u2_code, sched, interp=100, lam_k=8, kappa=64.0, adc_w
     u1 = np.asarray(u1_code, float) / (1 << (adc_w - 1))
     u2 = np.asarray(u2_code, float) / (1 << (adc_w - 1))
     n = len(u1)
-    rls = Rls(lam_k, kappa, theta0=(4.0, 4.0, 0.0, 0.0, 0.0))
+    rls = Rls(lambda_k, kappa, theta0=(4.0, 4.0, 0.0, 0.0, 0.0))
     g = g0
     cur = (0.5 / 2 ** g, 1.0, 0.0, 0.0, 0.0)   # the default bundle, in input units
     starts, values = [0], [cur]

@@ -1,9 +1,13 @@
 #!/usr/bin/env python3
 """Run the bit-true model on a CSV of ADC codes (same interface as `make rtlsim`).
 
-    python3 -m sim.run_model --in in.csv --out out.csv [--interp N] [--table exact|paper]
-        [--div D] [--adc-w W] [--count-mode M] [--ab-sep S] [--ab-src 0|1]
-        [--ab-bound B] [--vcd ref.vcd]
+    python3 -m sim.run_model --in in.csv --out out.csv [--table exact|paper] [--div D]
+        [--adc-w W] [--engine-lanes L] [--opt-harmonic 0|1] [--opt-monitor 0|1]
+        [--opt-jump 0|1] [--<setting> N ...] [--vcd ref.vcd]
+
+The settings (--interp, --eps, --lambda-k, --count-mode, --ab-sep, ...) are the register
+fields of rtl/regs/finequad.rdl, as the RTL harness takes them; those not given keep
+their reset values.
 """
 import argparse
 import os
@@ -12,7 +16,8 @@ import sys
 
 import numpy as np
 
-from sim.model import core
+from sim.model import finequad_core as core
+from sim.model import regs
 
 
 def die(msg: str):
@@ -24,6 +29,11 @@ def die(msg: str):
 # a field as the harness's strtol takes it (sim/harness/input.h parse_field): C
 # white space, an optional sign, decimal digits, nothing after them
 _FIELD = re.compile(rb"[ \t\n\v\f\r]*[+-]?[0-9]+")
+
+
+def shown(b: bytes) -> str:
+    """Bytes as the harness shows them: printable ASCII as is, others as \\xNN."""
+    return "".join(chr(c) if 0x20 <= c < 0x7f else f"\\x{c:02x}" for c in b)
 
 
 def _trim(line: bytes) -> bytes:
@@ -49,11 +59,8 @@ def read_codes(path: str, adc_w: int = 16):
         lines.pop()                              # the final newline ends the last line
     if not lines:
         die(f"{path}:1: empty file (expected header 'u1,u2')")
-    # bytes as the harness shows them: printable ASCII as is, others as \xNN
-    show = lambda b: "".join(chr(c) if 0x20 <= c < 0x7f else f"\\x{c:02x}"   # noqa: E731
-                             for c in b)
     if _trim(lines[0]) != b"u1,u2":
-        die(f"{path}:1: header is '{show(_trim(lines[0]))}', expected 'u1,u2'")
+        die(f"{path}:1: header is '{shown(_trim(lines[0]))}', expected 'u1,u2'")
     u1, u2 = [], []
     for ln, raw in enumerate(lines[1:], start=2):
         line = _trim(raw)
@@ -61,15 +68,15 @@ def read_codes(path: str, adc_w: int = 16):
             continue
         fields = line.split(b",")
         if len(fields) != 2:
-            die(f"{path}:{ln}: expected two values 'u1,u2', got '{show(line)}'")
+            die(f"{path}:{ln}: expected two values 'u1,u2', got '{shown(line)}'")
         vals = []
         for name, fld in zip(("u1", "u2"), fields):
             fld = _trim(fld)
             if not _FIELD.fullmatch(fld):
-                die(f"{path}:{ln}: {name}: not a decimal integer: '{show(fld)}'")
+                die(f"{path}:{ln}: {name}: not a decimal integer: '{shown(fld)}'")
             v = int(fld)
             if not lo <= v <= hi:
-                die(f"{path}:{ln}: {name}: code {show(fld)} out of the signed {adc_w}-bit "
+                die(f"{path}:{ln}: {name}: code {shown(fld)} out of the signed {adc_w}-bit "
                     f"range [{lo}, {hi}]")
             vals.append(v)
         a, b = vals
@@ -93,52 +100,58 @@ def write_result(path, res):
                      zip(res["count"], res["a"], res["b"], res["fault"]))
 
 
+def setting_options():
+    """The core's settings as options, as the RTL harness takes them (sim/harness/input.h
+    Settings): --<field> for each field a register write stores, '_' written '-', except
+    the coefficient bundle's (GAIN..C2)."""
+    return {"--" + f.name.replace("_", "-"): f for f in regs.SETTINGS.values()
+            if f.reg not in core.BUNDLE_REGS}
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description="bit-true model of finequad_core")
     ap.add_argument("--in", dest="inp", required=True)
     ap.add_argument("--out", required=True)
-    ap.add_argument("--interp", type=int, default=100)
-    ap.add_argument("--table", choices=["exact", "paper"], default="exact")
+    ap.add_argument("--table", choices=["exact", "paper"], default="exact",
+                    help="TABLE_EXACT: exact (1) or the paper's table (0)")
     ap.add_argument("--div", type=int, default=36, help="clocks per sample (default 36)")
-    ap.add_argument("--adc-w", type=int, default=16, help="ADC word width, 12..16")
-    ap.add_argument("--count-mode", type=int, default=0,
-                    help="counter mode (CTRL bit 3): 0 phase (default), 1 edge (x4 of A/B)")
-    ap.add_argument("--ab-sep", type=int, default=4,
-                    help="ABGEN: minimum clocks between A/B edges, 0..255 (default 4)")
-    ap.add_argument("--ab-src", type=int, default=0,
-                    help="ABGEN bit 8: 1 = the A/B pins show the Eq. 12 pulses")
-    ap.add_argument("--ab-bound", type=int, default=1024,
-                    help="AB_BOUND: A/B backlog bound in counts, 0..65535 (default 1024)")
+    ap.add_argument("--adc-w", type=int, default=16, help="ADC_W, 12..16")
     ap.add_argument("--vcd", help="write the reference VCD of the core's outputs")
-    ap.add_argument("--lanes", type=int, choices=[1, 2], default=1,
-                    help="lanes of the estimator's RLS engine (ENGINE_LANES; default 1)")
-    ap.add_argument("--harmonic", type=int, choices=[0, 1], default=1,
+    ap.add_argument("--engine-lanes", type=int, choices=[1, 2], default=1,
+                    help="ENGINE_LANES: lanes of the estimator's RLS engine (default 1)")
+    ap.add_argument("--opt-harmonic", type=int, choices=[0, 1], default=1,
                     help="OPT_HARMONIC: 0 = a core built without the harmonic compensation")
-    ap.add_argument("--monitor", type=int, choices=[0, 1], default=1,
+    ap.add_argument("--opt-monitor", type=int, choices=[0, 1], default=1,
                     help="OPT_MONITOR: 0 = a core built without the signal monitor's checks")
-    ap.add_argument("--jump", type=int, choices=[0, 1], default=1,
+    ap.add_argument("--opt-jump", type=int, choices=[0, 1], default=1,
                     help="OPT_JUMP: 0 = a core built without the estimator's jump detector")
+    opts = setting_options()
+    for o, f in opts.items():
+        # (a string: the value is checked below, with the harness's message)
+        ap.add_argument(o, dest="set_" + f.name, metavar="N",
+                        help=f"{f.reg}.{f.name}, {f.lo}..{f.hi} (reset {f.reset})")
     args = ap.parse_args(argv)
-    if not 1 <= args.interp <= 511:
-        die(f"--interp must be 1..511, got {args.interp}")
+    settings = {}
+    for o, f in opts.items():
+        text = getattr(args, "set_" + f.name)
+        if text is None:
+            continue
+        if not _FIELD.fullmatch(text.encode()):
+            die(f"{o}: not a decimal integer: '{shown(text.encode(errors='surrogateescape'))}'")
+        v = int(text)
+        if not f.lo <= v <= f.hi:
+            # (beyond the harness's long: named as written, as it does)
+            what = v if -(1 << 63) <= v < 1 << 63 else shown(text.encode(errors='surrogateescape'))
+            die(f"{o}: {what} is outside {f.lo}..{f.hi} ({f.reg}.{f.name})")
+        settings[f.name] = v
     if not 12 <= args.adc_w <= 16:
         die(f"--adc-w must be 12..16, got {args.adc_w}")
-    if args.count_mode not in (0, 1):
-        die(f"--count-mode must be 0 or 1, got {args.count_mode}")
-    if not 0 <= args.ab_sep <= 255:
-        die(f"--ab-sep must be 0..255 (clocks), got {args.ab_sep}")
-    if args.ab_src not in (0, 1):
-        die(f"--ab-src must be 0 or 1, got {args.ab_src}")
-    if not 0 <= args.ab_bound <= 65535:
-        die(f"--ab-bound must be 0..65535 (counts), got {args.ab_bound}")
     u1, u2 = read_codes(args.inp, args.adc_w)
     if args.div < 1:
         die(f"--div must be >= 1, got {args.div}")
-    cfg = core.Config(TABLE=args.table, interp=args.interp, div=args.div, ADC_W=args.adc_w,
-                      count_mode=args.count_mode, ab_sep=args.ab_sep, ab_src=args.ab_src,
-                      ab_bound=args.ab_bound, ENGINE_LANES=args.lanes,
-                      OPT_HARMONIC=args.harmonic, OPT_MONITOR=args.monitor,
-                      OPT_JUMP=args.jump)
+    cfg = core.Config(TABLE=args.table, div=args.div, ADC_W=args.adc_w,
+                      ENGINE_LANES=args.engine_lanes, OPT_HARMONIC=args.opt_harmonic,
+                      OPT_MONITOR=args.opt_monitor, OPT_JUMP=args.opt_jump, **settings)
     res = core.run(u1, u2, cfg, trace=bool(args.vcd))
     try:
         write_result(args.out, res)

@@ -1,4 +1,4 @@
-"""Reference VCD of finequad_core written from the bit-true model (sim/model/core.py).
+"""Reference VCD of finequad_core written from the bit-true model (sim/model/finequad_core.py).
 
     from sim import vcdref
     vcdref.write("ref.vcd", core.run(u1, u2, cfg, trace=True), cfg)
@@ -11,7 +11,7 @@ unit 1 ps, edge e (rising clk) at e * PERIOD_PS.
 Timing (rtl/finequad_core.v and its blocks; the harness never asserts rst): sample k is
 strobed on edge t_k = t0 + k * cfg.div and its results are registered on edge t_k + L,
 where L is the stage latency below. The model computes values, not fast-path latencies,
-so these come from the pipeline timing constants of sim/model/core.py (rtl_timing()), which
+so these come from the pipeline timing constants of sim/model/finequad_core.py (rtl_timing()), which
 the RTL declares as localparams. A comparison therefore checks that the RTL's registers
 follow those latencies and hold the model's values. All these signals change only on
 rising edges.
@@ -79,7 +79,8 @@ the ones declared here).
 import numpy as np
 from vcd import VCDWriter
 
-from sim.model import abgen, core
+from sim.model import abgen
+from sim.model import finequad_core as core
 
 PERIOD_PS = 27778        # sim/harness/harness.cpp (36 MHz)
 T0 = 16                  # edge of the first strobe in the harness
@@ -91,7 +92,7 @@ TIMING_KEYS = ("CORR_AT", "OCT_AT", "ADDR_AT", "PHASE_AT", "NTH_AT", "SIN_AT", "
 
 
 def rtl_timing():
-    """Edges from the strobe to each stage's result register (sim/model/core.py, which
+    """Edges from the strobe to each stage's result register (sim/model/finequad_core.py, which
     rtl/finequad_core.v declares as localparams and the tests hold it to)."""
     return {k: getattr(core, k) for k in TIMING_KEYS}
 
@@ -231,11 +232,11 @@ def write(path, res, cfg, t0=T0, period_ps=PERIOD_PS, strobes=None, signals=None
           timing=None):
     """Write the reference VCD of the core to `path`.
 
-    res: sim.model.core.run(..., trace=True) (without trace, the signals needing a trace
+    res: sim.model.finequad_core.run(..., trace=True) (without trace, the signals needing a trace
     array -- u1c, phase, illegal_count, ... -- are left out); cfg: core.Config (div,
     COUNT_W); strobes: the strobe edges if not t0 + k * cfg.div; signals: restrict to these
     names (relative to TOP.finequad_core); timing: stage edges (keys of rtl_timing(), all
-    of them) instead of those of sim/model/core.py. Returns the list of full
+    of them) instead of those of sim/model/finequad_core.py. Returns the list of full
     signal names written."""
     tm = rtl_timing() if timing is None else dict(timing)
     need = set(rtl_timing())

@@ -9,16 +9,18 @@
 //   LEDs: green = calibrated, red = a fault (clip, saturation, overspeed) seen
 //   BTN_N (user button): reset while pressed
 // The UP5K does not hold the core with a live register port: with the host link
-// (OPT_HOSTLINK = 1) the system packs into 6525 of 5280 logic cells (nextpnr-ice40, core of
-// commit f1d8707), 7760 with the signal monitor (commit 2c7718a). So this board runs the
-// core standalone: no host link (the registers at their reset values, which synthesis
-// folds into the logic; TX idles high); the ULX3S build (rtl/boards/top_ulx3s.v) has
-// everything. Since the signal monitor, the harmonic compensation does not fit either
-// (5416 cells, commit 0758fc5), hence OPT_HARMONIC = 0 (about 79 % of the cells and
-// 29..30 MHz: README, Boards, as measured). The PLL makes 20.25 MHz all the same: three
-// of the core's DSP blocks have a stage the open tools do not time (README, Performance
-// report), and the MHz to spare are its margin. A faster clock: DIVF, with ADC_PERIOD for
-// the ADC's quiet time; scripts/bitstream.sh fails when a build misses the PLL's clock.
+// (OPT_HOSTLINK = 1) the system needs more logic cells than the part's 5280. So this board
+// runs the core standalone: no host link (the registers at their reset values, which
+// synthesis folds into the logic; TX idles high), no harmonic compensation
+// (OPT_HARMONIC = 0); the ULX3S build (rtl/boards/top_ulx3s.v) has everything. The cells
+// and Fmax of this build: make bitstream. The PLL makes 20.25 MHz, below the roughly
+// 30 MHz nextpnr reports, because three of the core's DSP blocks have a stage the open
+// tools do not time (scripts/README.md, make report): the MHz to spare are its margin.
+// A faster clock: DIVF, with ADC_PERIOD for the ADC's quiet time; scripts/bitstream.sh
+// fails when a build misses the PLL's clock.
+// The build's parameters and PLL dividers: rtl/builds.toml [icebreaker], through the
+// generated rtl/boards/builds.vh (rtl/boards on the include path).
+`include "builds.vh"
 module top_icebreaker #(
     // folder of the core's $readmemh tables
     parameter TABLE_DIR = "rtl/tables/"
@@ -41,9 +43,8 @@ module top_icebreaker #(
 );
     wire clk, locked;
     SB_PLL40_PAD #(
-        // 12 MHz * 54 = 648 MHz VCO, / 32 = 20.25 MHz
-        .FEEDBACK_PATH("SIMPLE"), .DIVR(4'd0), .DIVF(7'd53), .DIVQ(3'd5),
-        .FILTER_RANGE(3'd1)
+        // 12 MHz * 54 = 648 MHz VCO, / 32 = 20.25 MHz (DIVR, DIVF, DIVQ, FILTER_RANGE)
+        .FEEDBACK_PATH("SIMPLE"), `FQ_ICEBREAKER_PLL
     ) u_pll (
         .PACKAGEPIN(CLK), .PLLOUTGLOBAL(clk), .LOCK(locked),
         .RESETB(1'b1), .BYPASS(1'b0)
@@ -56,10 +57,7 @@ module top_icebreaker #(
     wire rst = rst_sync[3];
 
     wire [3:0] status;
-    finequad_system #(
-        .TABLE_DIR(TABLE_DIR), .OPT_NTH_DSP(1'b0), .OPT_HARMONIC(1'b0), .OPT_HOSTLINK(1'b0),
-        .ADC_SCLK_HALF(1), .ADC_CS_SETUP(1), .ADC_PERIOD(33)
-    ) u_sys (
+    finequad_system #(.TABLE_DIR(TABLE_DIR), `FQ_ICEBREAKER_PARAMS) u_sys (
         .clk(clk), .rst(rst),
         .adc_cs_n_o(P1A1), .adc_sclk_o(P1A4), .adc_sdata1_i(P1A2), .adc_sdata2_i(P1A3),
         .uart_rx_i(RX), .uart_tx_o(TX), .a_o(P1B1), .b_o(P1B2), .status_o(status)

@@ -16,6 +16,9 @@
 // Pins from the board's ulx3s_v20.lpf (constraints/ulx3s.lpf); the Pmod-to-header
 // orientation follows the header's layout (3.3 V, GND, then pairs 0..3): check it
 // against your board before plugging the Pmod in.
+// The build's parameters and PLL settings: rtl/builds.toml [ulx3s], through the generated
+// rtl/boards/builds.vh (rtl/boards on the include path).
+`include "builds.vh"
 module top_ulx3s #(
     // folder of the core's $readmemh tables
     parameter TABLE_DIR = "rtl/tables/"
@@ -35,16 +38,17 @@ module top_ulx3s #(
     output wire       quad_b        // gn[1]
 );
     wire clk, locked;
-    (* FREQUENCY_PIN_CLKI="25" *)
-    (* FREQUENCY_PIN_CLKOP="35.7143" *)
+    (* FREQUENCY_PIN_CLKI=`FQ_ULX3S_CLKI_MHZ *)
+    (* FREQUENCY_PIN_CLKOP=`FQ_ULX3S_CLKOP_MHZ *)
     (* ICP_CURRENT="12" *) (* LPF_RESISTOR="8" *) (* MFG_ENABLE_FILTEROPAMP="1" *)
     (* MFG_GMCREF_SEL="2" *)
     EHXPLLL #(
         .PLLRST_ENA("DISABLED"), .INTFB_WAKE("DISABLED"), .STDBY_ENABLE("DISABLED"),
         .DPHASE_SOURCE("DISABLED"), .OUTDIVIDER_MUXA("DIVA"), .OUTDIVIDER_MUXB("DIVB"),
         .OUTDIVIDER_MUXC("DIVC"), .OUTDIVIDER_MUXD("DIVD"),
-        .CLKI_DIV(7), .CLKOP_ENABLE("ENABLED"), .CLKOP_DIV(17), .CLKOP_CPHASE(8),
-        .CLKOP_FPHASE(0), .FEEDBK_PATH("CLKOP"), .CLKFB_DIV(10)
+        .CLKOP_ENABLE("ENABLED"), .CLKOP_FPHASE(0), .FEEDBK_PATH("CLKOP"),
+        // CLKI_DIV, CLKFB_DIV, CLKOP_DIV, CLKOP_CPHASE
+        `FQ_ULX3S_PLL
     ) u_pll (
         .RST(1'b0), .STDBY(1'b0), .CLKI(clk_25mhz), .CLKOP(clk), .CLKFB(clk),
         .PHASESEL0(1'b0), .PHASESEL1(1'b0), .PHASEDIR(1'b1),
@@ -58,12 +62,7 @@ module top_ulx3s #(
     wire rst = rst_sync[3];
 
     wire [3:0] status;
-    finequad_system #(
-        .TABLE_DIR(TABLE_DIR), .OPT_NTH_DSP(1'b1), .OPT_HARMONIC(1'b1),
-        .OPT_DISTRAM(1'b1), .OPT_PHASE_4K(1'b1),
-        .ADC_SCLK_HALF(1), .ADC_CS_SETUP(1), .ADC_PERIOD(36), .BAUD_DIV(310),
-        .UART_TIMEOUT(20'd283000)
-    ) u_sys (
+    finequad_system #(.TABLE_DIR(TABLE_DIR), `FQ_ULX3S_PARAMS) u_sys (
         .clk(clk), .rst(rst),
         .adc_cs_n_o(adc_cs_n), .adc_sclk_o(adc_sclk), .adc_sdata1_i(adc_sdata1),
         .adc_sdata2_i(adc_sdata2), .uart_rx_i(ftdi_txd), .uart_tx_o(ftdi_rxd),

@@ -17,7 +17,7 @@ module rls_engine #(
     input  wire [ROM_AW-1:0]  entry_i,
     input  wire signed [15:0] x1_i,
     input  wire signed [15:0] x2_i,
-    input  wire [4:0]         lam_k_i,
+    input  wire [4:0]         lambda_k_i,
     input  wire               freeze_i,
     input  wire [15:0]        kappa_i,
     input  wire signed [2:0]  dg_i,
@@ -54,7 +54,7 @@ module rls_engine #(
     initial begin
         busy_o = 1'b0; sat_o = 1'b0;
     end
-    wire unused = &{1'b0, TABLE_DIR != 0, LANES, axis_i, entry_i, x1_i, x2_i, lam_k_i, freeze_i,
+    wire unused = &{1'b0, TABLE_DIR != 0, LANES, axis_i, entry_i, x1_i, x2_i, lambda_k_i, freeze_i,
                    kappa_i, dg_i, 1'b0};
 endmodule
 `resetall

@@ -1,26 +1,25 @@
 // Compiled Verilator harness of finequad_core: CSV of ADC codes in, one CSV row per
 // sample out. No Python runs per clock. Built and run by `make rtlsim`.
 //
-//   rtlsim --in in.csv --out out.csv [--interp N] [--eps E] [--lam-k K] [--kappa Q]
-//          [--period P] [--settle S] [--gate G] [--jump J] [--count-mode M]
-//          [--ab-sep S] [--ab-src 0|1] [--ab-bound B] [--clip C] [--radius R]
-//          [--monitor M] [--div D] [--vcd out.vcd] [--dump-regs]
+//   rtlsim --in in.csv --out out.csv [--<setting> N ...] [--div D] [--vcd out.vcd]
+//          [--dump-regs]
 //   rtlsim --raw [options]       stream: stdin int16 LE pairs (u1, u2) per sample, stdout
 //                                one 8-byte record per sample: int32 count, uint16 fault,
 //                                uint8 a, uint8 b (LE); for long runs (scripts/soak.py)
 //
-// --clip, --radius, --monitor: the CLIP, RADIUS and MONITOR registers (0x18..0x1a) as
-// words. --dump-regs: after the last sample, stderr gets 'regs: name=value ...' of the
-// counters and status (UPDATES, JUMPS, ILLEGAL, FAULT_STICKY, STATUS, COUNT, GAIN).
+// Settings: --<field> N writes a register field of rtl/regs/finequad.rdl before the first
+// sample (--interp, --eps, --lambda-k, --count-mode, --ab-sep, --jump-off, --loss, ...:
+// input.h Settings); those not given keep their reset values. --dump-regs: after the
+// last sample, stderr gets 'regs: name=value ...' of the counters and status (UPDATES,
+// JUMPS, ILLEGAL, FAULT_STICKY, STATUS, COUNT, GAIN).
 //
-// --count-mode: CTRL bit 3, 0 phase (count = 4 n phase, default), 1 edge (x4 of A/B).
 // a, b: the A/B pins after the sample's output edge (paced, or with --ab-src 1 the
 // Eq. 12 pulses).
 //
 // The VCD holds every signal of the design (Verilator --trace); it grows by about
 // 27 MB per 1000 samples at 36 clocks per sample, so dump short excerpts.
 //
-// Timing (the bit-true model uses the same): registers are written on edges 0..7, sample
+// Timing (the bit-true model uses the same): registers are written on edges 0, 1, ..., sample
 // k is strobed on edge T0 + k * div (T0 = 16); edge e is at time e * PERIOD_PS in the VCD.
 //
 // Two builds (Makefile): the harness of `make rtlsim` is built without --trace and runs
@@ -151,10 +150,8 @@ struct CsvOut {
 
 int main(int argc, char **argv) {
     std::string in, out, vcd;
-    long interp = 100, eps = 1638, lam_k = 8, kappa = 0x4000, period = 0, settle = 32,
-         gate = 64, div = 36, count_mode = 0, jump = 41, ab_sep = 4, ab_src = 0,
-         ab_bound = 1024, clip = 32512, radius = (22118L << 16) | 3277,
-         monitor = (8L << 16) | 10;
+    long div = 36;
+    Settings set;
     bool raw = false, dump_regs = false;
     for (int i = 1; i < argc; i++) {
         std::string a = argv[i];
@@ -165,50 +162,19 @@ int main(int argc, char **argv) {
         if (a == "--in") in = val("--in");
         else if (a == "--out") out = val("--out");
         else if (a == "--vcd") vcd = val("--vcd");
-        else if (a == "--interp") interp = parse_long(val("--interp"), "--interp");
-        else if (a == "--eps") eps = parse_long(val("--eps"), "--eps");
-        else if (a == "--lam-k") lam_k = parse_long(val("--lam-k"), "--lam-k");
-        else if (a == "--kappa") kappa = parse_long(val("--kappa"), "--kappa");
-        else if (a == "--period") period = parse_long(val("--period"), "--period");
-        else if (a == "--settle") settle = parse_long(val("--settle"), "--settle");
-        else if (a == "--gate") gate = parse_long(val("--gate"), "--gate");
         else if (a == "--div") div = parse_long(val("--div"), "--div");
-        else if (a == "--jump") jump = parse_long(val("--jump"), "--jump");
-        else if (a == "--count-mode") count_mode = parse_long(val("--count-mode"), "--count-mode");
-        else if (a == "--ab-sep") ab_sep = parse_long(val("--ab-sep"), "--ab-sep");
-        else if (a == "--ab-src") ab_src = parse_long(val("--ab-src"), "--ab-src");
-        else if (a == "--ab-bound") ab_bound = parse_long(val("--ab-bound"), "--ab-bound");
-        else if (a == "--clip") clip = parse_long(val("--clip"), "--clip");
-        else if (a == "--radius") radius = parse_long(val("--radius"), "--radius");
-        else if (a == "--monitor") monitor = parse_long(val("--monitor"), "--monitor");
+        else if (set.take(argc, argv, i)) continue;
         else if (a == "--raw") raw = true;
         else if (a == "--dump-regs") dump_regs = true;
         else if (a.rfind("+verilator", 0) == 0) continue;
         else die("unknown argument '" + a + "'");
     }
     if (!raw && (in.empty() || out.empty()))
-        die("usage: rtlsim --in IN.csv --out OUT.csv [--interp N] ... | rtlsim --raw [...]");
+        die("usage: rtlsim --in IN.csv --out OUT.csv [--div D] [--vcd F] [--dump-regs]" +
+            Settings::usage() + " | rtlsim --raw [...]");
     if (raw && (!in.empty() || !out.empty() || !vcd.empty()))
         die("--raw streams stdin to stdout: no --in, --out or --vcd");
-    if (interp < 1 || interp > 511) die("--interp must be 1..511, got " + std::to_string(interp));
     if (div < 1) die("--div must be >= 1");
-    if (eps < 0 || eps > 32767) die("--eps must be 0..32767 (u0.15)");
-    if (lam_k < 1 || lam_k > 23) die("--lam-k must be 1..23");
-    if (kappa < 1 || kappa > 65535) die("--kappa must be 1..65535 (u8.8)");
-    if (period < 0 || period > 65535) die("--period must be 0..65535");
-    if (settle < 0 || settle > 1023) die("--settle must be 0..1023");
-    if (gate < 0 || gate > 4096) die("--gate must be 0..4096");
-    if (count_mode < 0 || count_mode > 1) die("--count-mode must be 0 or 1");
-    if (ab_sep < 0 || ab_sep > 255) die("--ab-sep must be 0..255 (clocks)");
-    if (ab_src < 0 || ab_src > 1) die("--ab-src must be 0 or 1");
-    if (ab_bound < 0 || ab_bound > 65535) die("--ab-bound must be 0..65535 (counts)");
-    if (jump < 0 || jump > 65535 || (jump & 0x7800))
-        die("--jump must be the JUMP register: bit 15 off, bits 10..0 floor");
-    if (clip < 0 || clip > 65535) die("--clip must be 0..65535 (u16 level)");
-    if (radius < 0 || radius > 0xFFFFFFFFL) die("--radius must be a 32-bit word");
-    if (monitor < 0 || monitor > 0xFFFFFF || (monitor & 0xFFF0))
-        die("--monitor must be the MONITOR register: bits 23..16 stuck samples, 3..0 glitch "
-            "exponent K");
 
 #if !VM_TRACE
     if (!vcd.empty()) {
@@ -275,13 +241,9 @@ int main(int argc, char **argv) {
         rise();
     };
 #endif
-    // CTRL (0) last: bit 3 the counter mode, bit 0 (covariance reset request) clear
-    const long regs[][2] = {{1, interp}, {2, eps}, {3, lam_k}, {4, kappa},
-                            {5, period}, {6, settle}, {7, gate}, {0x13, jump},
-                            {0x15, ab_sep | (ab_src << 8)}, {0x16, ab_bound},
-                            {0x18, clip}, {0x19, radius}, {0x1a, monitor},
-                            {0, count_mode << 3}};
-    const long n_regs = (long)(sizeof regs / sizeof regs[0]);
+    // the settings given (CTRL's pulses 0), one register per edge from edge 0
+    const auto regs = set.writes();
+    const long n_regs = (long)regs.size();
     if (T0 < n_regs + 1) die("internal: the register writes run into the first strobe");
     long written = 0, strobed = 0;
     long last_edge = -1;                 // set when the source runs dry
@@ -321,8 +283,8 @@ int main(int argc, char **argv) {
         top->reg_we = (e < n_regs);
         top->reg_re = 0;
         if (e < n_regs) {
-            top->reg_addr = regs[e][0];
-            top->reg_wdata = (uint32_t)regs[e][1];
+            top->reg_addr = regs[e].first;
+            top->reg_wdata = regs[e].second;
         }
         bool strobe = have && e == T0 + strobed * div;
         top->s_valid = strobe;
@@ -338,8 +300,9 @@ int main(int argc, char **argv) {
     if (dump_regs) {
         // registered read port: address for one edge, the value after it
         const struct { const char *name; int addr; } rd[] = {
-            {"UPDATES", 0x11}, {"JUMPS", 0x14}, {"ILLEGAL", 0x09}, {"FAULT_STICKY", 0x0a},
-            {"STATUS", 0x00}, {"COUNT", 0x08}, {"GAIN", 0x0b}};
+            {"UPDATES", FQ_UPDATES}, {"JUMPS", FQ_JUMPS}, {"ILLEGAL", FQ_ILLEGAL},
+            {"FAULT_STICKY", FQ_FAULT_STICKY}, {"STATUS", FQ_STATUS}, {"COUNT", FQ_COUNT},
+            {"GAIN", FQ_GAIN}};
         top->reg_we = 0;
         top->s_valid = 0;
         std::fprintf(stderr, "regs:");

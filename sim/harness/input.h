@@ -30,6 +30,8 @@
 
 #include <sys/stat.h>
 
+#include "regs.h"
+
 [[noreturn]] static void die(const std::string &msg) {
     std::cerr << HARNESS_TOOL << ": error: " << msg << std::endl;
     std::exit(2);
@@ -145,5 +147,95 @@ static void read_csv(const std::string &path, std::vector<int> &u1, std::vector<
     }
     if (u1.empty()) die(path + ": no samples after the header");
 }
+
+// A setting's reset value (sim/harness/regs.h).
+static long setting_reset(const char *name) {
+    for (int k = 0; k < FQ_N_SETTINGS; k++)
+        if (!std::strcmp(FQ_SETTINGS[k].name, name)) return FQ_SETTINGS[k].reset;
+    die(std::string("internal: no setting '") + name + "'");
+}
+
+// A setting's value placed at its field's position (its register's other bits 0).
+static uint32_t field_word(const char *name, long v) {
+    for (int k = 0; k < FQ_N_SETTINGS; k++) {
+        const FqSetting &f = FQ_SETTINGS[k];
+        if (std::strcmp(f.name, name)) continue;
+        const uint32_t mask = f.width >= 32 ? 0xFFFFFFFFu : ((1u << f.width) - 1u);
+        return ((uint32_t)v & mask) << f.lsb;
+    }
+    die(std::string("internal: no setting '") + name + "'");
+}
+
+// The core's settings as options: --<field> VALUE for each field a register write stores
+// (sim/harness/regs.h, generated from rtl/regs/finequad.rdl; '_' written '-'), except the
+// coefficient bundle's (GAIN..C2: staged for a LOAD, which the harnesses do not make).
+// Only the settings given are written; the others keep their reset values.
+// sim/run_model.py takes the same options and names the same errors.
+struct Settings {
+    long value[FQ_N_SETTINGS];
+    bool given[FQ_N_SETTINGS] = {};
+    static bool bundle(const FqSetting &f) {
+        return f.index >= FQ_GAIN && f.index <= FQ_C2;
+    }
+    static std::string option(const FqSetting &f) {
+        std::string o = std::string("--") + f.name;
+        for (char &c : o)
+            if (c == '_') c = '-';
+        return o;
+    }
+    // takes argv[i] (and its value, i advanced) if it names a setting
+    bool take(int argc, char **argv, int &i) {
+        for (int k = 0; k < FQ_N_SETTINGS; k++) {
+            const FqSetting &f = FQ_SETTINGS[k];
+            const std::string o = option(f);
+            if (bundle(f) || o != argv[i]) continue;
+            if (i + 1 >= argc) die("missing value after " + o);
+            const std::string text = argv[++i];
+            errno = 0;
+            char *end = nullptr;
+            long v = std::strtol(text.c_str(), &end, 10);
+            if (end == text.c_str() || end != text.c_str() + text.size())
+                die(o + ": not a decimal integer: '" + shown(text) + "'");
+            // (beyond a long: named as written, as sim/run_model.py does)
+            if (errno == ERANGE || v < f.lo || v > f.hi)
+                die(o + ": " + (errno == ERANGE ? shown(text) : std::to_string(v)) +
+                    " is outside " + std::to_string(f.lo) + ".." + std::to_string(f.hi) + " (" +
+                    f.reg + "." + f.name + ")");
+            value[k] = v;
+            given[k] = true;
+            return true;
+        }
+        return false;
+    }
+    // (word index, word) of each register a given setting is in: its settings as given or
+    // at their reset values, its pulses 0
+    std::vector<std::pair<int, uint32_t>> writes() const {
+        std::vector<std::pair<int, uint32_t>> out;
+        for (int k = 0; k < FQ_N_SETTINGS; k++) {
+            if (!given[k]) continue;
+            const int idx = FQ_SETTINGS[k].index;
+            bool done = false;
+            for (const auto &w : out) done = done || w.first == idx;
+            if (done) continue;
+            uint32_t word = 0;
+            for (int j = 0; j < FQ_N_SETTINGS; j++) {
+                const FqSetting &f = FQ_SETTINGS[j];
+                if (f.index != idx) continue;
+                const long v = given[j] ? value[j] : f.reset;
+                const uint32_t mask = f.width >= 32 ? 0xFFFFFFFFu : ((1u << f.width) - 1u);
+                word |= ((uint32_t)v & mask) << f.lsb;
+            }
+            out.emplace_back(idx, word);
+        }
+        return out;
+    }
+    // the options, for a usage line
+    static std::string usage() {
+        std::string u;
+        for (int k = 0; k < FQ_N_SETTINGS; k++)
+            if (!bundle(FQ_SETTINGS[k])) u += " [" + option(FQ_SETTINGS[k]) + " N]";
+        return u;
+    }
+};
 
 #endif  // FINEQUAD_HARNESS_INPUT_H

@@ -9,13 +9,13 @@
 // stream: the timing of sim/harness/harness.cpp (registers written on edges 0..10 with
 // the harness' defaults, sample k strobed on edge T0 + k * div, T0 = 16), so out.csv
 // (count,a,b,fault) equals `make model` with the same DIV. After the register writes the
-// read port reads UPDATES (0x11) on every edge; trace.csv has one row per sample:
+// read port reads UPDATES on every edge; trace.csv has one row per sample:
 // its strobe edge, the edge its result appeared on (m_valid), and UPDATES after that
 // edge (with PROBE_INTERNALS also, cumulative, the programs started -- RESET, UPDATE,
 // EXTRACT --, the clocks the engine was busy with each, and the candidates the phase
 // gate turned away). A summary line (JSON) goes
 // to stdout: edges with m_valid, the first and last of
-// them, the longest gap, JUMPS (0x14) read at the end.
+// them, the longest gap, JUMPS read at the end.
 //
 // latency: samples on a centred circle of radius 0.49 of full scale (the power-up
 // coefficients, radius 0.5 after the gain, take it as calibrated enough for the phase) at
@@ -94,9 +94,8 @@ static int stream(int argc, char **argv, const std::string &in, const std::strin
     std::fprintf(ft, "strobe_edge,out_edge,updates\n");
 #endif
     Core c(argc, argv);
-    // the harness' registers (sim/harness/harness.cpp defaults), CTRL last
-    const long regs[][2] = {{1, interp}, {2, 1638}, {3, 8}, {4, 0x4000}, {5, 0}, {6, 32},
-                            {7, 64}, {0x13, 41}, {0x15, 4}, {0x16, 1024}, {0, 0}};
+    // as `make rtlsim --interp N`: INTERP written, every other register at its reset value
+    const long regs[][2] = {{FQ_INTERP, interp}};
     const long n_regs = (long)(sizeof regs / sizeof regs[0]);
     const long n = (long)u1.size();
     const long last_edge = T0 + (n - 1) * div + 12;
@@ -111,7 +110,7 @@ static int stream(int argc, char **argv, const std::string &in, const std::strin
             c.top->reg_addr = regs[e][0];
             c.top->reg_wdata = (uint32_t)regs[e][1];
         } else {
-            c.top->reg_addr = 0x11;  // UPDATES
+            c.top->reg_addr = FQ_UPDATES;
         }
         bool strobe = next < n && e == T0 + next * div;
         c.top->s_valid = strobe;
@@ -152,11 +151,11 @@ static int stream(int argc, char **argv, const std::string &in, const std::strin
         }
         c.fall();
     }
-    // JUMPS (0x14): the jump detector's resets during the run
+    // JUMPS: the jump detector's resets during the run
     c.top->s_valid = 0;
     c.top->reg_we = 0;
     c.top->reg_re = 1;
-    c.top->reg_addr = 0x14;
+    c.top->reg_addr = FQ_JUMPS;
     c.step();
     unsigned jumps = c.top->reg_rdata;
     c.fall();
@@ -174,7 +173,9 @@ static int stream(int argc, char **argv, const std::string &in, const std::strin
 static int latency(int argc, char **argv, long trials, long interp, long ab_src, long ab_sep,
                    long step_u13, long space, unsigned seed) {
     Core c(argc, argv);
-    const long regs[][2] = {{1, interp}, {0x15, ab_sep | (ab_src << 8)}, {0x16, 1024}};
+    // (AB_BOUND at its reset value)
+    const long regs[][2] = {{FQ_INTERP, interp},
+                            {FQ_ABGEN, field_word("ab_sep", ab_sep) | field_word("ab_src", ab_src)}};
     for (auto &r : regs) {
         c.top->reg_we = 1;
         c.top->reg_addr = r[0];
@@ -233,8 +234,8 @@ static int latency(int argc, char **argv, long trials, long interp, long ab_src,
 int main(int argc, char **argv) {
     if (argc < 2) die("usage: probe stream|latency [options] (see sim/harness/probe.cpp)");
     std::string mode = argv[1], in, out, trace;
-    long div = 1, interp = 100, trials = 50, ab_src = 0, ab_sep = 4, seed = 1, step = 97,
-         space = 64;
+    long div = 1, interp = setting_reset("interp"), trials = 50, ab_src = setting_reset("ab_src"),
+         ab_sep = setting_reset("ab_sep"), seed = 1, step = 97, space = 64;
     for (int i = 2; i < argc; i++) {
         std::string a = argv[i];
         auto val = [&](const char *name) -> std::string {

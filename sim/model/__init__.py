@@ -1,1 +1,1 @@
-"""Bit-true model of the finequad RTL: one module per RTL block (see README)."""
+"""Bit-true model of the finequad RTL: one module per RTL module, named as it (sim/README.md)."""

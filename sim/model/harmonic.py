@@ -75,6 +75,8 @@ scale); R s23; corr s10 units; E, P s13.5; V s13.13; M s13.7.
 """
 import numpy as np
 
+from .regs import SETTINGS
+
 BINS_LOG2 = 6
 BINS = 1 << BINS_LOG2
 BIN_SHIFT = 13 - BINS_LOG2
@@ -94,8 +96,8 @@ VMAX = 512
 ELOCK = 256        # learning only while |E| < ELOCK units
 H_W = 16           # table entry s8.8
 D_W = 12           # update clamp s12
-MU_DEFAULT = 4     # 3..6 (the RTL's mu_i + 3)
-MU_MIN, MU_MAX = 3, 6
+MU_MIN, MU_MAX = 3, 6   # the LMS step is 2^-mu, mu = MU_MIN + HARM.harm_mu
+MU_DEFAULT = MU_MIN + SETTINGS["harm_mu"].reset
 SWEEP = 64         # clocks of a clear (one RAM word per clock)
 
 P_W = 13 + PF
@@ -255,7 +257,7 @@ class Harmonic:
 def run(phase, apply=1, learn=1, mu=MU_DEFAULT, clear=None, blocked=None, trace=False):
     """One stream from power-up (all state zero). Returns (phase_c, state), with trace
     (phase_c, state, internals). (With learn off from power-up the table stays empty and
-    phase_c = phase: sim.model.core skips the call then.)"""
+    phase_c = phase: sim.model.finequad_core skips the call then.)"""
     h = Harmonic()
     r = h.run(phase, apply=apply, learn=learn, mu=mu, clear=clear, blocked=blocked,
               trace=trace)

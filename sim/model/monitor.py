@@ -98,6 +98,8 @@ travel (U, S) as an accepted one does.
 """
 from dataclasses import dataclass
 
+from .regs import SETTINGS
+
 STUCK_SPAN = 2048        # s2.14: 1/8 of the calibrated radius
 OVER_PERSIST = 4095      # samples of over-range before it is let in to the estimator
 COAST_MAX = 16           # glitches coasted in a row before an unclipped sample re-anchors
@@ -120,11 +122,12 @@ def radius(ax, ay):
 
 @dataclass
 class MonitorRegs:
-    """Run-time settings of the monitor (registers RADIUS and MONITOR)."""
-    loss: int = 3277         # RADIUS [15:0]: u16 radius below which the signal is lost (0.2)
-    over: int = 22118        # RADIUS [31:16]: u16 radius above which it is over-range (1.35)
-    glitch_k: int = 10       # MONITOR [3:0]: max |phase acceleration| 2^K (0: off)
-    stuck_n: int = 8         # GLITCH [23:16]: samples of an unchanged code (0: off)
+    """Run-time settings of the monitor: the fields of RADIUS and MONITOR
+    (rtl/regs/finequad.rdl), defaults their reset values."""
+    loss: int = SETTINGS["loss"].reset       # radius (s2.14) below which the signal is lost
+    over: int = SETTINGS["over"].reset       # radius above which it is over-range
+    glitch_k: int = SETTINGS["glitch_k"].reset   # max |phase acceleration| 2^K (0: off)
+    stuck_n: int = SETTINGS["stuck_n"].reset     # samples of an unchanged code (0: off)
 
 
 class Monitor:

@@ -1,10 +1,10 @@
-"""Microcode of the estimator engine: RLS update (Eqs. 5-7) and CORDIC-free extraction (Eq. 8).
+"""Microcode of the RLS engine (rtl/rls_engine.v): the RLS update (Eqs. 5-7), extraction (Eq. 8).
 
 The engine (rtl/rls_engine.v) is a small fixed-point VLIW machine with LANES (1 or 2)
 lanes, each a pipelined 32x32 multiplier with its own 64-bit accumulator and write-back,
 and a 64 x 32-bit register file in block RAM. This file writes its three programs in a
 readable assembly, schedules them for the pipeline and the lanes (no hazards, NOPs where
-needed) and encodes one ROM image per LANES. The bit-true model (sim/model/estimator.py)
+needed) and encodes one ROM image per LANES. The bit-true model (sim/model/rls_engine.py)
 executes exactly the same ROM image, so RTL and model can only differ if the machine
 differs, which the block tests check.
 

@@ -270,7 +270,7 @@ def test_float_twin_follows_the_gateware_schedule_to_the_truth():
     at the floor; with an empty schedule it keeps the default bundle (a circle of radius
     0.5 without offsets), far off on these signals."""
     from sim import metrics, siggen
-    from sim.model import core
+    from sim.model import finequad_core as core
     sig = siggen.Signal(A1=0.6, A2=0.5, m1=0.03, m2=-0.02, phi=0.1, noise=0.002)
     x = siggen.moves(1e6, [("dwell", 0.002), ("move", 0.3e6, 20e6, 1e9, 1e11)])
     u1, u2, a = siggen.encode(x, 4000.0, sig, seed=5)

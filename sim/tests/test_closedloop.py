@@ -6,7 +6,7 @@ from scipy.integrate import solve_ivp
 
 from sim import closedloop as cl
 from sim import siggen
-from sim.model import core
+from sim.model import finequad_core as core
 
 
 def test_free_acceleration_matches_the_closed_form():

@@ -4,8 +4,8 @@ fine-phase streams through the block's model alone.
 
 The counter's error with the correction applied (the default) is compared with the same
 recording's counter on the uncorrected phase (apply off: the counter of the raw fine
-phase, which is what the core counts with HARM bit 0 clear): fastpath.counter in phase
-mode on the traced phase, with the product n * phase from fastpath.Lut.nth and n,
+phase, which is what the core counts with HARM bit 0 clear): counter in phase
+mode on the traced phase, with the product n * phase from Lut.nth and n,
 COUNT_W of the run's Config, as core.Core counts; with nothing learned the two counts
 are equal sample for sample.
 """
@@ -15,7 +15,9 @@ import numpy as np
 import pytest
 
 from sim import metrics, scenarios, siggen
-from sim.model import core, fastpath as fp, harmonic as hm
+from sim.model import finequad_core as core
+from sim.model import counter as counter_m, lut as lut_m
+from sim.model import harmonic as hm
 
 PITCH = scenarios.PITCH_NM
 N_INTERP = core.Config().interp      # the runs below use the default n
@@ -35,12 +37,12 @@ def _score(sc, a, count):
 
 def _count_off(r, cfg):
     """The core's phase-mode count of the uncorrected fine phase (what m_count is with HARM
-    bit 0 clear): fastpath.counter on r["phase"] with the product n * phase as rtl/lut.v
-    forms it (fastpath.Lut.nth), n and COUNT_W of the run's Config, as core.Core counts
+    bit 0 clear): counter on r["phase"] with the product n * phase as rtl/lut.v
+    forms it (Lut.nth), n and COUNT_W of the run's Config, as core.Core counts
     the corrected phase."""
     ph = np.asarray(r["phase"], dtype=np.int64)
-    prod = fp.Lut(cfg.TABLE, cfg.SIN_W).nth(ph, cfg.interp)[0]
-    return fp.counter(ph, prod, cfg.interp, cfg.COUNT_W)[0]
+    prod = lut_m.Lut(cfg.TABLE, cfg.SIN_W).nth(ph, cfg.interp)[0]
+    return counter_m.counter(ph, prod, cfg.interp, cfg.COUNT_W)[0]
 
 
 def phase_error(phase, a, lo, hi):

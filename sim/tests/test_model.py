@@ -7,7 +7,7 @@ import pytest
 
 from sim import metrics, reference, siggen
 from sim.model import program
-from sim.model.estimator import Estimator
+from sim.model.rls_engine import RlsEngine
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "scripts"))       # scripts/demo.py (its recording)
@@ -24,13 +24,13 @@ def test_estimator_matches_float_reference(amp):
     u1, u2, _ = siggen.encode(x, 4000.0, sig, seed=4)
     g = max(c for c in range(4) if (max(np.abs(u1).max(), np.abs(u2).max()) * 2 ** c) < 2 ** 14
             ) if amp < 0.5 else 0
-    est = Estimator()
+    est = RlsEngine()
     est.run("reset", kappa=64 << 8, dg=0)
-    bound = (5 * (64 << 8)) >> 4              # the trace bound, as sim.model.core applies it
-    ref = reference.Rls(lam_k=8, kappa=64.0)
+    bound = (5 * (64 << 8)) >> 4              # the trace bound, as sim.model.finequad_core applies it
+    ref = reference.Rls(lambda_k=8, kappa=64.0)
     for a, b in zip(u1, u2):
         a, b = int(a) << g, int(b) << g
-        ok = est.run("update", x1=a, x2=b, lam_k=8, freeze=int(est.out[6] >= bound))
+        ok = est.run("update", x1=a, x2=b, lambda_k=8, freeze=int(est.out[6] >= bound))
         ref.update(a / 32768, b / 32768)
     assert ok
     assert est.run("extract")
@@ -80,7 +80,7 @@ def test_program_is_hazard_free():
 def test_core_works_from_10_to_95_percent_of_full_scale(amp, bits):
     """The whole core (bit-true model, proved equal to the RTL elsewhere) stays near the
     floor of METHOD.md with no slips, at the ends of the amplitude range."""
-    from sim.model import core
+    from sim.model import finequad_core as core
     n = 250000
     x = siggen.s_curve(n, 1e6, 0.25e6, 0.1, t_start=0.01)
     x += siggen.s_curve(n, 1e6, -0.15e6, 0.08, t_start=0.14)
@@ -101,7 +101,7 @@ def test_first_hand_over_waits_for_the_input_gain(bits):
     the paper's table, whose index assumes the unit radius, counts without a slip within
     its linearisation error (the demo's recording, scripts/demo.py --amp 0.1)."""
     import demo
-    from sim.model import core
+    from sim.model import finequad_core as core
     x, u1, u2, a, sig = demo.recording(0.5, 1, 0.1, bits)
     r = core.run(u1, u2, core.Config(TABLE="paper", ADC_W=bits), trace=True)
     cal = np.nonzero(((r["fault"] >> core.FAULT_BITS["uncal"]) & 1) == 0)[0]
@@ -115,11 +115,11 @@ def test_first_hand_over_waits_for_the_input_gain(bits):
 def test_constant_speed_where_signal_and_update_rates_alias(div, f_over_fs):
     """Speeds where the signal period divides the update period (128 clocks): at a sample
     per clock and fs / 128 every update decided at the end of the last would see the same
-    phase. The dither (core.dither: the candidate is strobed a random 0..DSPAN clocks
+    phase. The dither (estimator.dither: the candidate is strobed a random 0..DSPAN clocks
     after the decision) spreads the updates over the circle, and the fit is handed over
     (with the dither counted in samples, 0..15, the first three never handed over: the
     count stayed on the default coefficients, 1.3 to 1.4 times the floor)."""
-    from sim.model import core
+    from sim.model import finequad_core as core
     n = 120000
     x = siggen.constant_speed(n, 1e6, f_over_fs * 1e6 * 4000.0)
     u1, u2, a = siggen.encode(x, 4000.0, siggen.Signal(), seed=3)
@@ -132,25 +132,25 @@ def test_dither_covers_the_span_and_no_more():
     """dither(): every value 0..DSPAN occurs over the LFSR's period and none above: a
     candidate strobed at any of them is checked by the edge the UPDATE ends (one axis)
     or the axis's next window opens (a shared engine)."""
-    from sim.model import core, estimator
+    from sim.model import estimator
     spans = []
     for lanes in (1, 2):
         cyc = estimator.CYCLES_BY_LANES[lanes]
-        spans.append(core.dither_span(cyc))
-        assert spans[-1] == cyc["update"] + core.START_DELAY - core.PHASE_STAGE
+        spans.append(estimator.dither_span(cyc))
+        assert spans[-1] == cyc["update"] + estimator.START_DELAY - estimator.PHASE_STAGE
         for axes in (2, 4):
-            ln = core.tdm_period(64, lanes)
-            spans.append(core.dither_span(cyc, axes * ln))
-            assert spans[-1] == axes * ln - core.PHASE_STAGE
+            ln = estimator.tdm_period(64, lanes)
+            spans.append(estimator.dither_span(cyc, axes * ln))
+            assert spans[-1] == axes * ln - estimator.PHASE_STAGE
     assert spans[0] == 120 and spans[3] == 79
     for span in spans + [1, 2, 64, 32767]:
-        v, seen = core.LFSR_SEED, set()
+        v, seen = estimator.LFSR_SEED, set()
         for _ in range(65535):
-            seen.add(core.dither(v, span))
-            v = core.lfsr_step(v)
-        assert v == core.LFSR_SEED and seen == set(range(span + 1)), span
+            seen.add(estimator.dither(v, span))
+            v = estimator.lfsr_step(v)
+        assert v == estimator.LFSR_SEED and seen == set(range(span + 1)), span
     with pytest.raises(ValueError, match="dither span 32768"):
-        core.dither_span({"update": 0}, 32768 + core.PHASE_STAGE)
+        estimator.dither_span({"update": 0}, 32768 + estimator.PHASE_STAGE)
 
 
 def test_shared_engine_axis_calibrates_where_its_update_period_aliases():
@@ -158,8 +158,9 @@ def test_shared_engine_axis_calibrates_where_its_update_period_aliases():
     window, one every 2 L = 518 clocks, so its dither must span that period: at a signal
     period of 518 clocks (36 clocks per sample) a dither over one UPDATE (120 clocks)
     saw a fixed arc and never handed over."""
-    from sim.model import core
-    ln = core.tdm_period(64)
+    from sim.model import estimator
+    from sim.model import finequad_core as core
+    ln = estimator.tdm_period(64)
     n, div = 30000, 36
     x = siggen.constant_speed(n, 1e6, div / (2 * ln) * 1e6 * 4000.0)
     u1, u2, a = siggen.encode(x, 4000.0, siggen.Signal(), seed=3)
@@ -172,7 +173,7 @@ def test_servo_dither_over_a_short_arc_does_not_corrupt_the_correction():
     """Holding position with +-600 nm of dither (+-54 degrees of a 4 um period) for 0.35 s:
     the updates see only a short arc, the fit drifts, and it must not be applied (only
     updates covering all eight octants since the last hand-over are)."""
-    from sim.model import core
+    from sim.model import finequad_core as core
     fs, n = 1e6, 500000
     t = np.arange(n) / fs
     x = siggen.s_curve(n, fs, 0.2e6, 0.1, t_start=0.01)
@@ -189,7 +190,7 @@ def test_servo_dither_over_a_short_arc_does_not_corrupt_the_correction():
 
 def _run_scenario(name, **cfg):
     from sim import scenarios
-    from sim.model import core
+    from sim.model import finequad_core as core
     sc = scenarios.by_name([name])[0]
     u1, u2, a = sc.codes()
     r = core.run(u1, u2, core.Config(ADC_W=sc.sig.adc_bits, **cfg))
@@ -205,7 +206,7 @@ def test_sudden_jump_is_detected_and_the_fit_reconverges_within_a_period_or_so()
     conv = metrics.convergence_periods(err, sc.x, 4000.0, s["floor_nm"], k, window=200)
     assert conv is not None and conv <= 1.5
     # without the detector the forgetting alone takes many periods
-    _, r0, s0, err0 = _run_scenario("drift_jump", jump_on=0)
+    _, r0, s0, err0 = _run_scenario("drift_jump", jump_off=1)
     assert r0["jumps"] == []
     conv0 = metrics.convergence_periods(err0, sc.x, 4000.0, s0["floor_nm"], k, window=200)
     assert conv0 is None or conv0 > 4 * conv
@@ -237,7 +238,7 @@ def test_feeding_in_pieces_equals_one_run():
     """core.Core.feed keeps the whole state: a recording fed in pieces of random lengths
     (with a reset request and harmonic learning in it) gives exactly the per-sample
     results and the estimator schedule of one run over the whole."""
-    from sim.model import core
+    from sim.model import finequad_core as core
     n = 60000
     x = siggen.s_curve(n, 1e6, 0.12e6, 0.05, t_start=0.005)
     u1, u2, _ = siggen.encode(x, 4000.0, siggen.Signal(h3=0.01), seed=11)

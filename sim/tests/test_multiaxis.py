@@ -1,4 +1,4 @@
-"""The multi-axis window predicate of the bit-true model (sim/model/core.py Config.tdm,
+"""The multi-axis window predicate of the bit-true model (sim/model/finequad_core.py Config.tdm,
 rtl/finequad_multi.v; the RTL against it: cocotb_tests/test_finequad_multi.py).
 
 * one axis (tdm None, or axes = 1) is the single core exactly;
@@ -15,8 +15,9 @@ import numpy as np
 import pytest
 
 from sim import siggen
-from sim.model import core
-from sim.model.estimator import CYCLES_BY_LANES
+from sim.model import finequad_core as core
+from sim.model import estimator
+from sim.model.rls_engine import CYCLES_BY_LANES
 
 N, FS, PITCH = 20000, 1e6, 20.0
 
@@ -42,19 +43,19 @@ def run(u1, u2, t, tdm, lanes=1, **kw):
 @pytest.mark.parametrize("lanes", [1, 2])
 def test_tdm_period(lanes):
     c = CYCLES_BY_LANES[lanes]
-    assert core.tdm_period(64, lanes) == 64 + 1 + c["update"] + c["extract"]
-    assert core.tdm_period(64, 1) == 259              # the README's number
+    assert estimator.tdm_period(64, lanes) == 64 + 1 + c["update"] + c["extract"]
+    assert estimator.tdm_period(64, 1) == 259              # the README's number
     with pytest.raises(ValueError):
-        core.Core(core.Config(tdm=(2, 0, core.tdm_period(64, lanes) - 1, 64),
+        core.Core(core.Config(tdm=(2, 0, estimator.tdm_period(64, lanes) - 1, 64),
                               ENGINE_LANES=lanes))
     with pytest.raises(ValueError):
-        core.Core(core.Config(tdm=(2, 2, core.tdm_period(64, lanes), 64)))
+        core.Core(core.Config(tdm=(2, 2, estimator.tdm_period(64, lanes), 64)))
 
 
 def test_one_axis_is_the_single_core():
     u1, u2, t = recording()
     _, ref = run(u1, u2, t, None)
-    _, one = run(u1, u2, t, (1, 0, core.tdm_period(64), 64))
+    _, one = run(u1, u2, t, (1, 0, estimator.tdm_period(64), 64))
     for f in ("count", "a", "b", "fault"):
         assert (one[f] == ref[f]).all(), f
     assert one["n_updates"] == ref["n_updates"]
@@ -64,25 +65,25 @@ def test_one_axis_is_the_single_core():
                                              (4, 1, True)])
 def test_programs_start_in_the_window(axes, lanes, gaps):
     w = 64
-    ln = core.tdm_period(w, lanes)
+    ln = estimator.tdm_period(w, lanes)
     period = axes * ln
     u1, u2, t = recording(gaps=gaps, seed=3)
     _, ref = run(u1, u2, t, None, lanes)
     cyc = CYCLES_BY_LANES[lanes]
     for i in range(axes):
         c, r = run(u1, u2, t, (axes, i, ln, w), lanes, period=3000)
-        kinds = [k for k, _ in c.decided]
+        kinds = [k for k, _ in c.est.decided]
         assert kinds.count("update") > 300 and "extract" in kinds and "reset" in kinds
         last_end = None
-        for kind, e in c.decided:
+        for kind, e in c.est.decided:
             off = (e - i * ln) % period
             if kind == "extract":
                 assert e == last_end, (kind, e, last_end)   # chained on its UPDATE's end
             else:
                 assert off < w, f"axis {i}: {kind} decided on edge {e}, {off} into the span"
-            last_end = e + core.START_DELAY + cyc[kind]
+            last_end = e + estimator.START_DELAY + cyc[kind]
             # it ends by the edge on which the next axis's window opens
-            assert off + core.START_DELAY + cyc[kind] <= ln, (kind, e, off)
+            assert off + estimator.START_DELAY + cyc[kind] <= ln, (kind, e, off)
         uncal = (r["fault"] >> core.FAULT_BITS["uncal"]) & 1
         assert not uncal[-1], f"axis {i} never calibrated"
         # the schedule differs from the single core's, the count once calibrated does not
@@ -95,7 +96,7 @@ def test_window_period_shift():
     """An axis's results are a function of its own samples and the edge number modulo
     the window period: a shift of the strobes by axes L changes nothing."""
     w, axes = 64, 2
-    ln = core.tdm_period(w)
+    ln = estimator.tdm_period(w)
     u1, u2, t = recording(seed=5, sig=siggen.Signal(A1=0.4, A2=0.45, phi=-0.1))
     _, a = run(u1, u2, t, (axes, 1, ln, w))
     _, b = run(u1, u2, t + axes * ln, (axes, 1, ln, w))

@@ -1,5 +1,5 @@
 """Fine phase of the exact table (rtl/octant.v ratio address + rtl/lut.v atan rows) through
-the bit-true model (sim.model.fastpath.octant, Lut.phase), against atan2.
+the bit-true model (sim.model.octant, Lut.phase), against atan2.
 
 Requirement: for every corrected pair (u1c, u2c) with radius 0.3 .. 1.9 (s2.14), the fine
 phase equals round(atan2(u2c, u1c) * 8192 / (2 pi)) mod 8192 within +-1 (u13 units).
@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 
-from sim.model import fastpath as fp
+from sim.model import lut as lut_m, octant as octant_m
 from sim.model import tables
 
 K = 8192 / (2 * math.pi)
@@ -23,9 +23,9 @@ R0, R1 = int(0.3 * 16384), int(1.9 * 16384)
 
 
 def _octant(x, y, kind):
-    """fastpath.octant of signed corrected values (magnitudes saturated to u15, signs)."""
+    """octant of signed corrected values (magnitudes saturated to u15, signs)."""
     x, y = np.asarray(x, dtype=np.int64), np.asarray(y, dtype=np.int64)
-    return fp.octant(np.minimum(np.abs(x), 32767), np.minimum(np.abs(y), 32767),
+    return octant_m.octant(np.minimum(np.abs(x), 32767), np.minimum(np.abs(y), 32767),
                      (x < 0).astype(np.int64), (y < 0).astype(np.int64), kind)
 
 
@@ -49,7 +49,7 @@ def _ring(xs, ys, r0, r1):
 
 def test_exact_phase_within_one_of_atan2_dense_grid():
     """The whole plane on a grid of 11 LSB (about 25 million points, every octant)."""
-    lut = fp.Lut("exact")
+    lut = lut_m.Lut("exact")
     xs = np.arange(-R1, R1 + 1, 11)
     worst, n = 0.0, 0
     for i in range(0, len(xs), 400):
@@ -67,7 +67,7 @@ def test_exact_phase_every_pair_where_the_reciprocal_is_worst():
     """Exhaustive in one octant (the others are mirrors, checked by the grid) for every
     |large| within 48 LSB of a power of two (m ~ 1 and m ~ 2, the largest and smallest
     reciprocal error) and for every 97th |large|: every |small| <= |large| in the ring."""
-    lut = fp.Lut("exact")
+    lut = lut_m.Lut("exact")
     ls = set(range(int(R0 / math.sqrt(2)) - 1, R1 + 1, 97))
     for p in (12, 13, 14):
         ls |= set(range((1 << p) - 48, (1 << p) + 48))
@@ -89,7 +89,7 @@ def test_exact_phase_every_pair_where_the_reciprocal_is_worst():
 def test_exact_phase_small_amplitudes():
     """Before the estimator has converged |large| may be far from 1: the ratio does not
     depend on the scale (full normalisation), so +-1 holds down to a radius of 0.02."""
-    lut = fp.Lut("exact")
+    lut = lut_m.Lut("exact")
     xs = np.arange(-R0, R0 + 1, 3)
     x, y = _ring(xs, xs, int(0.02 * 16384), R0)
     d, _ = _check(x, y, lut)
@@ -139,7 +139,7 @@ def test_exact_phase_noise_is_that_of_atan2():
     a = rng.uniform(0, 2 * np.pi, n)
     x = np.round(16384 * (np.cos(a) + sig * rng.standard_normal(n))).astype(np.int64)
     y = np.round(16384 * (np.sin(a) + sig * rng.standard_normal(n))).astype(np.int64)
-    lut = fp.Lut("exact")
+    lut = lut_m.Lut("exact")
     ph = lut.phase(*_octant(x, y, "exact")) * (2 * np.pi / 8192)
 
     def rms(p):

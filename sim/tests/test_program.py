@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from sim.model import program
-from sim.model.estimator import CYCLES_BY_LANES, Estimator
+from sim.model.rls_engine import CYCLES_BY_LANES, RlsEngine
 
 REGS = 64                   # operand numbers below this are registers
 HAZARD = 6                  # rtl/rls_engine.v forwards results from the round and write
@@ -117,14 +117,14 @@ def test_every_lanes_computes_the_same_bits():
     each LANES: after every program the outputs, valid, sat and every persistent register
     agree."""
     rng = random.Random(5)
-    ests = [Estimator(L) for L in program.LANES_ALL]
+    ests = [RlsEngine(L) for L in program.LANES_ALL]
     n_inv = 0
     for name, x1, x2, k, kappa, dg in _programs(2000):
         fr = rng.random() < 0.2
         res = []
         for e in ests:
             if name == "update":
-                ok = e.run(name, x1=x1, x2=x2, lam_k=k, freeze=fr)
+                ok = e.run(name, x1=x1, x2=x2, lambda_k=k, freeze=fr)
             elif name == "reset":
                 ok = e.run(name, kappa=kappa, dg=dg)
             else:
@@ -138,11 +138,11 @@ def test_every_lanes_computes_the_same_bits():
 def test_out_tr_is_the_trace_of_the_stored_p():
     """OUT TR (s12.4) is the rounded sum of P's stored diagonal after every UPDATE, and 5
     kappa after a RESET."""
-    est = Estimator()
+    est = RlsEngine()
     n = 0
     for name, x1, x2, k, kappa, dg in _programs(600):
         if name == "update":
-            est.run(name, x1=x1, x2=x2, lam_k=k)
+            est.run(name, x1=x1, x2=x2, lambda_k=k)
             s = sum(est.reg(program.P(i, i)) for i in range(5))
             tr = (s + (1 << 18)) >> 19
             assert est.out[program.OUTS["TR"]] == max(-32768, min(32767, tr))

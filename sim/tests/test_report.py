@@ -1,26 +1,28 @@
-"""scripts/report.py (`make report`): parsing and aggregation, on fixtures and on one real
-tiny design through Yosys and nextpnr-ice40 (a few seconds; skipped without the tools)."""
+"""scripts/report.py (`make report`) and its parts, scripts/reporting/: parsing and
+aggregation, on fixtures and on one real tiny design through Yosys and nextpnr-ice40 (a
+few seconds; skipped without the tools)."""
 import importlib.util
 import json
 import pathlib
 import re
 import shutil
 import subprocess
+import sys
 
 import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
-_spec = importlib.util.spec_from_file_location("report", ROOT / "scripts" / "report.py")
-report = importlib.util.module_from_spec(_spec)
-_spec.loader.exec_module(report)
+sys.path.insert(0, str(ROOT / "scripts"))
+import builds  # noqa: E402
+from reporting import common, devices, flow, markdown, netlist, timing  # noqa: E402
 
 
 def test_median_odd_even_unsorted_and_empty():
-    assert report.median([31.2, 29.0, 33.5]) == 31.2
-    assert report.median([4, 1, 3, 2]) == 2.5
-    assert report.median([7]) == 7.0
-    with pytest.raises(report.ReportError):
-        report.median([])
+    assert common.median([31.2, 29.0, 33.5]) == 31.2
+    assert common.median([4, 1, 3, 2]) == 2.5
+    assert common.median([7]) == 7.0
+    with pytest.raises(common.ReportError):
+        common.median([])
 
 
 def _step(kind, cell_from, cell_to, delay, net=None):
@@ -61,7 +63,7 @@ def test_parse_pnr_report_takes_the_worst_clock_and_the_reg_to_reg_path(tmp_path
         {"from": "<async>", "to": "posedge clk", "path": PATH[:1]},
         {"from": "posedge clk", "to": "posedge clk", "path": PATH},
         {"from": "posedge clk", "to": "<async>", "path": PATH[-2:]}])
-    util, fmax, crit = report.parse_pnr_report(p)
+    util, fmax, crit = flow.parse_pnr_report(p)
     assert util["ICESTORM_LC"] == (4815, 5280)
     assert fmax == pytest.approx(31.22)
     assert crit is PATH or crit == PATH
@@ -75,12 +77,12 @@ def test_parse_pnr_report_skips_packer_nets_and_takes_the_longest_path(tmp_path)
         {"from": "posedge clk", "to": "posedge clk", "path": PATH},
         {"from": "posedge $PACKER_GND_NET", "to": "posedge clk", "path": PATH + PATH},
         {"from": "posedge clk", "to": "posedge $PACKER_GND_NET", "path": PATH + PATH}])
-    _, _, crit = report.parse_pnr_report(p)
+    _, _, crit = flow.parse_pnr_report(p)
     assert crit == PATH
 
 
 def test_parse_pnr_report_pack_only_has_no_fmax(tmp_path):
-    util, fmax, crit = report.parse_pnr_report(_report_json(tmp_path))
+    util, fmax, crit = flow.parse_pnr_report(_report_json(tmp_path))
     assert fmax is None and crit is None and util["ICESTORM_RAM"] == (26, 30)
 
 
@@ -95,32 +97,32 @@ def test_parse_pnr_report_rejects_bad_input_clearly(tmp_path, text, msg):
     p = tmp_path / "bad.json"
     if text is not None:
         p.write_text(text)
-    with pytest.raises(report.ReportError, match=msg):
-        report.parse_pnr_report(p)
+    with pytest.raises(common.ReportError, match=msg):
+        flow.parse_pnr_report(p)
 
 
 def test_ice40_ffs_from_the_packer_lines():
     log = ("Info: Packing LUT-FFs..\nInfo:     3459 LCs used as LUT4 only\n"
            "Info:     1065 LCs used as LUT4 and DFF\nInfo: Packing non-LUT FFs..\n"
            "Info:     1201 LCs used as DFF only\n")
-    assert report.ice40_ffs_from_log(log) == 2266
-    with pytest.raises(report.ReportError, match="DFF"):
-        report.ice40_ffs_from_log("Info: 1065 LCs used as LUT4 and DFF\n")
+    assert flow.ice40_ffs_from_log(log) == 2266
+    with pytest.raises(common.ReportError, match="DFF"):
+        flow.ice40_ffs_from_log("Info: 1065 LCs used as LUT4 and DFF\n")
 
 
 def test_instance_of_known_prefix_and_fallback():
     inst = ["u_core", "u_core.u_est", "u_core.u_est.u_engine", "u_core.g_harm.u_harmonic"]
-    assert report.instance_of("u_core.u_est.u_engine.acc_FF", inst) == "u_core.u_est.u_engine"
-    assert report.instance_of("u_core.g_harm.u_harmonic.tab.0.0", inst) == \
+    assert timing.instance_of("u_core.u_est.u_engine.acc_FF", inst) == "u_core.u_est.u_engine"
+    assert timing.instance_of("u_core.g_harm.u_harmonic.tab.0.0", inst) == \
         "u_core.g_harm.u_harmonic"
-    assert report.instance_of("u_core.r_kappa_SB_DFFESR_Q_10_DFFLC", inst) == "u_core"
+    assert timing.instance_of("u_core.r_kappa_SB_DFFESR_Q_10_DFFLC", inst) == "u_core"
     # without the hierarchy: the leading u_*/g_* components; a BRAM's ".0.0" is not one
-    assert report.instance_of("u_core.u_octant.rcp_rom.0.0") == "u_core.u_octant"
-    assert report.instance_of("sdo_FF") == ""
+    assert timing.instance_of("u_core.u_octant.rcp_rom.0.0") == "u_core.u_octant"
+    assert timing.instance_of("sdo_FF") == ""
 
 
 def test_summarise_path_sums_delays_and_attributes_routing_to_the_sink():
-    s = report.summarise_path(PATH)
+    s = timing.summarise_path(PATH)
     assert s["total_ns"] == pytest.approx(5.61 + 1.75 + 3.93 + 1.19 + 0.5 + 0.25 + 0.1)
     assert s["routing_ns"] == pytest.approx(1.75 + 1.19 + 0.25)
     assert s["logic_ns"] == pytest.approx(5.61 + 3.93 + 0.5 + 0.1)
@@ -130,8 +132,8 @@ def test_summarise_path_sums_delays_and_attributes_routing_to_the_sink():
                                            "top_report"]
     assert s["through"][0][1] == pytest.approx(5.61 + 1.75 + 3.93)
     assert s["through"][1][1] == pytest.approx(1.19 + 0.5)
-    with pytest.raises(report.ReportError):
-        report.summarise_path([])
+    with pytest.raises(common.ReportError):
+        timing.summarise_path([])
 
 
 def _netlist():
@@ -152,7 +154,7 @@ def _netlist():
 
 
 def test_hierarchy_breakdown_own_and_inclusive_counts():
-    rows = report.hierarchy_breakdown(_netlist(), report.DEVICES["ice40_up5k"]["cells"])
+    rows = netlist.hierarchy_breakdown(_netlist(), devices.DEVICES["ice40_up5k"]["cells"])
     by = {r["instance"]: r for r in rows}
     assert [r["instance"] for r in rows] == ["top", "u_a", "u_b", "u_b.u_c"]
     assert by["u_a"]["module"] == "leaf_a" and by["u_b.u_c"]["depth"] == 2
@@ -164,8 +166,8 @@ def test_hierarchy_breakdown_own_and_inclusive_counts():
     assert by["top"]["total"]["lut4"] == 5 and by["top"]["total"]["ff"] == 3
     bad = _netlist()
     bad["modules"]["mid"]["attributes"]["top"] = "1"
-    with pytest.raises(report.ReportError, match="2 top modules"):
-        report.hierarchy_breakdown(bad, report.DEVICES["ice40_up5k"]["cells"])
+    with pytest.raises(common.ReportError, match="2 top modules"):
+        netlist.hierarchy_breakdown(bad, devices.DEVICES["ice40_up5k"]["cells"])
 
 
 SIM = {"fast_path_samples_per_clock": 1.0, "clocks_per_update": 220.0, "latency_cycles": 8,
@@ -173,18 +175,31 @@ SIM = {"fast_path_samples_per_clock": 1.0, "clocks_per_update": 220.0, "latency_
 UTIL_ICE = {"ICESTORM_LC": (4815, 5280), "ICESTORM_DSP": (8, 8), "ICESTORM_RAM": (27, 30)}
 
 
-def test_probe_runs_the_rtl_each_device_builds():
-    # the latency and rates are measured on the synthesised build's parameters (the probe
-    # may set more, e.g. the lanes the build leaves at their default)
-    for dev, d in report.DEVICES.items():
-        for k, v in d["params"].items():
-            assert d["probe"].get(k) == v, (dev, k)
+def test_each_device_is_measured_with_its_build():
+    """The device's build of rtl/builds.toml is what is synthesised (its top and params),
+    placed (nextpnr's part and package) and simulated: the probe's finequad_core gets
+    every core parameter the build's top hands its finequad_core, and make model the
+    build's PROFILE."""
+    core = builds.module_params("finequad_core")
+    for dev in devices.DEVICES:
+        b = builds.build(devices.build_of(dev))
+        assert devices.top(dev) == b["top"] == "top_report"
+        assert devices.synth_params(dev) == b["params"]
+        assert devices.nextpnr(dev)[1:] == builds.nextpnr_device(devices.build_of(dev))
+        probe = devices.probe_params(dev)
+        for k, v in b["params"].items():
+            if k in core:                     # top_report forwards these by name
+                assert probe.get(k, core[k][1]) == v, (dev, k)
+        assert set(probe) <= set(core) and devices.adc_w(dev) == 16
+    assert devices.synth_params("ice40_up5k")["OPT_HARMONIC"] == 0
+    assert devices.probe_params("ecp5_25f")["ENGINE_LANES"] == 2
+    assert devices.nextpnr("ecp5_25f")[1:] == ["--25k", "--package", "CABGA256"]
 
 
 def test_entry_has_exactly_the_keys_with_numbers_and_percentages():
-    e = report.entry("ice40_up5k", UTIL_ICE, 2266, True, 31.22, SIM, 36.0, [1, 2, 3])
-    assert report.check_entry(e)
-    assert set(report.KEYS) <= set(e)
+    e = devices.entry("ice40_up5k", UTIL_ICE, 2266, True, 31.22, SIM, 36.0, [1, 2, 3])
+    assert devices.check_entry(e)
+    assert set(devices.KEYS) <= set(e)
     assert e["fmax_mhz"] == 31.22 and e["max_sample_rate_msps"] == 31.22
     assert e["rls_updates_msps"] == pytest.approx(31.22 / 220.0, abs=1e-4)
     assert e["luts"] == 4815 and e["ffs"] == 2266 and e["dsps"] == 8 and e["brams"] == 27
@@ -194,7 +209,7 @@ def test_entry_has_exactly_the_keys_with_numbers_and_percentages():
 
 def test_entry_of_a_design_that_does_not_fit_reaches_no_clock():
     util = dict(UTIL_ICE, ICESTORM_LC=(6008, 5280))
-    e = report.entry("ice40_up5k", util, 2300, False, 31.0, SIM, 36.0, [1], {"fmax_mhz": 31.0})
+    e = devices.entry("ice40_up5k", util, 2300, False, 31.0, SIM, 36.0, [1], {"fmax_mhz": 31.0})
     assert e["fits"] is False and e["fmax_mhz"] == 0.0
     assert e["max_sample_rate_msps"] == 0.0 and e["rls_updates_msps"] == 0.0
     assert e["percent"]["luts"] == 113.8 and e["placed_variant"]["fmax_mhz"] == 31.0
@@ -203,31 +218,31 @@ def test_entry_of_a_design_that_does_not_fit_reaches_no_clock():
 def test_entry_ecp5_takes_ffs_from_nextpnr_and_rejects_missing_cells():
     util = {"TRELLIS_COMB": (4811, 24288), "TRELLIS_FF": (2513, 24288),
             "MULT18X18D": (9, 28), "DP16KD": (9, 56)}
-    e = report.entry("ecp5_25f", util, None, True, 77.9, SIM, 100.0, [1])
+    e = devices.entry("ecp5_25f", util, None, True, 77.9, SIM, 100.0, [1])
     assert e["ffs"] == 2513 and e["percent"]["dsps"] == 32.1
     del util["DP16KD"]
-    with pytest.raises(report.ReportError, match="DP16KD"):
-        report.entry("ecp5_25f", util, None, True, 77.9, SIM, 100.0, [1])
+    with pytest.raises(common.ReportError, match="DP16KD"):
+        devices.entry("ecp5_25f", util, None, True, 77.9, SIM, 100.0, [1])
 
 
 def test_check_entry_rejects_a_missing_or_non_numeric_key():
-    e = report.entry("ice40_up5k", UTIL_ICE, 2266, True, 31.22, SIM, 36.0, [1])
+    e = devices.entry("ice40_up5k", UTIL_ICE, 2266, True, 31.22, SIM, 36.0, [1])
     for k, bad in (("fmax_mhz", None), ("luts", "4815"), ("fits_x", None), ("brams", True)):
         f = dict(e)
         if bad is None:
             f.pop(k, None)
         else:
             f[k] = bad
-        if k in report.KEYS:
-            with pytest.raises(report.ReportError, match=k):
-                report.check_entry(f)
+        if k in devices.KEYS:
+            with pytest.raises(common.ReportError, match=k):
+                devices.check_entry(f)
         else:
-            assert report.check_entry(f)
+            assert devices.check_entry(f)
 
 
 def test_targets_met_and_missed():
-    e = report.entry("ice40_up5k", UTIL_ICE, 2266, True, 37.0, SIM, 36.0, [1])
-    got = {q: ok for q, _, _, ok in report.targets_of("ice40_up5k", e)}
+    e = devices.entry("ice40_up5k", UTIL_ICE, 2266, True, 37.0, SIM, 36.0, [1])
+    got = {q: ok for q, _, _, ok in devices.targets_of("ice40_up5k", e)}
     assert got == {"LUTs": False, "Fmax": True, "samples per clock": True,
                    "estimator updates": False, "latency": True, "simulation": False}
 
@@ -260,28 +275,28 @@ def test_real_tiny_design_through_yosys_and_nextpnr(tmp_path):
                     "--freq", "50", "--seed", "1", "--report", "rep.json", "-l", "pnr.log",
                     "-q", "--timing-allow-fail", "--sdf", "tiny.sdf"], cwd=tmp_path,
                    check=True)
-    util, fmax, crit = report.parse_pnr_report(tmp_path / "rep.json")
+    util, fmax, crit = flow.parse_pnr_report(tmp_path / "rep.json")
     assert fmax > 50 and util["ICESTORM_LC"][1] == 5280
     assert 8 <= util["ICESTORM_LC"][0] < 40
-    assert report.ice40_ffs_from_log((tmp_path / "pnr.log").read_text()) == 8
-    s = report.summarise_path(crit)
+    assert flow.ice40_ffs_from_log((tmp_path / "pnr.log").read_text()) == 8
+    s = timing.summarise_path(crit)
     assert s["total_ns"] == pytest.approx(1000.0 / fmax, rel=0.02)
     assert s["logic_levels"] >= 1 and len(s["through"]) == 1   # no hierarchy: all top
     # the static timing of the SDF finds nextpnr's critical path
-    ends = report.sdf_endpoints((tmp_path / "tiny.sdf").read_text())
+    ends = timing.sdf_endpoints((tmp_path / "tiny.sdf").read_text())
     assert ends[0][0] == pytest.approx(1000.0 / fmax, abs=0.005)
     assert ends[0][1].rsplit("/", 1)[0] == s["to"]           # nextpnr's endpoint cell
-    over = report.over_target(tmp_path / "tiny.sdf", 0.5 * ends[0][0])
+    over = timing.over_target(tmp_path / "tiny.sdf", 0.5 * ends[0][0])
     longer = [e for e in ends if e[0] > 0.5 * ends[0][0]]
     assert over["endpoints"] == len(longer) >= 1
-    assert report.over_target(tmp_path / "tiny.sdf", ends[0][0])["endpoints"] == 0
+    assert timing.over_target(tmp_path / "tiny.sdf", ends[0][0])["endpoints"] == 0
 
 
 def test_summarise_path_names_cells_the_placer_inserted():
     path = [_step("clk-to-q", "u_core.u_est.x_LC", "u_core.u_est.x_LC", 1.0),
             _step("routing", "u_core.u_est.x_LC", "$nextpnr_ICESTORM_LC_0", 0.5, "n"),
             _step("logic", "$nextpnr_ICESTORM_LC_0", "$nextpnr_ICESTORM_LC_0", 0.8)]
-    s = report.summarise_path(path)
+    s = timing.summarise_path(path)
     assert s["through"] == [["u_core.u_est", 1.0], ["(nextpnr cell)", 1.3]]
     assert s["steps"][1] == ["routing", 0.5, "$nextpnr_ICESTORM_LC_0"]
 
@@ -299,19 +314,19 @@ Info: [   542,   2058) |***+
 
 def test_failing_endpoints_from_the_last_slack_histogram():
     # fully negative bins: 1..19, 21..39, 40; the bin holding 0 adds 0..79 at most
-    assert report.failing_endpoints("Info: placed\n" + HIST) == (62, 98 + 79)
+    assert timing.failing_endpoints("Info: placed\n" + HIST) == (62, 98 + 79)
     older = HIST.replace("|**\n", "|*****\n")
-    assert report.failing_endpoints(older + "Info: routed\n" + HIST) == (62, 177)
-    assert report.failing_endpoints("Info: no timing here\n") is None
-    with pytest.raises(report.ReportError, match="legend"):
-        report.failing_endpoints("Slack histogram:\nInfo: [ -1, 2) |*\n")
+    assert timing.failing_endpoints(older + "Info: routed\n" + HIST) == (62, 177)
+    assert timing.failing_endpoints("Info: no timing here\n") is None
+    with pytest.raises(common.ReportError, match="legend"):
+        timing.failing_endpoints("Slack histogram:\nInfo: [ -1, 2) |*\n")
 
 
 def test_top_report_lints_clean_against_the_core_with_every_variant():
     """A core port that changes width would be cut silently by the report's top (its logic
     then removed by synthesis): report.py lints first, and so does this test."""
-    for params in [{"OPT_NTH_DSP": 0}, {}] + [p for p, _ in report.VARIANTS]:
-        report.lint_top(params)
+    for params in [{"OPT_NTH_DSP": 0}, {}] + [p for p, _ in devices.VARIANTS]:
+        flow.lint_top(params)
 
 
 def _mac(**params):
@@ -331,7 +346,7 @@ def _dsp_rows(cells, read=range(100, 132)):
     """ice40_dsp_modes on one module whose output port reads the O bits `read`."""
     mod = {"cells": cells, "ports": {"o": {"direction": "output", "bits": list(read)}}}
     return {r["cell"]: r["combinational"]
-            for r in report.ice40_dsp_modes({"modules": {"top": mod}})}
+            for r in netlist.ice40_dsp_modes({"modules": {"top": mod}})}
 
 
 def test_ice40_dsp_modes_names_every_stage_without_a_register():
@@ -367,7 +382,7 @@ def test_ice40_dsp_modes_names_every_stage_without_a_register():
         "madd": ["A in", "B in", "O[31:16] out (multiplier+adder)"]}
     bad = _mac()
     bad["parameters"]["A_REG"] = "x"
-    with pytest.raises(report.ReportError, match="A_REG"):
+    with pytest.raises(common.ReportError, match="A_REG"):
         _dsp_rows({"bad": bad})
 
 
@@ -392,7 +407,7 @@ SUM = ["O[31:16] out (product sum)", "O[15:0] out (product sum)"]
 @pytest.mark.parametrize("top, comb", [("mul_reg", SUM), ("mul_comb", ["A in", "B in"] + SUM)])
 def test_ice40_dsp_modes_on_real_yosys_output(tmp_path, top, comb):
     net = _synth_ice40(tmp_path, MULS, top, dsp=True)
-    rows = report.ice40_dsp_modes(json.loads(net.read_text()))
+    rows = netlist.ice40_dsp_modes(json.loads(net.read_text()))
     assert [r["combinational"] for r in rows] == [comb]
 
 
@@ -447,49 +462,49 @@ SDF = """(DELAYFILE
 
 
 def test_sdf_endpoints_longest_arrival_plus_setup_from_clocked_starts_only():
-    ends = report.sdf_endpoints(SDF)
+    ends = timing.sdf_endpoints(SDF)
     # x: 1.4 + 2.0 + 0.45 + 1.0 + 0.25 = 5.1; z: 1.4 + 0.5 + 0.6 + 1.0 + 0.25 = 3.75; the
     # constant's pin has no clocked start
     assert ends == [(5.1, "u_c.q_SB_DFFE_Q_LC/I2", "u_a.x_SB_DFF_Q_LC")]
-    cls = report.path_classes(ends, 5.0, ["u_a", "u_c"])
+    cls = timing.path_classes(ends, 5.0, ["u_a", "u_c"])
     assert cls == [{"worst_ns": 5.1, "endpoints": 1, "from": "u_a: x", "to": "u_c: q"}]
-    assert report.path_classes(ends, 5.1, ["u_a", "u_c"]) == []
-    with pytest.raises(report.ReportError, match="TIMESCALE"):
-        report.sdf_endpoints(SDF.replace("(TIMESCALE 1ps)", ""))
-    assert "error" in report.over_target(pathlib.Path("/nonexistent.sdf"), 10.0)
+    assert timing.path_classes(ends, 5.1, ["u_a", "u_c"]) == []
+    with pytest.raises(common.ReportError, match="TIMESCALE"):
+        timing.sdf_endpoints(SDF.replace("(TIMESCALE 1ps)", ""))
+    assert "error" in timing.over_target(pathlib.Path("/nonexistent.sdf"), 10.0)
 
 
 def test_sdf_endpoints_rise_fall_negative_setup_constant_clocks_and_errors():
     base = SDF.replace("(450:450:450) (450:450:450)", "(450:450:450) (1450:1450:1450)")
-    assert report.sdf_endpoints(base)[0][0] == 6.1                  # the fall is larger
+    assert timing.sdf_endpoints(base)[0][0] == 6.1                  # the fall is larger
     neg = SDF.replace("(posedge I2) (posedge CLK) (200:200:200)",
                       "(posedge I2) (posedge CLK) (-50:-50:-50)").replace(
         "(negedge I2) (posedge CLK) (250:250:250)", "(negedge I2) (posedge CLK) (-80:-80:-80)")
-    assert report.sdf_endpoints(neg)[0][0] == 4.8                   # setup -50 ps
+    assert timing.sdf_endpoints(neg)[0][0] == 4.8                   # setup -50 ps
     ns = SDF.replace("(TIMESCALE 1ps)", "(TIMESCALE 1 ns)").replace("2000:2000:2000", "2")
-    assert report.sdf_endpoints(ns)[0][0] == 3750.0                # z: 1400 + 500 + 600 + 1000 + 250 ns
+    assert timing.sdf_endpoints(ns)[0][0] == 3750.0                # z: 1400 + 500 + 600 + 1000 + 250 ns
     # a flip-flop whose clock pin a constant drives starts nothing
     gnd = SDF.replace("gbuf/O u_a.x_SB_DFF_Q_LC/CLK", "$PACKER_GND/O u_a.x_SB_DFF_Q_LC/CLK")
-    assert report.sdf_endpoints(gnd) == [(3.75, "u_c.q_SB_DFFE_Q_LC/I2", "u_a.z_SB_DFF_Q_LC")]
+    assert timing.sdf_endpoints(gnd) == [(3.75, "u_c.q_SB_DFFE_Q_LC/I2", "u_a.z_SB_DFF_Q_LC")]
     # a setup check without an edge on its data pin
     plain = SDF.replace("(SETUPHOLD (posedge I0) (posedge CLK) (200:200:200) (0:0:0))",
                         "(SETUP I0 (posedge CLK) (200:200:200))")
-    assert report.sdf_endpoints(plain) == report.sdf_endpoints(SDF)
-    with pytest.raises(report.ReportError, match="INTERCONNECT"):
-        report.sdf_endpoints(SDF.replace("(1000:1000:1000) (1000:1000:1000)", "(oops)"))
+    assert timing.sdf_endpoints(plain) == timing.sdf_endpoints(SDF)
+    with pytest.raises(common.ReportError, match="INTERCONNECT"):
+        timing.sdf_endpoints(SDF.replace("(1000:1000:1000) (1000:1000:1000)", "(oops)"))
     loop = SDF.replace("u_c.k_LC/I0 (300", "u_b.g_l\\\\[0\\\\].y_LC/I1 (300").replace(
         "(INTERCONNECT const_LC/O", "(INTERCONNECT u_b.g_l\\\\[0\\\\].y_LC/O")
-    with pytest.raises(report.ReportError, match="loop"):
-        report.sdf_endpoints(loop)
+    with pytest.raises(common.ReportError, match="loop"):
+        timing.sdf_endpoints(loop)
 
 
 def test_signal_of_strips_what_synthesis_and_packing_append():
-    assert report.signal_of("u_core.u_correct.zl_o_SB_DFFE_Q_3_D_SB_LUT4_O_LC") == "zl_o"
-    assert report.signal_of("u_core.u_est.cwin_TRELLIS_FF_Q_3") == "cwin"
-    assert report.signal_of("$nextpnr_ICESTORM_LC_27") == "$nextpnr_ICESTORM_LC_27"
-    assert report.signal_of("u_core.u_correct.p12_SB_MAC16_O_DSP") == "p12"
-    assert report.signal_of("u_core.u_lut.g_ph4k.ph_rom.0.1_RAM") == "ph_rom"
-    assert report.signal_of("u_core.u_est.mem.0.14$RAMW_BLOCK1") == "mem"
+    assert timing.signal_of("u_core.u_correct.zl_o_SB_DFFE_Q_3_D_SB_LUT4_O_LC") == "zl_o"
+    assert timing.signal_of("u_core.u_est.cwin_TRELLIS_FF_Q_3") == "cwin"
+    assert timing.signal_of("$nextpnr_ICESTORM_LC_27") == "$nextpnr_ICESTORM_LC_27"
+    assert timing.signal_of("u_core.u_correct.p12_SB_MAC16_O_DSP") == "p12"
+    assert timing.signal_of("u_core.u_lut.g_ph4k.ph_rom.0.1_RAM") == "ph_rom"
+    assert timing.signal_of("u_core.u_est.mem.0.14$RAMW_BLOCK1") == "mem"
 
 
 # ---- constraints/up5k_dsp.py: the UP5K's DSP floorplan (a nextpnr --pre-place script) ----
@@ -534,12 +549,12 @@ def test_report_checks_the_floorplan_against_the_netlist(tmp_path):
         f.write_text(json.dumps({"modules": {"top_report": {"cells": cells}}}))
         return f
     regs = ["u_correct.p1", "u_correct.p12", "u_correct.p2", "u_octant.psum"]
-    got = report.check_preplace("ice40_up5k", netlist(regs))
+    got = flow.check_preplace("ice40_up5k", netlist(regs))
     assert sorted(got.values()) == sorted(up5k_dsp.FLOORPLAN.values())
-    with pytest.raises(report.ReportError, match=r"ice40_up5k: .*top.json: .*u_correct.p2: "
+    with pytest.raises(common.ReportError, match=r"ice40_up5k: .*top.json: .*u_correct.p2: "
                        r"no DSP blocks"):
-        report.check_preplace("ice40_up5k", netlist(regs[:2] + regs[3:]))
-    assert report.check_preplace("ecp5_25f", tmp_path / "none.json") is None   # no script
+        flow.check_preplace("ice40_up5k", netlist(regs[:2] + regs[3:]))
+    assert flow.check_preplace("ecp5_25f", tmp_path / "none.json") is None   # no script
 
 
 def test_floorplan_names_a_block_missing_or_found_twice():
@@ -616,7 +631,92 @@ def test_floorplan_places_the_blocks_through_nextpnr(tmp_path):
     p = subprocess.run(pnr, cwd=tmp_path, capture_output=True, text=True)
     assert p.returncode != 0
     assert "u_octant.psum: no DSP blocks" in p.stdout + p.stderr
-    with pytest.raises(report.ReportError, match=r"ice40_up5k nextpnr seed1: the placement "
+    with pytest.raises(common.ReportError, match=r"ice40_up5k nextpnr seed1: the placement "
                        r"script constraints/up5k_dsp.py stopped it: ValueError: .*"
                        r"u_octant.psum: no DSP blocks"):
-        report.pnr("ice40_up5k", tmp_path / "floor.json", tmp_path, 1, 36.0)
+        flow.pnr("ice40_up5k", tmp_path / "floor.json", tmp_path, 1, 36.0)
+
+
+# ---- build/report.md (scripts/reporting/markdown.py) -------------------------------------------
+def _full_report(fits=True, rtl_equals_model=True):
+    """A report_full.json as scripts/report.py writes it, for both devices."""
+    sim = {"probe_params": {"OPT_HARMONIC": 0}, "model_args": {"PROFILE": "up5k"},
+           "latency": {"valid": 8, "count": 8, "ab_paced": 9, "ab_paced_min": 9,
+                       "ab_paced_trials": 100, "trials": 100},
+           "fast_path": {"samples": 40000, "results": 40000, "edges": 40000, "max_gap": 0,
+                         "rtl_equals_model": rtl_equals_model,
+                         "first_difference": None if rtl_equals_model else 123},
+           "updates": [{"units_per_sample": 1.0, "clocks": 290000, "updates": 2200,
+                        "clocks_per_update": 131.8, "extracts": 1, "resets": 0,
+                        "busy_per_update": {"update": 128.0, "extract": 0.03, "reset": 0.0},
+                        "idle_per_update": 3.8, "gate_blocks": 0, "jumps": 0}],
+           "probe_build_s": 60.0}
+    run = {"seed": 1, "fmax_mhz": 30.07, "seconds": 40.0, "error": None,
+           "failing_endpoints": [170, 190], "critical_path": timing.summarise_path(PATH),
+           "over_target": {"period_ns": 27.778, "endpoints": 3, "worst_ns": 33.3,
+                           "classes": [{"worst_ns": 33.3, "endpoints": 3,
+                                        "from": "u_core.u_abgen: next", "to": "u_core.u_abgen: pos"}],
+                           "classes_total": 1}}
+    rows = netlist.hierarchy_breakdown(_netlist(), devices.DEVICES["ice40_up5k"]["cells"])
+    devs = {}
+    for dev, util in (("ice40_up5k", UTIL_ICE), ("ecp5_25f", {
+            "TRELLIS_COMB": (8351, 24288), "TRELLIS_FF": (3515, 24288),
+            "MULT18X18D": (13, 28), "DP16KD": (11, 56)})):
+        e = devices.entry(dev, util, 1565 if dev == "ice40_up5k" else None, fits, 30.07,
+                          {**SIM, "sim_samples_per_wall_s": 200000}, 36.0, [1],
+                          None if fits else {"variant": 1, "design": "top_report with x",
+                                             "why": "the full core does not fit",
+                                             "fits": True, "seeds_placed": 1,
+                                             "fmax_mhz": 31.0, "runs": [run],
+                                             "util": {"luts": [5000, 5280]},
+                                             "not_placed": []})
+        devs[dev] = {**e, "build": devices.build_of(dev), "top": "top_report",
+                     "params": devices.synth_params(dev), "runs": [run], "breakdown": rows,
+                     "dsp_modes": [{"cell": "u_core.u_octant.psum", "combinational": ["A in"]}]
+                     if dev == "ice40_up5k" else None,
+                     "times": {"synth_full_s": 60.0, "pnr_s": 40.0}}
+    return {"command": "make report", "date": "2026-01-01 00:00", "commit": "abc1234",
+            "sources_sha256": "0123456789abcdef", "tools": {"yosys": "Yosys 0.23"},
+            "wall_s": 660.0, "devices": devs,
+            "sim": {"builds": {d: sim for d in devs},
+                    "sim_speed": {"samples": 20000, "div": 36, "clocks": 720000,
+                                  "wall_s": [2.0], "cpu_s": [1.9], "samples_per_s": 261483,
+                                  "samples_per_wall_s": 250000,
+                                  "samples_per_wall_s_median": 240000,
+                                  "load_average": [1.0, 1.0, 1.0]},
+                    "seconds": 300.0}}
+
+
+def test_markdown_is_tables_and_labels_with_a_link_to_the_method():
+    md = markdown.markdown(_full_report(), readme="../README.md")
+    lines = md.splitlines()
+    assert "(../README.md#performance-report)" in md
+    # every line a heading, a table row or a short label: no paragraphs of prose
+    prose = [ln for ln in lines if ln and not ln.startswith(("#", "|", "**"))]
+    assert all(len(ln) <= 160 for ln in prose), [ln for ln in prose if len(ln) > 160]
+    assert len(prose) <= 12, prose
+    rows = [ln for ln in lines if ln.startswith("| `")]
+    for k in devices.KEYS:
+        assert any(ln.startswith(f"| `{k}`") for ln in rows), k
+    assert "| `fmax_mhz` (median of the routed seeds) | 30.07 | 30.07 |" in md
+    assert "| ice40_up5k | 100 | 8 | 8 | 9 .. 9 (100) | (ABGEN constant) |" in md
+    assert "`make model PROFILE=up5k`" in md and "OPT_HARMONIC=0" in md
+    assert "| 33.3 | 3 | `u_core.u_abgen: next` | `u_core.u_abgen: pos` |" in md
+    assert "| `u_core.u_octant.psum` | A in |" in md
+    assert "**RTL != model**" not in md and "Reduced variants" not in md
+    # every table's rows have as many cells as its head
+    for i, ln in enumerate(lines):
+        if ln.startswith("|---") or ln.startswith("|--"):
+            n = lines[i - 1].count("|")
+            j = i + 1
+            while j < len(lines) and lines[j].startswith("|"):
+                assert lines[j].count("|") == n, (lines[i - 1], lines[j])
+                j += 1
+
+
+def test_markdown_flags_rtl_not_model_and_a_core_that_does_not_fit():
+    md = markdown.markdown(_full_report(fits=False, rtl_equals_model=False))
+    assert "**RTL != model** at DIV=1, build of ice40_up5k, from sample 123" in md
+    assert "| **NO** |" in md
+    assert "## Reduced variants (the full core did not place)" in md
+    assert "0 (the full core does not fit; reduced variant 1: 31.00)" in md

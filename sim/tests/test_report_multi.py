@@ -1,5 +1,5 @@
-"""scripts/report_multi.py (`make report-multi`): cell counting, the update rate and the
-table, on fixtures and the model (no synthesis: the flow is scripts/report.py's)."""
+"""scripts/report_multi.py (`make report-multi`): its builds, cell counting, the update rate
+and the table, on fixtures and the model (no synthesis: the flow is scripts/reporting's)."""
 import pathlib
 import sys
 
@@ -7,8 +7,12 @@ import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "scripts"))
+import builds  # noqa: E402
 import report_multi as rm  # noqa: E402
-from sim.model import core  # noqa: E402
+from sim.model import estimator
+
+# the window of the multi-axis builds (rtl/builds.toml [up5k_multi], [ecp5_multi])
+TDM_W = builds.build("up5k_multi")["params"]["TDM_W"]
 
 
 def test_cell_counts_of_the_flattened_top():
@@ -27,27 +31,40 @@ def test_cell_counts_of_the_flattened_top():
 def test_update_rate_is_one_per_window_round(axes, lanes):
     """With the device's engine lanes (the ECP5 build has two): its program length and
     its window L."""
-    r = rm.update_rate(axes, {"ENGINE_LANES": lanes}, n=6000)
+    r = rm.update_rate(axes, {"ENGINE_LANES": lanes}, TDM_W, n=6000)
     if axes == 1:
         # back to back: an UPDATE every CYCLES[update] + 1 clocks; with two lanes the
         # short run's measured stretch also holds the hand-over's EXTRACT (one gap of 149
         # clocks among those of 87)
-        from sim.model.estimator import CYCLES_BY_LANES
+        from sim.model.rls_engine import CYCLES_BY_LANES
         top = 1 / (CYCLES_BY_LANES[lanes]["update"] + 1)
         if lanes == 1:
             assert r == pytest.approx(top)
         else:
             assert 0.97 * top < r <= top
     else:
-        assert r == pytest.approx(1 / (axes * core.tdm_period(rm.TDM_W, lanes)))
+        assert r == pytest.approx(1 / (axes * estimator.tdm_period(TDM_W, lanes)))
 
 
 def test_model_config_of_the_device_builds():
-    """The model runs what each device builds (report.py DEVICES params)."""
-    import report as rp
-    assert rm.model_config(rp.DEVICES["ecp5_25f"]["params"]) == {"ENGINE_LANES": 2}
-    assert rm.model_config(rp.DEVICES["ice40_up5k"]["params"]) == {
+    """The model runs what each device builds (rtl/builds.toml: the multi-axis builds
+    take the report builds' core parameters)."""
+    assert rm.model_config(builds.build("ecp5_multi")["params"]) == {"ENGINE_LANES": 2}
+    assert rm.model_config(builds.build("up5k_multi")["params"]) == {
         "OPT_HARMONIC": 0, "OPT_MONITOR": 0, "OPT_JUMP": 0}
+
+
+def test_multi_builds_are_the_report_builds_with_a_window():
+    """Each device's multi-axis build is its report build's parameters on top_report_multi
+    with the window TDM_W, and the axes make report-multi measures."""
+    for dev in rm.DEVICES:
+        b = builds.build(rm.multi_build(dev))
+        base = builds.build(rm.DEVICES[dev]["build"])
+        assert rm.top(dev) == b["top"] == "top_report_multi"
+        assert {k: v for k, v in b["params"].items() if k != "TDM_W"} == base["params"]
+        assert rm.tdm_w(dev) == TDM_W and b["axes"] == [1, 2, 4]
+        assert rm.sources(rm.top(dev))[:2] == ["rtl/boards/top_report_multi.v",
+                                              "rtl/finequad_multi.v"]
 
 
 def test_markdown_rows():

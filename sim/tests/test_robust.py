@@ -1,4 +1,4 @@
-"""Robustness of the estimator and the start-up (issue 4), on the bit-true model (which the
+"""Robustness of the estimator and the start-up, on the bit-true model (which the
 RTL equals: sim/tests/test_rtlsim.py, cocotb_tests/test_finequad_core.py).
 
 * no windup: after a calibrating move, half a second at standstill with 2 % noise takes
@@ -14,13 +14,15 @@ import numpy as np
 import pytest
 
 from sim import metrics, siggen
-from sim.model import core, program
+from sim.model import finequad_core as core
+from sim.model import estimator
+from sim.model import program
 
 PITCH, FS, N_INTERP = 4000.0, 1e6, 100
 
 
 def trace_theta(c):
-    rf = c.est.rf
+    rf = c.est.engine.rf
     return (sum(rf[program.REGS[program.P(i, i)]] for i in range(5)),
             [rf[program.REGS[t]] for t in program.THETA])
 
@@ -36,13 +38,13 @@ def test_standstill_with_noise_does_not_wind_up():
     x1 = siggen.moves(FS, [("dwell", 0.005), ("move", 150e3, 20e6, 1e9, 1e11)])
     u1, u2, _ = siggen.encode(x1, PITCH, sig, seed=21)
     c.feed(u1, u2)
-    assert c.uncal == 0, "the move did not calibrate"
+    assert c.est.uncal == 0, "the move did not calibrate"
     tr0, th0 = trace_theta(c)
-    up0 = c.n_updates
+    up0 = c.est.n_updates
     xs = np.full(500_000, x1[-1])
     u1, u2, _ = siggen.encode(xs, PITCH, sig, seed=22)
     rs = c.feed(u1, u2)
-    assert c.n_updates == up0, f"{c.n_updates - up0} updates at standstill"
+    assert c.est.n_updates == up0, f"{c.est.n_updates - up0} updates at standstill"
     assert trace_theta(c) == (tr0, th0)
     # the raw phase would have passed the gate (64 units) often: the smoothed travel not
     ph = np.asarray(core.Core(core.Config()).feed(u1[:20000], u2[:20000],
@@ -107,7 +109,7 @@ def test_channel_on_the_rail_half_a_period_away_loses_no_count(rail_ph):
     x1 = siggen.moves(FS, [("dwell", 0.002), ("move", 120e3, 20e6, 1e9, 1e11)])
     u1, u2, _ = siggen.encode(x1, PITCH, sig, seed=31)
     c.feed(u1, u2)
-    assert c.uncal == 0, "the move did not calibrate"
+    assert c.est.uncal == 0, "the move did not calibrate"
     # a slow move (1.5 nm per sample) over 3 periods; the rail where the angle is rail_ph
     n = 8000
     x2 = x1[-1] + 1.5 * np.arange(1, n + 1)
@@ -142,10 +144,10 @@ def test_a_wrong_loaded_calibration_is_replaced_by_the_estimator():
     x = siggen.moves(FS, [("dwell", 0.002), ("move", 2000e3, 20e6, 1e9, 1e11)])
     u1, u2, a = siggen.encode(x, PITCH, sig, seed=5)
     r = c.feed(u1, u2)
-    commits = [s[3] for s in c.sched if s[0] == "update" and s[3] is not None]
-    assert c.uncal == 0 and commits, "never handed over"
+    commits = [s[3] for s in c.est.sched if s[0] == "update" and s[3] is not None]
+    assert c.est.uncal == 0 and commits, "never handed over"
     # from a period after the first hand-over on, the count is at the floor
-    first = min(s[1] for s in c.sched if s[0] == "update" and s[3] is not None)
+    first = min(s[1] for s in c.est.sched if s[0] == "update" and s[3] is not None)
     start = int(first + PITCH / np.abs(np.diff(x)).max())
     s = score(r, x, a, sig, start)
     assert s["slips"] == 0 and s["ratio"] < 1.15, s
@@ -163,31 +165,31 @@ def test_a_hand_over_needs_the_eight_octants_within_one_window():
     x1 = siggen.moves(FS, [("dwell", 0.002), ("move", 120e3, 20e6, 1e9, 1e11)])
     u1, u2, _ = siggen.encode(x1, PITCH, sig, seed=33)
     c.feed(u1, u2)
-    assert c.uncal == 0
-    n0, kd = len(c.sched), len(x1)
+    assert c.est.uncal == 0
+    n0, kd = len(c.est.sched), len(x1)
     t = np.arange(400_000) / FS
     xd = x1[-1] + 700.0 * np.sin(2 * np.pi * 60 * t)           # +-0.7 um: 1/3 period
     ud1, ud2, _ = siggen.encode(xd, PITCH, sig, seed=34)
     c.feed(ud1, ud2)
-    dither = [s for s in c.sched[n0:] if s[0] == "update"]
-    assert len(dither) > 4 * core.COVER_WIN, len(dither)
+    dither = [s for s in c.est.sched[n0:] if s[0] == "update"]
+    assert len(dither) > 4 * estimator.COVER_WIN, len(dither)
     assert all(s[3] is None for s in dither), "a hand-over during the dither"
-    do = [core.raw_octant(ud1[s[1] - kd], ud2[s[1] - kd]) for s in dither]
+    do = [estimator.raw_octant(ud1[s[1] - kd], ud2[s[1] - kd]) for s in dither]
     # the coverage holds only the sectors of the updates since its last restart
-    assert 0 < c.cwin <= core.COVER_WIN
-    since = {1 << o for o in do[len(do) - c.cwin:]}
-    assert c.cover == sum(since) and len(set(do)) < 8
+    assert 0 < c.est.cwin <= estimator.COVER_WIN
+    since = {1 << o for o in do[len(do) - c.est.cwin:]}
+    assert c.est.cover == sum(since) and len(set(do)) < 8
     km = kd + len(xd)
-    n1 = len(c.sched)
+    n1 = len(c.est.sched)
     x2 = siggen.moves(FS, [("move", 12e3, 2e6, 1e9, 1e11)], xd[-1])   # 3 periods
     um1, um2, _ = siggen.encode(x2, PITCH, sig, seed=35)
     c.feed(um1, um2)
-    move = [s for s in c.sched[n1:] if s[0] == "update"]
+    move = [s for s in c.est.sched[n1:] if s[0] == "update"]
     commits = [i for i, s in enumerate(move) if s[3] is not None]
     assert commits, "no hand-over in the move"
-    octs = do + [core.raw_octant(um1[s[1] - km], um2[s[1] - km]) for s in move]
+    octs = do + [estimator.raw_octant(um1[s[1] - km], um2[s[1] - km]) for s in move]
     j = len(dither) + commits[0]                  # the committing update, in octs
-    assert set(octs[max(0, j - core.COVER_WIN + 1):j + 1]) == set(range(8))
+    assert set(octs[max(0, j - estimator.COVER_WIN + 1):j + 1]) == set(range(8))
 
 
 def test_an_outlier_under_the_glitch_threshold_does_not_derail_the_line():
@@ -202,7 +204,7 @@ def test_an_outlier_under_the_glitch_threshold_does_not_derail_the_line():
     x1 = siggen.moves(FS, [("dwell", 0.002), ("move", 120e3, 20e6, 1e9, 1e11)])
     u1, u2, _ = siggen.encode(x1, PITCH, sig, seed=36)
     c.feed(u1, u2)
-    assert c.uncal == 0
+    assert c.est.uncal == 0
     n = 20000
     x2 = x1[-1] - 1.5 * np.arange(1, n + 1)                      # 1.5 nm per sample
     u1, u2, a = siggen.encode(x2, PITCH, sig, seed=37)

@@ -6,18 +6,19 @@ import numpy as np
 import pytest
 
 from sim import siggen
-from sim.model import core
+from sim.model import finequad_core as core
 from sim.run_model import write_codes
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 
 
-# the ECP5 build's parameters (scripts/report.py)
-ECP5 = dict(LANES=2, DISTRAM=1, PH4K=1, PULSEK=1)
-# the UP5K build (scripts/report.py; the iCEBreaker's behaviour too): no harmonic
-# compensation (rtl/phase.v), n * phase in logic, the tuning registers constant (the
-# harness writes their reset values)
-UP5K = dict(HARMONIC=0, NTH_DSP=0, TUNABLE=0)
+# the ECP5 build (rtl/builds.toml [ecp5], make's PROFILE=ecp5)
+ECP5 = dict(PROFILE="ecp5")
+# the UP5K build (rtl/builds.toml [up5k]) with the signal monitor's fault checks and the
+# jump detector: no harmonic compensation (rtl/phase.v), n * phase in logic, the tuning
+# registers constant (the harness writes their reset values); the build itself, without
+# those two, is test_lean_build_equals_model_through_faults's
+UP5K = dict(PROFILE="up5k", OPT_MONITOR=1, OPT_JUMP=1)
 
 
 def _make(tmp_path, target, knobs, tag=None):
@@ -45,9 +46,9 @@ def test_rtlsim_equals_model(tmp_path, table, interp, seed, div, adc_w, count_mo
     pulses). build: the ECP5 build's RTL (two engine lanes, the harmonic table in
     distributed RAM, the 4096-row phase table, Eq. 12 on the sine table's address side;
     one exact-table case in edge mode, a sample every clock) against the model with two
-    lanes; or the UP5K build's (OPT_HARMONIC = 0: rtl/phase.v
-    assembles the phase; OPT_NTH_DSP = 0, OPT_TUNABLE = 0) against the model without the
-    harmonic compensation."""
+    lanes; or the UP5K build's with the monitor and the jump detector (OPT_HARMONIC = 0:
+    rtl/phase.v assembles the phase; OPT_NTH_DSP = 0, OPT_TUNABLE = 0) against the model
+    without the harmonic compensation (make model takes the same PROFILE and knobs)."""
     # long enough in clocks for the estimator to calibrate (a commit needs ~330 updates
     # of ~400 clocks) and to re-estimate many times afterwards
     n = max(40000, 240000 // div)
@@ -70,9 +71,9 @@ def test_rtlsim_equals_model(tmp_path, table, interp, seed, div, adc_w, count_mo
     assert uncal[0] == 1 and uncal[-1] == 0        # the coefficients were handed over
 
 
-# the UP5K report build (scripts/report.py): the UP5K build without the signal monitor's
-# fault checks and the jump detector (OPT_MONITOR = 0, OPT_JUMP = 0)
-LEAN = dict(MONITOR=0, JUMP=0)
+# the UP5K report build (rtl/builds.toml [up5k]): OPT_MONITOR = 0 and OPT_JUMP = 0 beside
+# the options of UP5K above
+LEAN = dict(PROFILE="up5k")
 
 
 @pytest.mark.parametrize("div", [1, 36])
@@ -95,9 +96,9 @@ def test_lean_build_equals_model_through_faults(tmp_path, div):
     u1[k:k + 6], u2[k:k + 6] = -u1[k:k + 6], -u2[k:k + 6]      # half a period off
     u1[k + 500:k + 540] = 32767                                  # a broken line
     write_codes(tmp_path / "in.csv", u1, u2)
-    r = _make(tmp_path, "rtlsim", dict(DIV=div, **UP5K, **LEAN))
-    m = _make(tmp_path, "model", dict(DIV=div, HARMONIC=0, **LEAN))
-    full = _make(tmp_path, "model", dict(DIV=div, HARMONIC=0), tag="model_full")
+    r = _make(tmp_path, "rtlsim", dict(DIV=div, **LEAN))
+    m = _make(tmp_path, "model", dict(DIV=div, **LEAN))
+    full = _make(tmp_path, "model", dict(DIV=div, **UP5K), tag="model_full")
     diff = np.nonzero((r != m).any(axis=1))[0]
     assert len(diff) == 0, f"first difference at sample {diff[0]}: rtl {r[diff[0]]} model {m[diff[0]]}"
     uncal = (r[:, 3] >> 4) & 1

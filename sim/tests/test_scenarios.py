@@ -131,7 +131,7 @@ def test_suite_is_complete_and_reproducible():
     cr = by["creep"]
     assert scenarios.PITCH_NM / np.diff(cr.x).max() >= 1e5 * (1 - 1e-9)
     assert cr.start() == pytest.approx(1e5, abs=2)
-    # and at 10^6 samples per signal period (issue 4)
+    # and at 10^6 samples per signal period
     cr = by["creep1m"]
     assert scenarios.PITCH_NM / np.diff(cr.x).max() >= 1e6 * (1 - 1e-9)
     assert cr.start() == pytest.approx(1e6, abs=2)

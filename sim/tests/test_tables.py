@@ -1,4 +1,4 @@
-"""The harmonic bin lookup of rtl/octant.v (tables.bin_buckets, rtl/tables/hbin.vh)
+"""The harmonic bin lookup of rtl/hbin.v (tables.bin_buckets, rtl/tables/hbin.vh)
 against the bin it stands for, for every value of the ratio scale t it sees."""
 import pytest
 
