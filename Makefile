@@ -31,7 +31,7 @@ DIV     ?= 36
 # name that disagree are refused. The model runs TABLE_EXACT, ADC_W, ENGINE_LANES and
 # OPT_HARMONIC, OPT_MONITOR, OPT_JUMP (the others change the RTL, not its results).
 # OPT_NTH_DSP=0 puts n * phase in logic; OPT_TUNABLE=0 keeps the tuning registers at their
-# reset values (AB_SEP, AB_SRC and AB_BOUND cannot then be given).
+# reset values (the core refuses their writes: the harness stops and says so).
 include scripts/builds.mk
 ifeq ($(filter builds,$(MAKECMDGOALS)),)
 ifneq ($(BUILDS_TOML_SHA256),$(firstword $(shell sha256sum rtl/builds.toml 2>/dev/null)))
@@ -180,14 +180,13 @@ $(HARNESS_VCD): $(RTL) sim/harness/harness.cpp sim/harness/input.h sim/harness/r
 	$(VERILATOR) $(RTLSIM_VFLAGS) --trace --Mdir $(HDIR)_vcd $(RTL) sim/harness/harness.cpp >/dev/null
 
 rtlsim: $(if $(VCD),$(HARNESS_VCD),$(HARNESS)) ## run the RTL (Verilator): IN=in.csv OUT=out.csv [PROFILE=build] [knobs: TABLE_EXACT=0|1 ADC_W=12..16 ENGINE_LANES=1|2 OPT_DISTRAM OPT_PHASE_4K OPT_PULSE_ADDR OPT_HARMONIC OPT_NTH_DSP OPT_TUNABLE OPT_MONITOR OPT_JUMP=0|1; make profiles] [DIV=clocks/sample] [settings: INTERP=n COUNT_MODE=0|1 AB_SEP=s AB_SRC=0|1 AB_BOUND=b SETTINGS="--<field> N ..."] [VCD=x.vcd]
-	$(if $(filter 0,$(TUNABLE)),@test -z "$(AB_SEP)$(AB_SRC)$(AB_BOUND)" || { echo "rtlsim: error: OPT_TUNABLE=0 keeps ABGEN and AB_BOUND at their reset values; got AB_SEP='$(AB_SEP)' AB_SRC='$(AB_SRC)' AB_BOUND='$(AB_BOUND)'" >&2; exit 2; })
 	$(if $(VCD),$(HARNESS_VCD),$(HARNESS)) --in $(IN) --out $(OUT) --div $(DIV) $(SET_ARGS) \
 	    $(if $(VCD),--vcd $(VCD))
 
-model: deps      ## run the bit-true model: IN=in.csv OUT=out.csv [PROFILE=build] [knobs as rtlsim: the model runs TABLE_EXACT ADC_W ENGINE_LANES OPT_HARMONIC OPT_MONITOR OPT_JUMP] [settings as rtlsim] [VCD=ref.vcd]
+model: deps      ## run the bit-true model: IN=in.csv OUT=out.csv [PROFILE=build] [knobs as rtlsim: the model runs TABLE_EXACT ADC_W ENGINE_LANES OPT_HARMONIC OPT_MONITOR OPT_JUMP OPT_TUNABLE] [settings as rtlsim] [VCD=ref.vcd]
 	$(PY) -m sim.run_model --in $(IN) --out $(OUT) --table $(TABLE) --div $(DIV) \
 	    --adc-w $(ADC_W) --engine-lanes $(ENGINE_LANES) --opt-harmonic $(OPT_HARMONIC) \
-	    --opt-monitor $(OPT_MONITOR) --opt-jump $(OPT_JUMP) $(SET_ARGS) \
+	    --opt-monitor $(OPT_MONITOR) --opt-jump $(OPT_JUMP) --opt-tunable $(OPT_TUNABLE) $(SET_ARGS) \
 	    $(if $(VCD),--vcd $(VCD))
 
 harnesses:       ## build the Verilator harnesses scripts and tests call (the exact, its traced twin, the paper)
@@ -273,12 +272,11 @@ bench-accuracy: deps ## accuracy suite: RTL (make rtlsim) and baselines vs the f
 reproduce: deps ## the paper's experiments in simulation (Figs. 2-12, validation, closed-loop tracking, limits) -> build/reproduce/
 	$(PY) scripts/reproduce.py --build $(BUILD)/reproduce
 
-EDGE_SEP ?=
 FCLK     ?= 36e6
-limits: deps     ## speed/resolution limits: PITCH=um FS=Hz [V=m/s | INTERP=n] [EDGE_SEP=clocks] [FCLK=Hz]
+limits: deps     ## speed/resolution limits: PITCH=um FS=Hz [V=m/s | INTERP=n] [AB_SEP=clocks] [FCLK=Hz]
 	@test -n "$(PITCH)" -a -n "$(FS)" || { echo "limits: error: give PITCH=<um> and FS=<Hz>, e.g. make limits PITCH=4 FS=1e6 V=0.01" >&2; exit 2; }
 	$(PY) scripts/limits.py --pitch $(PITCH) --fs $(FS) --fclk $(FCLK) \
-	    $(if $(EDGE_SEP),--edge-sep $(EDGE_SEP)) $(if $(V),--v $(V)) $(if $(INTERP),--interp $(INTERP))
+	    $(if $(AB_SEP),--ab-sep $(AB_SEP)) $(if $(V),--v $(V)) $(if $(INTERP),--interp $(INTERP))
 
 clean:           ## remove build products
 	rm -rf $(BUILD) sim_build cocotb_tests/sim_build

@@ -25,13 +25,20 @@ def pauses(rng, p):
 
 
 class RegPortModel:
-    def __init__(self, dut, clk, init=None):
+    """finequad_core's register port as a memory of 64 words: a write on an edge with
+    reg_we stores, a read on an edge with reg_re returns the word after it (registered).
+    refuse(addr, wdata): the writes the core would refuse; the model drives reg_err for
+    them during reg_we's clock (as the core's combinational verdict) and stores nothing."""
+
+    def __init__(self, dut, clk, init=None, refuse=None):
         self.dut = dut
         self.clk = clk
         self.mem = list(init) if init is not None else [0] * 64
-        self.log = []          # (edge, 'W' | 'R', addr, data)
+        self.log = []          # (edge, 'W' | 'R' | 'X' (refused), addr, data)
         self.edge = 0
+        self.refuse = refuse or (lambda addr, wdata: False)
         dut.reg_rdata.value = 0
+        dut.reg_err.value = 0
         self._task = cocotb.start_soon(self._run())
 
     async def _run(self):
@@ -42,12 +49,16 @@ class RegPortModel:
             re = int(d.reg_re.value)
             addr = int(d.reg_addr.value)
             wdata = int(d.reg_wdata.value)
+            err = bool(we and self.refuse(addr, wdata))
+            d.reg_err.value = int(err)
             await RisingEdge(self.clk)
             self.edge += 1
             if re:
                 self.log.append((self.edge, "R", addr, self.mem[addr]))
                 d.reg_rdata.value = self.mem[addr]
-            if we:
+            if we and err:
+                self.log.append((self.edge, "X", addr, wdata))
+            elif we:
                 self.log.append((self.edge, "W", addr, wdata))
                 self.mem[addr] = wdata
 

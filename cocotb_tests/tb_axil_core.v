@@ -33,6 +33,7 @@ module tb_axil_core #(
     wire        reg_we, reg_re;
     wire [5:0]  reg_addr;
     wire [31:0] reg_wdata, reg_rdata;
+    wire        reg_err;
     axil_regs #(.ADDR_W(16), .ADDR_TOP(FQ_ADDR_TOP)) u_regs (
         .clk(clk), .rst(rst),
         .s_axil_awaddr(s_axil_awaddr), .s_axil_awprot(s_axil_awprot),
@@ -46,16 +47,16 @@ module tb_axil_core #(
         .s_axil_rdata(s_axil_rdata), .s_axil_rresp(s_axil_rresp),
         .s_axil_rvalid(s_axil_rvalid), .s_axil_rready(s_axil_rready),
         .reg_we(reg_we), .reg_re(reg_re), .reg_addr(reg_addr), .reg_wdata(reg_wdata),
-        .reg_rdata(reg_rdata)
+        .reg_rdata(reg_rdata), .reg_err(reg_err)
     );
     wire        m_valid, m_a, m_b;
     wire [31:0] m_count;
-    wire [6:0]  m_fault;
+    wire [10:0] m_fault;
     wire [65:0] eng_cmd;                 // 0: the core's engine is inside
     finequad_core #(.TABLE_DIR(TABLE_DIR), .ADC_W(12)) u_core (
         .clk(clk), .rst(rst), .s_valid(1'b0), .s_u1(12'd0), .s_u2(12'd0),
         .reg_we(reg_we), .reg_re(reg_re), .reg_addr(reg_addr), .reg_wdata(reg_wdata),
-        .reg_rdata(reg_rdata),
+        .reg_rdata(reg_rdata), .reg_err(reg_err),
         .m_valid(m_valid), .m_count(m_count), .m_fault(m_fault), .m_a(m_a), .m_b(m_b),
         .tdm_ok_i(1'b1), .eng_cmd_o(eng_cmd), .eng_rsp_i(115'd0)   // the engine inside
     );

@@ -19,7 +19,8 @@ module tb_uart_axil #(
     output wire        reg_re,
     output wire [5:0]  reg_addr,
     output wire [31:0] reg_wdata,
-    input  wire [31:0] reg_rdata
+    input  wire [31:0] reg_rdata,
+    input  wire        reg_err
 );
     wire [15:0] awaddr, araddr;
     wire [2:0]  awprot, arprot;
@@ -48,7 +49,7 @@ module tb_uart_axil #(
         .s_axil_rdata(rdata), .s_axil_rresp(rresp), .s_axil_rvalid(rvalid),
         .s_axil_rready(rready),
         .reg_we(reg_we), .reg_re(reg_re), .reg_addr(reg_addr), .reg_wdata(reg_wdata),
-        .reg_rdata(reg_rdata)
+        .reg_rdata(reg_rdata), .reg_err(reg_err)
     );
 endmodule
 `resetall

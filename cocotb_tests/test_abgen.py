@@ -14,7 +14,16 @@ the same stream). Independently of the model, in this file:
     s16, ovf_sticky_o == OR of ovf_o since rst.
 Streams: slow moves, jumps of thousands of counts, reversals mid-backlog, sep changes
 (0, 1, 2..7, 255), bounds small enough that ovf toggles, rst in the middle of a backlog,
-backlog saturation, a modular (short-way) difference at COUNT_W = 18."""
+backlog saturation, a modular (short-way) difference at COUNT_W = 18.
+
+Against the counters the pins are meant for (abgen_counters): moves faster than the pins
+(the backlog paid at the pacing's maximum rate) with reversals, the pins timed at the
+36 MHz of a core clock and read by sim.counters.FilteringCounter, a model of an
+integrating input filter and x4 counter written from the description of LinuxCNC's Mesa
+hostmot2 encoder with its driver's default filter (a level must hold 15 samples of a
+25 MHz clock), at five sampling phases: with ABGEN.ab_sep at its reset value
+(rtl/regs/finequad.rdl) it must end on the target with no quadrature error; with the
+earlier default of 4 clocks it must not (the counter loses counts, silently)."""
 import random
 
 import pytest
@@ -28,7 +37,13 @@ COUNT_WS = [32, 18]
 @pytest.mark.parametrize("sim", fqtb.SIMULATORS)
 def test_abgen(sim, count_w):
     fqtb.run_block(sim, "abgen", fqtb.sources("abgen"), "test_abgen",
-                   parameters=dict(COUNT_W=count_w))
+                   parameters=dict(COUNT_W=count_w), testcase="abgen_streams")
+
+
+@pytest.mark.parametrize("sim", fqtb.SIMULATORS)
+def test_abgen_counters(sim):
+    fqtb.run_block(sim, "abgen", fqtb.sources("abgen"), "test_abgen",
+                   parameters=dict(COUNT_W=32), testcase="abgen_counters")
 
 
 # ---- cocotb side ------------------------------------------------------------------------
@@ -283,3 +298,57 @@ async def abgen_streams(dut):
     assert not bad, f"{len(bad)} failures:\n" + "\n".join(bad[:30])
     dut._log.info("abgen COUNT_W=%d: %d clocks equal, %d edges, %d settle points met",
                   cw, n, n_edges, len(S.settle))
+
+
+async def _pins(dut, bench, moves, sep):
+    """Run abgen from rst with ABGEN.ab_sep = sep through `moves` (targets, each held
+    until the pins have reached it and a little longer); the pins after every clock."""
+    dut.rst.value = 1
+    dut.target_i.value = 0
+    dut.sep_i.value = sep
+    dut.bound_i.value = 0xFFFF
+    await bench.step()
+    dut.rst.value = 0
+    a, b = [], []
+    for target in moves:
+        dut.target_i.value = target & 0xFFFFFFFF
+        idle = 0
+        while idle < 4 * sep + 64:
+            await bench.step()
+            a.append(fqtb.uval(dut.a_o))
+            b.append(fqtb.uval(dut.b_o))
+            idle = idle + 1 if fqtb.sval(dut.pos_o) == target else 0
+    return a, b
+
+
+@cocotb.test()
+async def abgen_counters(dut):
+    from sim import counters
+    from sim.model import regs
+
+    fclk = 36e6                          # the pins' clock (the harness's 27.778 ns)
+    hm2 = next(c for c in counters.COUNTERS if c.name.startswith("Mesa") and c.filter_ns == 600)
+    depth = round(hm2.filter_ns / hm2.sample_ns)
+    moves = [0, 300, 120, 420, -50, 260]   # jumps: the pins run at their maximum rate
+    bench = fqtb.ClockedBench(dut)
+    dut.rst.value = 1
+    await bench.start()
+    default = regs.SETTINGS["ab_sep"].reset
+    results = {}
+    for sep in (default, 4):
+        a, b = await _pins(dut, bench, moves, sep)
+        times = [k * 1e9 / fclk for k in range(len(a))]
+        runs = []
+        for phase in (0.0, 7.0, 13.0, 21.0, 33.0):
+            c = counters.FilteringCounter(depth, hm2.sample_ns, phase_ns=phase)
+            c.run(times, a, b)
+            runs.append((c.count, c.errors))
+        results[sep] = runs
+        dut._log.info("ab_sep %d (%.0f ns at 36 MHz): %s counts seen (target %d), "
+                      "quadrature errors %s", sep, sep * 1e9 / fclk,
+                      [r[0] for r in runs], moves[-1], [r[1] for r in runs])
+    assert default * 1e9 / fclk >= hm2.min_sep_ns, "the default is faster than the filter"
+    assert all(r == (moves[-1], 0) for r in results[default]), results[default]
+    # the old default: counts lost without a quadrature error (the test can tell)
+    assert all(r[0] != moves[-1] for r in results[4]), results[4]
+    assert all(r[1] == 0 for r in results[4]), results[4]

@@ -3,11 +3,14 @@
 Against a register-file model of the core's port (axil_check.RegPortModel, registered
 read like the core) with ADDR_TOP = 0x2f (word indices 0x30.. are unmapped: SLVERR):
   timing     the documented edge timing, AXI pins driven by hand: a write's AW and W
-             taken on edge h -> reg_we and BVALID after h + 1; a read's AR taken on h ->
-             reg_re after h + 1, RVALID after h + 2; BVALID/RVALID held under back-pressure;
-             AW before W and W before AW
+             taken on edge h -> reg_we after h + 1, BVALID after h + 2 (OKAY, or SLVERR
+             when the port's reg_err refuses the write during reg_we's clock: the model
+             refuses writes with bit 31 set to word 0x2e); a read's AR taken on h ->
+             reg_re after h + 1, RVALID after h + 2; BVALID/RVALID held under
+             back-pressure; AW before W and W before AW
   directed   cocotbext-axi AxiLiteMaster: every mapped word written and read back, each
-             write reaching the port exactly once with its data; partial and empty WSTRB
+             write reaching the port exactly once with its data; a write the port refuses
+             -> SLVERR, the word unchanged; partial and empty WSTRB
              -> SLVERR and no write; unmapped words (inside and beyond the 6-bit port)
              -> SLVERR, RDATA 0, nothing on the port; byte offsets 1..3 of a word address
              hit the word
@@ -19,8 +22,10 @@ read like the core) with ADDR_TOP = 0x2f (word indices 0x30.. are unmapped: SLVE
              the handshake rules on every channel (axil_check.AxilMonitor) on every clock
 Against the real finequad_core (cocotb_tests/tb_axil_core.v: axil_regs in front of it):
   core       ID = sim.model.finequad_core.ID, reset values, INTERP/EPS/GATE write/read-back,
-             read-only ID ignores writes, CTRL's counter-mode bit, partial write rejected,
-             a word above the system's ADDR_TOP (0x1f) -> SLVERR
+             CTRL's counter-mode bit, partial write rejected, a word above the system's
+             ADDR_TOP -> SLVERR; every writable register's range (test_core_ranges below):
+             each bound and one past it, a bit outside the fields, a read-only word ->
+             SLVERR and the register keeps its value
 """
 import os
 import random
@@ -30,6 +35,11 @@ import pytest
 import fqtb
 
 ADDR_TOP = 0x2f
+REFUSED_WORD = 0x2e          # the model port refuses writes with bit 31 set to this word
+
+
+def refuse(addr, wdata):
+    return addr == REFUSED_WORD and wdata >> 31
 
 
 @pytest.mark.parametrize("sim", fqtb.SIMULATORS)
@@ -45,7 +55,7 @@ def test_axil_core(sim):
                    [fqtb.HERE / "tb_axil_core.v", fqtb.RTL / "axil_regs.v"]
                    + fqtb.core_sources(),
                    "test_axil_regs", parameters=dict(TABLE_DIR=fqtb.qstr(fqtb.TABLE_DIR)),
-                   testcase="axil_core")
+                   testcase="axil_core,core_ranges")
 
 
 # ---- simulator side ----------------------------------------------------------------------
@@ -71,7 +81,7 @@ async def _setup(dut, master=True):
     for s in ("awvalid", "wvalid", "arvalid", "bready", "rready"):
         getattr(dut, f"s_axil_{s}").value = 0
     await bench.start()
-    regs = RegPortModel(dut, dut.clk, init=[0] * 64)
+    regs = RegPortModel(dut, dut.clk, init=[0] * 64, refuse=refuse)
     mon = AxilMonitor(dut, dut.clk)
     await bench.goto(1)
     dut.rst.value = 0
@@ -112,8 +122,10 @@ async def timing(dut):
     await at(2)
     assert int(d.reg_we.value) == 1 and int(d.reg_addr.value) == 3
     assert int(d.reg_wdata.value) == 0x12345678
+    assert int(d.s_axil_bvalid.value) == 0          # the port's verdict comes first
+    await at(3)
     assert int(d.s_axil_bvalid.value) == 1 and int(d.s_axil_bresp.value) == OKAY
-    for e in range(3, 7):            # held while BREADY is low; reg_we was one edge
+    for e in range(4, 7):            # held while BREADY is low; reg_we was one edge
         await at(e)
         assert int(d.s_axil_bvalid.value) == 1 and int(d.reg_we.value) == 0
     d.s_axil_bready.value = 1
@@ -158,27 +170,46 @@ async def timing(dut):
     d.s_axil_wvalid.value = 0
     await at(19)
     assert int(d.reg_we.value) == 1 and int(d.reg_addr.value) == 4
+    assert int(d.s_axil_bvalid.value) == 0
+    await at(20)
     assert int(d.s_axil_bvalid.value) == 1
     d.s_axil_bready.value = 1
-    await at(20)
+    await at(21)
     d.s_axil_bready.value = 0
-    # W first (edge 21), AW on edge 23: write after 24
+    # W first (edge 22), AW on edge 24: write after 25
     d.s_axil_wdata.value = 0x0BADBEEF
     d.s_axil_wvalid.value = 1
-    await at(21)
-    d.s_axil_wvalid.value = 0
     await at(22)
+    d.s_axil_wvalid.value = 0
+    await at(23)
     assert int(d.s_axil_wready.value) == 0 and int(d.s_axil_awready.value) == 1
     d.s_axil_awaddr.value = 0x14
     d.s_axil_awvalid.value = 1
-    await at(23)
-    d.s_axil_awvalid.value = 0
     await at(24)
+    d.s_axil_awvalid.value = 0
+    await at(25)
     assert int(d.reg_we.value) == 1 and int(d.reg_addr.value) == 5
     assert int(d.reg_wdata.value) == 0x0BADBEEF
     d.s_axil_bready.value = 1
-    await at(26)
+    await at(27)
+    d.s_axil_bready.value = 0
+    # a write the port refuses (reg_err during reg_we's clock): SLVERR after h + 2
+    d.s_axil_awaddr.value = 4 * REFUSED_WORD
+    d.s_axil_wdata.value = 0x80000001
+    d.s_axil_awvalid.value = 1
+    d.s_axil_wvalid.value = 1
+    await at(28)
+    d.s_axil_awvalid.value = 0
+    d.s_axil_wvalid.value = 0
+    await at(29)
+    assert int(d.reg_we.value) == 1 and int(d.reg_addr.value) == REFUSED_WORD
+    await at(30)
+    assert int(d.s_axil_bvalid.value) == 1 and int(d.s_axil_bresp.value) == SLVERR
+    d.s_axil_bready.value = 1
+    await at(31)
+    d.s_axil_bready.value = 0
     assert regs.writes() == [(3, 0x12345678), (4, 0xCAFEF00D), (5, 0x0BADBEEF)]
+    assert regs.mem[REFUSED_WORD] == 0
     assert not mon.errors, mon.errors[:5]
 
 
@@ -187,10 +218,14 @@ async def directed(dut):
     bench, regs, mon, m = await _setup(dut)
     rng = random.Random(7)
     vals = {w: rng.getrandbits(32) for w in range(ADDR_TOP + 1)}
+    vals[REFUSED_WORD] &= 0x7FFFFFFF
     for w, v in vals.items():
         r = await m.write(4 * w, _word(v))
         assert r.resp == OKAY, (w, r.resp)
     assert regs.writes() == list(vals.items())
+    # a write the port refuses: SLVERR, the word keeps its value
+    r = await m.write(4 * REFUSED_WORD, _word(0xFFFFFFFF))
+    assert r.resp == SLVERR and regs.mem[REFUSED_WORD] == vals[REFUSED_WORD]
     for w, v in vals.items():
         r = await m.read(4 * w, 4)
         assert r.resp == OKAY and int.from_bytes(r.data, "little") == v, (w, r)
@@ -245,8 +280,9 @@ async def _batches(dut, m, regs, mon, rng, n_batches):
             w = op[1]
             mapped = w <= ADDR_TOP
             if op[0] == "W":
-                assert res.resp == (OKAY if mapped else SLVERR), (op, res)
-                if mapped:
+                refused = refuse(w, op[2])
+                assert res.resp == (OKAY if mapped and not refused else SLVERR), (op, res)
+                if mapped and not refused:
                     log_w.append((w, op[2]))
                     nw += 1
                 else:
@@ -264,7 +300,7 @@ async def _batches(dut, m, regs, mon, rng, n_batches):
                     assert res.resp == SLVERR and res.data == bytes(4), (op, res)
                     nerr += 1
         for op in ops:
-            if op[0] == "W" and op[1] <= ADDR_TOP:
+            if op[0] == "W" and op[1] <= ADDR_TOP and not refuse(op[1], op[2]):
                 model[op[1]] = op[2]
     writes = [(a, v) for _, k, a, v in regs.log[n0:] if k == "W"]
     assert sorted(writes) == sorted(log_w), (len(writes), len(log_w))
@@ -298,13 +334,11 @@ async def random_backpressure(dut):
     assert min(total) > 50
 
 
-@_cocotb_test
-async def axil_core(dut):
-    """axil_regs in front of the real finequad_core (tb_axil_core.v)."""
+async def _core_master(dut):
+    """tb_axil_core out of reset: cocotbext-axi's master, the protocol monitor and a word
+    read that expects OKAY."""
     from cocotbext.axi import AxiLiteBus, AxiLiteMaster
     from axil_check import AxilMonitor
-    from sim.model import finequad_core as core_model
-    from sim.model import regs
 
     bench = fqtb.ClockedBench(dut)
     dut.rst.value = 1
@@ -318,6 +352,16 @@ async def axil_core(dut):
         r = await m.read(4 * w, 4)
         assert r.resp == OKAY, (hex(w), r)
         return int.from_bytes(r.data, "little")
+    return m, mon, rd
+
+
+@_cocotb_test
+async def axil_core(dut):
+    """axil_regs in front of the real finequad_core (tb_axil_core.v)."""
+    from sim.model import finequad_core as core_model
+    from sim.model import regs
+
+    m, mon, rd = await _core_master(dut)
 
     async def wr(w, v, resp=OKAY):
         r = await m.write(4 * w, _word(v))
@@ -335,7 +379,7 @@ async def axil_core(dut):
     assert await rd(regs.INTERP) == 37
     assert await rd(regs.EPS) == 0x1234
     assert await rd(regs.GATE) == 0x1abc
-    await wr(regs.ID, 0)                           # read-only: ignored
+    await wr(regs.ID, 0, resp=SLVERR)              # read-only: refused
     assert await rd(regs.ID) == core_model.ID
     r = await m.write(4 * regs.INTERP + 1, b"\x05")   # partial: rejected, INTERP kept
     assert r.resp == SLVERR
@@ -349,3 +393,31 @@ async def axil_core(dut):
     assert r.resp == SLVERR
     assert not mon.errors, mon.errors[:5]
 
+
+@_cocotb_test
+async def core_ranges(dut):
+    """Every writable register's bounds through AXI4-Lite against the real core
+    (regcases.cases()): each field at its bounds taken (OKAY, read back), one past a
+    bound, a bit outside the fields, a read-only or unused word refused (SLVERR) with
+    the register unchanged."""
+    import regcases
+
+    m, mon, rd = await _core_master(dut)
+
+    bad = []
+    n = 0
+    for name, word, taken in regcases.cases():
+        w = regcases.index(name)
+        before = await rd(w)
+        r = await m.write(4 * w, _word(word))
+        n += 1
+        if r.resp != (OKAY if taken else SLVERR):
+            bad.append(f"{name} <- {word:#010x}: {'OKAY' if r.resp == OKAY else 'SLVERR'}")
+            continue
+        after = await rd(w)
+        exp = regcases.readback(name, word) if taken else before
+        if exp is not None and after != exp and (taken or name in regcases.regs.REGS):
+            bad.append(f"{name} <- {word:#010x}: reads {after:#010x}, expected {exp:#010x}")
+    assert not bad, f"{len(bad)} of {n} writes:\n" + "\n".join(bad)
+    assert not mon.errors, mon.errors[:5]
+    dut._log.info("core_ranges: %d writes, each taken or refused as the description says", n)

@@ -300,6 +300,25 @@ async def multi_run(dut):
         for f in ("m1", "m2", "c1", "c12", "c2"):
             check(f.upper(), await rd(i, regs.REGS[f.upper()].index), u32(r[f][n]))
     assert not bad, f"{case}: register read-back differs:\n" + "\n".join(bad)
+
+    # refused writes (reg_err, combinational with reg_we): INTERP = 0 on an axis (it keeps
+    # its value), and, where reg_axis can name one, an axis that does not exist
+    async def wr_err(axis, addr, data):
+        dut.reg_axis.value = axis
+        dut.reg_addr.value = addr
+        dut.reg_wdata.value = data
+        dut.reg_we.value = 1
+        await bench.settle()
+        err = fqtb.uval(dut.reg_err)
+        await bench.goto(bench.edge + 1)
+        dut.reg_we.value = 0
+        return err
+    interp0 = await rd(0, regs.INTERP)
+    assert await wr_err(0, regs.INTERP, 0) == 1, "INTERP = 0 not refused"
+    assert await rd(0, regs.INTERP) == interp0
+    assert await wr_err(0, regs.INTERP, interp0) == 0, "a legal write refused"
+    if axes < 1 << max(1, (axes - 1).bit_length()):
+        assert await wr_err(axes, regs.INTERP, 5) == 1, "a write to no axis not refused"
     np.save(fqtb.env_str("OUT"), got[0])
     for i, r in enumerate(res):
         uncal = (r["fault"][:n] >> core.FAULT_BITS["uncal"]) & 1

@@ -9,9 +9,11 @@
 //
 // Address map: byte address = 4 * reg_addr; word index addr[ADDR_W-1:2], addr[1:0]
 // ignored (a word access at any byte offset hits its word). Word indices 0 .. ADDR_TOP
-// go to the core (its register map: rtl/regs/finequad.rdl; indices the core does not implement
-// read 0 and ignore writes, OKAY); word indices above ADDR_TOP answer SLVERR without
-// touching the core (reads return 0).
+// go to the core (its register map: rtl/regs/finequad.rdl); a write the core refuses
+// (reg_err: a register that takes no writes, a bit no field holds, a field outside its
+// legal values; unmapped words below ADDR_TOP too) answers SLVERR and changes nothing;
+// reads of unmapped words return 0, OKAY. Word indices above ADDR_TOP answer SLVERR
+// without touching the core (reads return 0).
 // WSTRB: the core's registers are single fields with write side effects (CTRL's reset
 // request, HARM's table clear, write-1-to-clear of FAULT_STICKY), so a byte-lane
 // read-modify-write would replay them: only full-word writes (WSTRB = 4'hF) are
@@ -28,8 +30,9 @@
 //
 // Timing (edges numbered, register port outputs registered):
 //   write: AW and W held before edge e -> reg_we/reg_addr/reg_wdata high/valid after e
-//          (the core writes on e + 1), BVALID after e. Throughput: one write per 2 edges
-//          with BREADY high (AW/W taken on e + 1 again).
+//          (the core writes on e + 1, or refuses: reg_err during that clock), BVALID
+//          after e + 1 with BRESP = SLVERR if refused. Throughput: one write per 3 edges
+//          with BREADY high (AW/W taken on e + 2 again).
 //   read:  AR held before edge e -> reg_re after e (the core registers reg_rdata on
 //          e + 1), RVALID after e + 1 with RDATA = reg_rdata (the core holds it until the
 //          next reg_re, and no read is issued while RVALID is high). Latency from the AR
@@ -70,7 +73,9 @@ module axil_regs #(
     output reg               reg_re,
     output reg  [5:0]        reg_addr,
     output reg  [31:0]       reg_wdata,
-    input  wire [31:0]       reg_rdata
+    input  wire [31:0]       reg_rdata,
+    // the core refuses the write on the register port (combinational, with reg_we)
+    input  wire              reg_err
 );
     localparam [1:0] RESP_OKAY = 2'b00;
     localparam [1:0] RESP_SLVERR = 2'b10;
@@ -85,6 +90,7 @@ module axil_regs #(
     reg [ADDR_W-3:0] ar_word_q = 0;
     // ---- responses ---------------------------------------------------------------------
     reg              bvalid_q = 1'b0;
+    reg              wr_wait_q = 1'b0;    // reg_we issued, the core's verdict this clock
     reg [1:0]        bresp_q = RESP_OKAY;
     reg              rd_wait_q = 1'b0;    // reg_re issued, reg_rdata valid after next edge
     reg              rvalid_q = 1'b0;
@@ -108,7 +114,7 @@ module axil_regs #(
     assign s_axil_rdata   = rerr_q ? 32'd0 : reg_rdata;
 
     // ---- decisions (from registered state only) ------------------------------------------
-    wire wr_ready = aw_full_q && w_full_q && !bvalid_q;
+    wire wr_ready = aw_full_q && w_full_q && !bvalid_q && !wr_wait_q;
     wire rd_ready = ar_full_q && !rvalid_q && !rd_wait_q;
     // both ready: alternate (the one that did not go last); continuous assignments, as
     // Icarus does not run an always @* whose inputs never change from their initial values
@@ -149,9 +155,15 @@ module axil_regs #(
             reg_we <= wr_ok;
             reg_addr <= aw_word_q[5:0];
             reg_wdata <= w_data_q;
-            bvalid_q <= 1'b1;
             bresp_q <= wr_ok ? RESP_OKAY : RESP_SLVERR;
             last_wr_q <= 1'b1;
+        end
+        // the response after the core's verdict (reg_we's clock)
+        wr_wait_q <= do_wr;
+        if (wr_wait_q) begin
+            bvalid_q <= 1'b1;
+            if (reg_we && reg_err)
+                bresp_q <= RESP_SLVERR;
         end
         if (do_rd) begin
             ar_full_q <= 1'b0;
@@ -169,6 +181,7 @@ module axil_regs #(
             w_full_q <= 1'b0;
             ar_full_q <= 1'b0;
             bvalid_q <= 1'b0;
+            wr_wait_q <= 1'b0;
             rvalid_q <= 1'b0;
             rd_wait_q <= 1'b0;
             reg_we <= 1'b0;

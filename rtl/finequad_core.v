@@ -26,9 +26,13 @@
 // hold the counter (the sample's phase is not trusted); 0, 7, 9, 10 and a short bit 8
 // keep the sample from the estimator. With OPT_MONITOR = 0 bits 7..10 stay 0 and
 // nothing holds the counter; clipped samples are still kept from the estimator.
-// Register port: reg_we writes reg_wdata to reg_addr on the edge; reg_re reads reg_addr,
+// Register port: reg_we writes reg_wdata to reg_addr on the edge, unless reg_err (a
+// combinational verdict on reg_we, reg_addr, reg_wdata) refuses it: a register that takes
+// no writes (read-only, unmapped, constant in this build), a bit no field holds, a field
+// outside its legal values; a refused write changes nothing. reg_re reads reg_addr,
 // reg_rdata holds the value after that edge (registered; rtl/axil_regs.v puts an AXI4-Lite
-// slave in front). The register map: rtl/regs/finequad.rdl (reference: rtl/regs/README.md).
+// slave in front and answers SLVERR for a refused write). The register map:
+// rtl/regs/finequad.rdl (reference: rtl/regs/README.md).
 module finequad_core #(
     parameter TABLE_DIR = "rtl/tables/",
     // ADC word width, 12..16, two's complement, MSB-aligned to s1.15 internally
@@ -62,11 +66,11 @@ module finequad_core #(
     // table (rtl/pulse.v OPT_ADDR: no comparison behind the sine table's block RAM; one
     // more block RAM; SIN_W 8, 10 or 12; for ~100 MHz); 0: the table's word
     parameter [0:0] OPT_PULSE_ADDR = 1'b0,
-    // 1: every setting is a register; 0: the tuning settings (EPS, LAMBDA_K, KAPPA,
-    // PERIOD, SETTLE, GATE, HARM, JUMP, ABGEN, AB_BOUND, CLIP, RADIUS, MONITOR) keep their
-    // reset values, which synthesis folds into the logic (writes are ignored, reads return
-    // them, except as OPT_MONITOR and OPT_JUMP say below); CTRL, INTERP, the staged coefficients and FAULT_STICKY stay writable (for a
-    // small device, e.g. the iCE40 UP5K)
+    // 1: every setting is a register; 0: the tuning registers (those whose `requires` in
+    // rtl/regs/finequad.rdl names OPT_TUNABLE) keep their reset values, which synthesis
+    // folds into the logic (writes are refused with reg_err, reads return them, except as
+    // OPT_MONITOR and OPT_JUMP say below); CTRL, INTERP, the staged coefficients and
+    // FAULT_STICKY stay writable (for a small device, e.g. the iCE40 UP5K)
     parameter [0:0] OPT_TUNABLE = 1'b1,
     // 1: the signal monitor's fault checks (loss, over-range, stuck channel, glitch:
     // rtl/monitor.v); 0: none (the counter never holds, those fault bits are 0, RADIUS and
@@ -98,6 +102,7 @@ module finequad_core #(
     input  wire [5:0]                reg_addr,
     input  wire [31:0]               reg_wdata,
     output reg  [31:0]               reg_rdata,
+    output wire                      reg_err,
     // per-sample results
     output wire                      m_valid,
     output wire signed [COUNT_W-1:0] m_count,
@@ -189,12 +194,15 @@ module finequad_core #(
     reg        req_cov_reset = 1'b0;            // CTRL.cov_reset (a pulse)
     reg        req_load = 1'b0;                 // CTRL.load (a pulse)
     reg        req_capture = 1'b0;              // CTRL.capture (a pulse)
+    // the write the core takes: reg_we unless refused (rtl/regs/finequad.rdl, fq_write_ok)
+    wire wr_take = reg_we && `FQ_WRITE_OK(reg_addr, reg_wdata);
+    assign reg_err = reg_we && !wr_take;
     always @(posedge clk) begin
         req_cov_reset <= 1'b0;
         req_load <= 1'b0;
         req_capture <= 1'b0;
         r_harm_clear <= 1'b0;
-        if (reg_we) begin
+        if (wr_take) begin
             case (reg_addr)
                 FQ_CTRL: begin
                     req_cov_reset <= reg_wdata[FQ_CTRL_COV_RESET_LSB];
@@ -212,7 +220,9 @@ module finequad_core #(
                 default: ;
             endcase
         end
-        if (reg_we && OPT_TUNABLE) begin
+        // the tuning registers: constant with OPT_TUNABLE = 0 (fq_write_ok refuses their
+        // writes too; the parameter here lets synthesis fold them)
+        if (wr_take && OPT_TUNABLE) begin
             case (reg_addr)
                 FQ_EPS: r_eps <= reg_wdata[FQ_EPS_EPS_MSB:FQ_EPS_EPS_LSB];
                 FQ_LAMBDA_K:
@@ -253,7 +263,7 @@ module finequad_core #(
             endcase
         end
         // write 1 to clear; a fault arriving on the same edge stays set
-        r_fault_sticky <= (r_fault_sticky & ~((reg_we && reg_addr == FQ_FAULT_STICKY) ?
+        r_fault_sticky <= (r_fault_sticky & ~((wr_take && reg_addr == FQ_FAULT_STICKY) ?
                                               reg_wdata[FQ_FAULT_W-1:0] : {FQ_FAULT_W{1'b0}}))
                           | (m_valid ? m_fault : {FQ_FAULT_W{1'b0}});
         if (rst) begin
@@ -425,20 +435,20 @@ module finequad_core #(
     // ---- fault bits, carried with the sample -------------------------------------------------
     // Index k of each delay line holds the value registered k + 1 edges after the flag's
     // own edge: flags of edge t (clip, gain, offset saturation, and the bundle's uncal and
-    // hold, sampled with the sample) reach index LATENCY - 1 on edge t + LATENCY, rsat
-    // (edge t + 2) index LATENCY - 3.
-    reg [LATENCY-1:0] clip_d = 0, nsat_d = 0, dsat_d = 0, uncal_d = 0, hold_d = 0;
-    reg [LATENCY-CORR_AT-1:0] rsat_d = 0;
+    // hold, sampled with the sample) reach index LATENCY - 1 on edge t + LATENCY. csat:
+    // the offset removal's saturation (edge t), joined by the correction's (rsat, edge
+    // t + CORR_AT) at index CORR_AT, which is registered on the same edge as rsat.
+    reg [LATENCY-1:0] clip_d = 0, nsat_d = 0, csat_d = 0, uncal_d = 0, hold_d = 0;
     reg uncal0 = 1'b1, hold0 = 1'b0;
     always @(posedge clk) begin
         uncal0 <= b_uncal;
         hold0  <= b_hold;
         clip_d  <= {clip_d[LATENCY-2:0], c_clip};
         nsat_d  <= {nsat_d[LATENCY-2:0], c_nsat};
-        dsat_d  <= {dsat_d[LATENCY-2:0], c_dsat};
+        csat_d  <= {csat_d[LATENCY-2:CORR_AT], csat_d[CORR_AT-1] | c_rsat,
+                    csat_d[CORR_AT-2:0], c_dsat};
         uncal_d <= {uncal_d[LATENCY-2:0], uncal0};
         hold_d  <= {hold_d[LATENCY-2:0], hold0};
-        rsat_d  <= {rsat_d[LATENCY-CORR_AT-2:0], c_rsat};
     end
     // the monitor's flags are registered on t + 7, one edge before the output
     reg [3:0] mon_q = 4'd0;                      // {glitch, stuck, over, loss}
@@ -448,7 +458,7 @@ module finequad_core #(
     // or the correction's products (t + 2) saturated
     assign m_fault[FQ_FAULT_STICKY_CLIP_LSB] = clip_d[LATENCY-1];
     assign m_fault[FQ_FAULT_STICKY_NSAT_LSB] = nsat_d[LATENCY-1];
-    assign m_fault[FQ_FAULT_STICKY_CSAT_LSB] = dsat_d[LATENCY-1] | rsat_d[LATENCY-CORR_AT-1];
+    assign m_fault[FQ_FAULT_STICKY_CSAT_LSB] = csat_d[LATENCY-1];
     assign m_fault[FQ_FAULT_STICKY_OVS_LSB] = k_ovs;
     assign m_fault[FQ_FAULT_STICKY_UNCAL_LSB] = uncal_d[LATENCY-1];
     assign m_fault[FQ_FAULT_STICKY_HOLD_LSB] = hold_d[LATENCY-1];

@@ -31,7 +31,8 @@
 //
 // Register port: the core registers (rtl/regs/finequad.rdl) of axis reg_axis; reg_we
 // writes on the edge, reg_re reads, reg_rdata holds the value after that edge (the axis
-// read last). Axes reg_axis >= AXES: writes ignored, reads 0.
+// read last). reg_err: the write is refused (the axis's core refuses it, or reg_axis >=
+// AXES: nothing written); reads of reg_axis >= AXES return 0.
 // Latency and formats per axis as rtl/finequad_core.v (m_count s(COUNT_W), m_fault 11
 // bits, a sample strobed on edge t out after edge t + 8).
 module finequad_multi #(
@@ -86,6 +87,9 @@ module finequad_multi #(
     input  wire [5:0]                   reg_addr,
     input  wire [31:0]                  reg_wdata,
     output reg  [31:0]                  reg_rdata,
+    // the write on the port is refused (combinational): the axis's core refuses it
+    // (rtl/finequad_core.v reg_err), or reg_axis names no axis
+    output wire                         reg_err,
     // per-sample results of axis i: m_count[COUNT_W i +: COUNT_W] (s(COUNT_W)),
     // m_fault[11 i +: 11]
     output wire [AXES-1:0]              m_valid,
@@ -109,6 +113,7 @@ module finequad_multi #(
     wire [66*AXES-1:0]   cmd_all;          // rtl/estimator.v eng_cmd_o of axis i
     wire [115*AXES-1:0]  rsp_all;          // rtl/estimator.v eng_rsp_i of axis i
     wire [32*AXES-1:0]   rdata_all;
+    wire [AXES-1:0]      err_all;          // axis i refuses the write
 
     // ---- the axes --------------------------------------------------------------------------
     genvar i;
@@ -132,6 +137,7 @@ module finequad_multi #(
                 .s_u2(s_u2[ADC_W*i +: ADC_W]),
                 .reg_we(reg_we && sel), .reg_re(reg_re && sel), .reg_addr(reg_addr),
                 .reg_wdata(reg_wdata), .reg_rdata(rdata_all[32*i +: 32]),
+                .reg_err(err_all[i]),
                 .m_valid(m_valid[i]), .m_count(count), .m_fault(m_fault[11*i +: 11]),
                 .m_a(m_a[i]), .m_b(m_b[i]),
                 .tdm_ok_i(tdm_ok[i]), .eng_cmd_o(cmd_all[66*i +: 66]),
@@ -140,6 +146,11 @@ module finequad_multi #(
             assign m_count[COUNT_W*i +: COUNT_W] = count;
         end
     endgenerate
+
+    // a write to a reg_axis beyond the axes reaches no core: refused too
+    localparam [31:0] N_AXES = AXES;
+    wire axis_ok = (AXES == 1) || ({{(32-AXW){1'b0}}, reg_axis} < N_AXES);
+    assign reg_err = |err_all || (reg_we && !axis_ok);
 
     // ---- register read-back: the axis read last ------------------------------------------------
     reg [AXW-1:0] rd_axis = 0;

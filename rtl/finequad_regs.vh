@@ -92,7 +92,7 @@ localparam integer FQ_KAPPA_KAPPA_LSB = 0;
 localparam integer FQ_KAPPA_KAPPA_MSB = 15;
 localparam integer FQ_KAPPA_KAPPA_W = 16;
 localparam [15:0] FQ_KAPPA_KAPPA_RESET = 16'h4000;
-localparam [31:0] FQ_KAPPA_KAPPA_LO = 32'h0;
+localparam [31:0] FQ_KAPPA_KAPPA_LO = 32'h1;
 localparam [31:0] FQ_KAPPA_KAPPA_HI = 32'hffff;
 
 // PERIOD (RW, byte 0x14): Covariance reset period
@@ -314,12 +314,12 @@ localparam integer FQ_JUMPS_JUMPS_W = 16;
 // ABGEN (RW, byte 0x54): A/B generator
 localparam [5:0] FQ_ABGEN = 6'h15;
 localparam [31:0] FQ_ABGEN_WMASK = 32'h000001ff;
-localparam [31:0] FQ_ABGEN_RESET = 32'h00000004;
+localparam [31:0] FQ_ABGEN_RESET = 32'h00000018;
 localparam integer FQ_ABGEN_AB_SEP_LSB = 0;
 localparam integer FQ_ABGEN_AB_SEP_MSB = 7;
 localparam integer FQ_ABGEN_AB_SEP_W = 8;
-localparam [7:0] FQ_ABGEN_AB_SEP_RESET = 8'h4;
-localparam [31:0] FQ_ABGEN_AB_SEP_LO = 32'h0;
+localparam [7:0] FQ_ABGEN_AB_SEP_RESET = 8'h18;
+localparam [31:0] FQ_ABGEN_AB_SEP_LO = 32'h1;
 localparam [31:0] FQ_ABGEN_AB_SEP_HI = 32'hff;
 localparam integer FQ_ABGEN_AB_SRC_LSB = 8;
 localparam integer FQ_ABGEN_AB_SRC_MSB = 8;
@@ -407,7 +407,7 @@ localparam [5:0] FQ_ID = 6'h1f;
 localparam integer FQ_ID_ID_LSB = 0;
 localparam integer FQ_ID_ID_MSB = 31;
 localparam integer FQ_ID_ID_W = 32;
-localparam [31:0] FQ_ID_ID_RESET = 32'h46510004;
+localparam [31:0] FQ_ID_ID_RESET = 32'h46510005;
 /* verilator lint_on UNUSEDPARAM */
 
 // `FQ_RD_<REG>(fields...): the word a read of the register returns, its readable
@@ -473,4 +473,53 @@ localparam [31:0] FQ_ID_ID_RESET = 32'h46510004;
     {(capture)}
 `define FQ_RD_TRAVEL(travel) \
     {12'd0, (travel)}
+`endif
+
+// fq_write_ok(a, d, options...): a write of d to word a is taken: the register
+// takes writes in this build (its requires), no bit outside its fields is set and
+// every field is within its legal values. `FQ_WRITE_OK(a, d) passes the module's
+// parameters of those names. z[k]: bits 31..k of d are 0, o[k]: all 1 (prefix
+// chains the registers' checks share: most registers' free bits are those above
+// their top field).
+/* verilator lint_off UNUSEDSIGNAL */
+function automatic fq_write_ok(input [5:0] a, input [31:0] d, input opt_harmonic, input opt_jump, input opt_monitor, input opt_tunable);
+    reg [32:0] z, o;
+    integer i;
+    begin
+        z[32] = 1'b1;
+        o[32] = 1'b1;
+        for (i = 31; i >= 0; i = i - 1) begin
+            z[i] = z[i + 1] & ~d[i];
+            o[i] = o[i + 1] & d[i];
+        end
+        case (a)
+            FQ_CTRL: fq_write_ok = z[4];
+            FQ_INTERP: fq_write_ok = z[9] && d[8:0] != 9'd0;
+            FQ_EPS: fq_write_ok = opt_tunable && z[16];
+            FQ_LAMBDA_K: fq_write_ok = opt_tunable && z[5] && d[4:0] != 5'd0 && d[4:0] <= 5'd23;
+            FQ_KAPPA: fq_write_ok = opt_tunable && z[16] && d[15:0] != 16'd0;
+            FQ_PERIOD: fq_write_ok = opt_tunable && z[16];
+            FQ_SETTLE: fq_write_ok = opt_tunable && z[10];
+            FQ_GATE: fq_write_ok = opt_tunable && z[13];
+            FQ_FAULT_STICKY: fq_write_ok = z[11];
+            FQ_GAIN: fq_write_ok = z[2];
+            FQ_M1: fq_write_ok = (z[15] || o[15]);
+            FQ_M2: fq_write_ok = (z[15] || o[15]);
+            FQ_C1: fq_write_ok = (z[15] || o[15]);
+            FQ_C12: fq_write_ok = (z[15] || o[15]);
+            FQ_C2: fq_write_ok = (z[15] || o[15]);
+            FQ_HARM: fq_write_ok = opt_tunable && opt_harmonic && z[9] && (d & 32'h000000cc) == 32'd0;
+            FQ_JUMP: fq_write_ok = opt_tunable && opt_jump && z[16] && (d & 32'h00007800) == 32'd0;
+            FQ_ABGEN: fq_write_ok = opt_tunable && z[9] && d[7:0] != 8'd0;
+            FQ_AB_BOUND: fq_write_ok = opt_tunable && z[16];
+            FQ_CLIP: fq_write_ok = opt_tunable && z[16];
+            FQ_RADIUS: fq_write_ok = opt_tunable && opt_monitor;
+            FQ_MONITOR: fq_write_ok = opt_tunable && opt_monitor && z[24] && (d & 32'h0000fff0) == 32'd0;
+            default: fq_write_ok = 1'b0;
+        endcase
+    end
+endfunction
+/* verilator lint_on UNUSEDSIGNAL */
+`ifndef FQ_WRITE_OK
+`define FQ_WRITE_OK(a, d) fq_write_ok(a, d, OPT_HARMONIC, OPT_JUMP, OPT_MONITOR, OPT_TUNABLE)
 `endif

@@ -90,6 +90,7 @@ module finequad_system #(
     wire        reg_we, reg_re;
     wire [5:0]  reg_addr;
     wire [31:0] reg_wdata, reg_rdata;
+    wire        reg_err;
     wire        uart_drop;
     generate
         if (OPT_HOSTLINK) begin : g_host
@@ -121,7 +122,7 @@ module finequad_system #(
                 .s_axil_rdata(rdata), .s_axil_rresp(rresp), .s_axil_rvalid(rvalid),
                 .s_axil_rready(rready),
                 .reg_we(reg_we), .reg_re(reg_re), .reg_addr(reg_addr), .reg_wdata(reg_wdata),
-                .reg_rdata(reg_rdata)
+                .reg_rdata(reg_rdata), .reg_err(reg_err)
             );
             wire unused_host = &{1'b0, uart_ferr, 1'b0};
         end else begin : g_nohost
@@ -131,7 +132,7 @@ module finequad_system #(
             assign reg_wdata = 32'd0;
             assign uart_tx_o = 1'b1;
             assign uart_drop = 1'b0;
-            wire unused_host = &{1'b0, uart_rx_i, reg_rdata, 1'b0};
+            wire unused_host = &{1'b0, uart_rx_i, reg_rdata, reg_err, 1'b0};
         end
     endgenerate
 
@@ -148,7 +149,7 @@ module finequad_system #(
         .clk(clk), .rst(rst),
         .s_valid(s_valid), .s_u1(s_u1), .s_u2(s_u2),
         .reg_we(reg_we), .reg_re(reg_re), .reg_addr(reg_addr), .reg_wdata(reg_wdata),
-        .reg_rdata(reg_rdata),
+        .reg_rdata(reg_rdata), .reg_err(reg_err),
         .m_fault(m_fault),
         .m_valid(m_valid), .m_count(m_count), .m_a(m_a), .m_b(m_b),
         .tdm_ok_i(1'b1), .eng_cmd_o(eng_cmd), .eng_rsp_i(115'd0)   // the engine inside

@@ -38,6 +38,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 from sim import baselines, metrics, reference, scenarios, siggen  # noqa: E402
 from sim.model import finequad_core as core  # noqa: E402
+from sim.model import regs  # noqa: E402
 from sim.run_model import write_codes, write_result  # noqa: E402
 
 METHODS = ("rtl", "float", "paper_table", "paper", "heydemann", "raw")
@@ -190,8 +191,10 @@ def main():
     if not args.target > 0:                                  # (and not nan)
         print(f"bench: error: --target must be a ratio > 0, got {args.target}", file=sys.stderr)
         raise SystemExit(2)
-    if not 1 <= args.interp <= 511:
-        print(f"bench: error: --interp must be 1..511, got {args.interp}", file=sys.stderr)
+    fi = regs.SETTINGS["interp"]
+    if not fi.lo <= args.interp <= fi.hi:
+        print(f"bench: error: --interp must be {fi.lo}..{fi.hi} (INTERP.interp), got "
+              f"{args.interp}", file=sys.stderr)
         raise SystemExit(2)
     try:
         suite = scenarios.by_name(args.only)

@@ -10,7 +10,8 @@ error and 0.5 % noise (16-bit ADC) for an S-curve move with dwells; runs the RTL
 Verilator harness of `make rtlsim`) and the bit-true model on it with the exact table and
 with the paper's table; checks RTL == model bit for bit; prints the counter's error
 against ground truth and against the physical floor (METHOD.md); writes a VCD of the
-RTL, a plot and summary.json.
+RTL, a plot and summary.json. Exit 1 if RTL and model differ, 2 on bad input (one line
+naming it).
 """
 import argparse
 import json
@@ -25,6 +26,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 from sim import metrics, siggen  # noqa: E402
 from sim.model import finequad_core as core  # noqa: E402
+from sim.model import regs  # noqa: E402
 from sim.run_model import write_codes, write_result  # noqa: E402
 
 PITCH_NM = 4000.0
@@ -69,6 +71,12 @@ def phase_error(res, x, a, start):
     return float(np.sqrt(np.mean(e ** 2))), float(np.max(np.abs(e)))
 
 
+def bad_input(msg):
+    """Bad input: one line naming it, exit 2 (as argparse's own errors)."""
+    print(f"demo: error: {msg}", file=sys.stderr)
+    raise SystemExit(2)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--build", default=str(ROOT / "build" / "demo"))
@@ -88,22 +96,30 @@ def main():
                          "does, for the default recording with both harnesses")
     args = ap.parse_args()
     d = pathlib.Path(args.build)
-    d.mkdir(parents=True, exist_ok=True)
+    if d.exists() and not d.is_dir():
+        bad_input(f"--build {d}: exists and is not a folder")
+    if not 0 <= args.seed < 1 << 32:
+        bad_input(f"--seed must be 0..{(1 << 32) - 1}, got {args.seed}")
     if not 0.01 <= args.amp <= 0.99:
-        raise SystemExit(f"demo: error: --amp must be within 0.01..0.99, got {args.amp}")
-    if not 1 <= args.interp <= 511:
-        raise SystemExit(f"demo: error: --interp must be 1..511 (INTERP), got {args.interp}")
+        bad_input(f"--amp must be within 0.01..0.99, got {args.amp}")
+    fi = regs.SETTINGS["interp"]
+    if not fi.lo <= args.interp <= fi.hi:
+        bad_input(f"--interp must be {fi.lo}..{fi.hi} (INTERP.interp), got {args.interp}")
     if not 0.05 <= args.seconds <= 100:
-        raise SystemExit(f"demo: error: --seconds must be within 0.05..100, got {args.seconds}")
+        bad_input(f"--seconds must be within 0.05..100, got {args.seconds}")
     if args.vcd_samples < 1:
-        raise SystemExit(f"demo: error: --vcd-samples must be >= 1, got {args.vcd_samples}")
+        bad_input(f"--vcd-samples must be >= 1, got {args.vcd_samples}")
+    try:
+        d.mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        bad_input(f"--build {d}: cannot make the folder: {e.strerror}")
     harness = {}
     for h in args.rtlsim:
         table, sep, path = h.partition("=")
         if not sep or table not in ("exact", "paper") or not path:
-            raise SystemExit(f"demo: error: --rtlsim '{h}': expected exact=PATH or paper=PATH")
+            bad_input(f"--rtlsim '{h}': expected exact=PATH or paper=PATH")
         if not (os.path.isfile(path) and os.access(path, os.X_OK)):
-            raise SystemExit(f"demo: error: --rtlsim {table}: no executable harness at '{path}' "
+            bad_input(f"--rtlsim {table}: no executable harness at '{path}' "
                              "(make harnesses)")
         harness[table] = path
     x, u1, u2, a, sig = recording(args.seconds, args.seed, args.amp, args.adc_bits)
@@ -167,7 +183,7 @@ def publish(summary, args):
     defaults = dict(interp=core.Config().interp, seconds=0.5, seed=1, amp=0.6, adc_bits=16)
     if any(getattr(args, k) != v for k, v in defaults.items()) or \
             any(summary[t]["rtl_equals_model"] is None for t in ("exact", "paper")):
-        raise SystemExit("demo: error: --publish records the default recording with both "
+        bad_input("--publish records the default recording with both "
                          "harnesses only")
     lines = ["| table | counter RMS | peak | floor | ratio | slips | fine phase while moving "
              "| RTL == model |", "|---|---:|---:|---:|---:|---:|---:|---|"]

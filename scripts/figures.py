@@ -6,7 +6,7 @@
 A measuring command (`make bench-accuracy`, `make demo`, `make report`) calls publish()
 when its run is complete: scripts/results/<name>.json gets the headline numbers with the
 date and the command, scripts/results/<name>.md the command's full table under a line
-naming both, and README.md's block between the markers FIGURES_BEGIN and FIGURES_END is
+naming both, and README.md's block between the markers BEGIN and END (HTML comments) is
 rendered again from every record. --check fails when that block differs from the
 rendering of the committed records (an edit by hand, a record without its README).
 """

@@ -110,9 +110,15 @@ def load(path=RDL):
                 desc=text(f.get_property("desc"))))
             if fields[-1]["write"] and not fields[-1]["w1c"] and reset is None:
                 raise RdlError(f"{where}: a writable field needs a reset value")
+        req = tuple((r.get_property("requires") or "").split())
+        for o in req:
+            if not re.fullmatch(r"OPT_[A-Z0-9_]+", o):
+                raise RdlError(f"{path}: {r.inst_name}: requires \"{o}\": expected the name "
+                               "of a one-bit core parameter, OPT_...")
         regs.append(dict(name=r.inst_name, index=addr // 4, addr=addr,
                          title=text(r.get_property("name")), desc=text(r.get_property("desc")),
-                         read=r.has_sw_readable, write=r.has_sw_writable, fields=fields))
+                         read=r.has_sw_readable, write=r.has_sw_writable, fields=fields,
+                         requires=req))
     # the settings (fields a write stores) are named uniquely across the map: the model's
     # Config, the harnesses' options and fqhost use these names alone
     seen = {}
@@ -237,7 +243,103 @@ def verilog(regs):
         out.append(f"`define FQ_RD_{r['name']}({args}) \\")
         out.append(f"    {{{', '.join(reversed(parts))}}}")
     out.append("`endif")
+    out += write_ok_function(regs)
     return "\n".join(out) + "\n"
+
+
+def options(regs):
+    """The core parameters some register's writes depend on (rtl/regs/finequad.rdl
+    requires), in the order fq_write_ok takes them."""
+    return sorted({o for r in regs for o in r["requires"]})
+
+
+def sign_bits(f):
+    """k - 1 when field f is a 32-bit word whose legal range is that of an s(k) value
+    (-2^(k-1) .. 2^(k-1) - 1): bits 31 .. k - 1 are its sign; otherwise None."""
+    if not f["signed"] or f["width"] != 32 or f["lsb"] != 0:
+        return None
+    k = (f["hi"] + 1).bit_length()
+    ok = f["lo"] == -(1 << (k - 1)) and f["hi"] == (1 << (k - 1)) - 1 and k < 32
+    return k - 1 if ok else None
+
+
+def field_check(f, d="d"):
+    """A Verilog condition that field f of word d is within its legal values (None: every
+    value of the field is legal)."""
+    w, lsb, msb = f["width"], f["lsb"], f["msb"]
+    sel = f"{d}[{msb}:{lsb}]" if w > 1 else f"{d}[{lsb}]"
+    conds = []
+    if f["signed"]:
+        full = (-(1 << (w - 1)), (1 << (w - 1)) - 1)
+        if (f["lo"], f["hi"]) == full:
+            return None
+        sb = sign_bits(f)
+        if sb is not None:                      # bits 31..sb all 0 or all 1
+            return f"(z[{sb}] || o[{sb}])"
+        conds.append(f"$signed({sel}) >= $signed({vnum(w, f['lo'])})")
+        conds.append(f"$signed({sel}) <= $signed({vnum(w, f['hi'])})")
+    else:
+        if f["lo"] == 1:                        # (a reduction OR, not a comparator)
+            conds.append(f"{sel} != {w}'d0")
+        elif f["lo"] > 0:
+            conds.append(f"{sel} >= {w}'d{f['lo']}")
+        if f["hi"] < (1 << w) - 1:
+            conds.append(f"{sel} <= {w}'d{f['hi']}")
+    return " && ".join(conds) if conds else None
+
+
+def write_ok_function(regs):
+    """fq_write_ok(): the core's verdict on a write (the rule in rtl/regs/finequad.rdl)."""
+    opts = options(regs)
+    args = "".join(f", input {o.lower()}" for o in opts)
+    out = ["",
+           "// fq_write_ok(a, d, options...): a write of d to word a is taken: the register",
+           "// takes writes in this build (its requires), no bit outside its fields is set and",
+           "// every field is within its legal values. `FQ_WRITE_OK(a, d) passes the module's",
+           "// parameters of those names. z[k]: bits 31..k of d are 0, o[k]: all 1 (prefix",
+           "// chains the registers' checks share: most registers' free bits are those above",
+           "// their top field).",
+           "/* verilator lint_off UNUSEDSIGNAL */",
+           f"function automatic fq_write_ok(input [5:0] a, input [31:0] d{args});",
+           "    reg [32:0] z, o;",
+           "    integer i;",
+           "    begin",
+           "        z[32] = 1'b1;",
+           "        o[32] = 1'b1;",
+           "        for (i = 31; i >= 0; i = i - 1) begin",
+           "            z[i] = z[i + 1] & ~d[i];",
+           "            o[i] = o[i + 1] & d[i];",
+           "        end",
+           "        case (a)"]
+    for r in regs:
+        if not r["write"]:
+            continue
+        conds = [o.lower() for o in r["requires"]]
+        extra = reg_mask(r, True) ^ 0xFFFFFFFF
+        k = 32                                  # bits k..31 are all free: z[k]
+        while k > 0 and extra >> (k - 1) & 1:
+            k -= 1
+        if k < 32:
+            conds.append(f"z[{k}]")
+        holes = extra & ((1 << k) - 1)          # free bits below a field
+        if holes:
+            conds.append(f"(d & 32'h{holes:08x}) == 32'd0")
+        for f in r["fields"]:
+            if f["write"]:
+                c = field_check(f)
+                if c:
+                    conds.append(c)
+        out.append(f"            FQ_{r['name']}: fq_write_ok = "
+                   f"{' && '.join(conds) or chr(49) + chr(39) + 'b1'};")
+    out += ["            default: fq_write_ok = 1'b0;",
+            "        endcase",
+            "    end",
+            "endfunction",
+            "/* verilator lint_on UNUSEDSIGNAL */",
+            "`ifndef FQ_WRITE_OK",
+            f"`define FQ_WRITE_OK(a, d) fq_write_ok(a, d{''.join(', ' + o for o in opts)})",
+            "`endif"]
+    return out
 
 
 # ---- Python ---------------------------------------------------------------------------
@@ -276,12 +378,21 @@ def value(reg, field, w):
     return v - (1 << f.width) if f.signed and v >> (f.width - 1) else v
 
 
-def illegal(reg, w):
-    """Why a write of word `w` to `reg` is outside the register's legal values (a field
-    out of its range, or a bit no field holds), or None if it is legal."""
+def illegal(reg, w, build=None):
+    """Why a write of word `w` to `reg` is refused (the register takes no writes, or none
+    in `build`: a dict of the core's parameters, default every OPT_ 1; a field out of its
+    range; a bit no field holds), or None if the core takes it."""
     r = REGS[reg]
+    if not r.write:
+        return f"{reg} is read-only"
+    off = [o for o in r.requires if not (build or {}).get(o, 1)]
+    if off:
+        return f"{reg} is constant in a build with {', '.join(o + '=0' for o in off)}"
     if not 0 <= w <= 0xFFFFFFFF:
         return f"{reg}: 0x{w:x} is not a 32-bit word"
+    wf = [f for f in r.fields.values() if f.write]
+    if len(wf) == 1 and wf[0].lsb == 0 and not wf[0].signed and not wf[0].lo <= w <= wf[0].hi:
+        return f"{reg}.{wf[0].name} = {w}: outside {wf[0].lo}..{wf[0].hi}"
     if w & ~r.wmask & 0xFFFFFFFF:
         return (f"{reg}: bits 0x{w & ~r.wmask & 0xFFFFFFFF:08x} are outside its fields "
                 f"(writable bits 0x{r.wmask:08x})")
@@ -307,14 +418,15 @@ def python(regs):
              "",
              'Field = namedtuple("Field", "name reg lsb width reset read write pulse w1c signed "',
              '                   "lo hi format desc")',
-             'Reg = namedtuple("Reg", "name index addr read write wmask rmask reset fields title "',
-             '                 "desc")',
+             'Reg = namedtuple("Reg", "name index addr read write wmask rmask reset requires "',
+             '                 "fields title desc")',
              "",
              "REGS = {"]
     for r in regs:
         lines.append(f"    {r['name']!r}: Reg({r['name']!r}, 0x{r['index']:02x}, 0x{r['addr']:02x}, "
                      f"{r['read']}, {r['write']}, 0x{reg_mask(r, True):08x}, "
-                     f"0x{reg_mask(r, readable=True):08x}, 0x{reset_word(r):08x}, {{")
+                     f"0x{reg_mask(r, readable=True):08x}, 0x{reset_word(r):08x}, "
+                     f"{r['requires']!r}, {{")
         for f in r["fields"]:
             lines.append(f"        {f['name']!r}: Field({f['name']!r}, {r['name']!r}, {f['lsb']}, "
                          f"{f['width']}, {f['reset']!r}, {f['read']}, {f['write']}, "
@@ -333,6 +445,7 @@ def python(regs):
     lines.append(f"FAULT_BITS = {{f.name: f.lsb for f in REGS[{FAULT_REG!r}].fields.values()}}")
     lines.append("FAULT_W = max(FAULT_BITS.values()) + 1")
     lines.append("ID_VALUE = REGS['ID'].fields['id'].reset")
+    lines.append(f"OPTIONS = {tuple(options(regs))!r}   # the core parameters writes depend on")
     return "\n".join(lines) + PY_HELPERS
 
 
@@ -389,6 +502,10 @@ def reference(regs):
            "The register port of `rtl/finequad_core.v` takes the word index; the AXI4-Lite",
            "slave (`rtl/axil_regs.v`) and the UART bridge the byte address (4 x the index).",
            "Unmapped words read 0. Reads of a signed field are sign-extended to 32 bits.",
+           "A write is refused, and changes nothing, when the register takes no writes",
+           "(read-only, unmapped, or constant in this build), when it sets a bit no field",
+           "holds, or when a field is outside its legal values: the core's `reg_err`, the",
+           "AXI4-Lite slave's SLVERR, the UART bridge's SLVERR answer.",
            "Formats are in Q notation (`u0.15`: unsigned, 15 fraction bits); the Q formats of",
            "the datapath are in [rtl/README.md](../README.md).", "",
            "Generated views of the same description: `rtl/finequad_regs.vh` (Verilog),",
@@ -397,13 +514,17 @@ def reference(regs):
            "| word | byte | register | access | reset | summary |",
            "|---:|---:|---|---|---:|---|"]
     for r in regs:
-        rs = f"0x{reset_word(r):x}" if r["write"] else ("0x46510004" if r["name"] == "ID" else "")
+        const = [f for f in r["fields"] if f["reset"] is not None]
+        rs = (f"0x{reset_word(r):x}" if r["write"] else
+              f"0x{sum(f['reset'] << f['lsb'] for f in const):x}" if const else "")
         out.append(f"| 0x{r['index']:02x} | 0x{r['addr']:02x} | [{r['name']}](#{r['name'].lower()}) "
                    f"| {reg_access(r)} | {rs} | {r['title']} |")
     for r in regs:
         out += ["", f"## {r['name']}", "",
                 f"Word 0x{r['index']:02x}, byte 0x{r['addr']:02x}, {reg_access(r)}: {r['title']}."
-                + (f" {r['desc']}" if r["desc"] else ""), "",
+                + (f" {r['desc']}" if r["desc"] else "")
+                + (f" Takes writes only in a build with {' and '.join(o + ' = 1' for o in r['requires'])}"
+                   " (else constant: a write is refused)." if r["requires"] else ""), "",
                 "| bits | field | access | reset | legal | format | description |",
                 "|---|---|---|---:|---|---|---|"]
         for f in r["fields"]:
@@ -436,8 +557,9 @@ def main(argv=None):
     a = ap.parse_args(argv)
     try:
         out = files(a.rdl)
-    except RdlError as e:
-        sys.exit(f"gen_regs: error: {e}")
+    except RdlError as e:                   # bad input: one line, exit 2
+        print(f"gen_regs: error: {e}", file=sys.stderr)
+        return 2
     stale = []
     for rel, body in out.items():
         p = a.root / rel

@@ -2,43 +2,47 @@
 """Speed and resolution limits of an interpolator build (Eq. 13 of the paper, Nyquist).
 
     python3 scripts/limits.py --pitch UM --fs HZ [--v M_PER_S | --interp N]
-                              [--edge-sep CLOCKS] [--fclk HZ]
+                              [--ab-sep CLOCKS] [--fclk HZ]
 
   --pitch     signal period of the scale, um (4 for the paper's slider)
   --fs        sample rate of the ADC, Hz
   --v         a speed, m/s: prints the highest interpolation factors at that speed
   --interp    an interpolation factor n: prints the highest speeds for it
-  --edge-sep  minimum separation of A/B output edges, clocks (default 4)
+  --ab-sep    minimum separation of A/B output edges, clocks (ABGEN.ab_sep; default its
+              reset value)
   --fclk      clock of the core, Hz (default 36e6)
 
 Limits (x4 counting: one count per quarter of an n-th order period, pitch / (4 n)):
   paper's edge counter (Eq. 13): the n-th order sinusoid must move less than a quarter
       period per sample: v < pitch fs / (4 n)   (N_n = 4 samples per n-th order period)
-  A/B outputs: at most one edge per edge-sep clocks: v <= pitch fclk / (4 n edge_sep)
+  A/B outputs: at most one edge per ab_sep clocks: v <= pitch fclk / (4 n ab_sep)
   internal fine-phase counter: the angle step per sample must stay below pi (Nyquist);
       the core flags overspeed from 3/4 pi, so v < 3/8 pitch fs is the usable range,
       independent of n.
+  counters behind the A/B pins: the edge separation ab_sep / fclk must be at least what
+      their input filter needs (sim/counters.py); a faster one loses counts silently.
 """
 import argparse
 import pathlib
 import sys
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))
+from sim import counters  # noqa: E402
 from sim.model.regs import SETTINGS  # noqa: E402
 
 N_MAX = SETTINGS["interp"].hi   # the core's largest n (INTERP)
 
 
-def limits(pitch_um, fs, edge_sep=4, fclk=36e6, v=None, interp=None):
+def limits(pitch_um, fs, ab_sep=SETTINGS["ab_sep"].reset, fclk=36e6, v=None, interp=None):
     """Dict of the limits (speeds in m/s, factors as floats before rounding down)."""
     p = pitch_um * 1e-6
     out = {"counter_v_max": 3 / 8 * p * fs, "nyquist_v": p * fs / 2}
     if interp is not None:
         out["edge_counter_v_max"] = p * fs / (4 * interp)
-        out["ab_v_max"] = p * fclk / (4 * interp * edge_sep)
+        out["ab_v_max"] = p * fclk / (4 * interp * ab_sep)
     if v is not None:
         out["edge_counter_n_max"] = p * fs / (4 * v)
-        out["ab_n_max"] = p * fclk / (4 * v * edge_sep)
+        out["ab_n_max"] = p * fclk / (4 * v * ab_sep)
     return out
 
 
@@ -50,20 +54,23 @@ def main(argv=None):
     g.add_argument("--v", type=float, help="speed, m/s")
     g.add_argument("--interp", type=int,
                    help="interpolation factor n (default without --v: INTERP's reset value)")
-    ap.add_argument("--edge-sep", type=int, default=SETTINGS["ab_sep"].reset,
+    ap.add_argument("--ab-sep", type=int, default=SETTINGS["ab_sep"].reset,
                     help="A/B edge separation, clocks (ABGEN.ab_sep; default its reset value)")
     ap.add_argument("--fclk", type=float, default=36e6, help="core clock, Hz")
     a = ap.parse_args(argv)
     if a.v is None and a.interp is None:
         a.interp = SETTINGS["interp"].reset
-    bad = [f"--{k} must be > 0, got {v}" for k, v in
-           (("pitch", a.pitch), ("fs", a.fs), ("edge-sep", a.edge_sep), ("fclk", a.fclk),
-            ("v", a.v), ("interp", a.interp)) if v is not None and not v > 0]   # (nan too)
-    bad += [f"--{k} must be finite, got {v}" for k, v in
-            (("pitch", a.pitch), ("fs", a.fs), ("fclk", a.fclk), ("v", a.v))
-            if v is not None and v == float("inf")]
-    if a.edge_sep > 255:
-        bad.append(f"--edge-sep must be 1..255 (ABGEN[7:0]), got {a.edge_sep}")
+    # each number within a range where the arithmetic means something (nan and inf
+    # are outside every range)
+    ranges = (("pitch", a.pitch, 1e-3, 1e5, "um"), ("fs", a.fs, 1.0, 1e10, "Hz"),
+              ("fclk", a.fclk, 1e3, 1e10, "Hz"), ("v", a.v, 1e-12, 1e4, "m/s"))
+    bad = [f"--{k} must be {lo:g}..{hi:g} {unit}, got {v}" for k, v, lo, hi, unit in ranges
+           if v is not None and not lo <= v <= hi]
+    if a.interp is not None and a.interp < 1:
+        bad.append(f"--interp must be 1..{N_MAX} (the core's INTERP), got {a.interp}")
+    sep = SETTINGS["ab_sep"]
+    if not sep.lo <= a.ab_sep <= sep.hi:
+        bad.append(f"--ab-sep must be {sep.lo}..{sep.hi} (ABGEN.ab_sep), got {a.ab_sep}")
     if a.interp is not None and a.interp > N_MAX:
         bad.append(f"--interp must be 1..{N_MAX} (the core's INTERP), got {a.interp}")
     if a.fs is not None and a.fclk is not None and a.fs > a.fclk > 0:
@@ -72,9 +79,15 @@ def main(argv=None):
     if bad:
         print("limits: error: " + "; ".join(bad), file=sys.stderr)
         return 2
-    r = limits(a.pitch, a.fs, a.edge_sep, a.fclk, a.v, a.interp)
-    print(f"pitch {a.pitch:g} um, fs {a.fs:g} Hz, A/B edge separation {a.edge_sep} clocks "
-          f"at {a.fclk / 1e6:g} MHz")
+    r = limits(a.pitch, a.fs, a.ab_sep, a.fclk, a.v, a.interp)
+    sep_ns = a.ab_sep / a.fclk * 1e9
+    print(f"pitch {a.pitch:g} um, fs {a.fs:g} Hz, A/B edge separation {a.ab_sep} clocks "
+          f"= {sep_ns:.0f} ns at {a.fclk / 1e6:g} MHz")
+    for c in counters.COUNTERS:
+        ok = sep_ns >= c.min_sep_ns
+        print(f"  {c.name}, {c.setting}: needs {c.min_sep_ns:.0f} ns between edges: "
+              + ("follows" if ok else f"CANNOT follow (ab_sep >= "
+                 f"{-(-c.min_sep_ns * a.fclk // 1e9):.0f} clocks at this clock)"))
     print(f"  internal counter (fine phase) tracks up to {r['counter_v_max']:.4g} m/s "
           f"(overspeed flag from 3/4 pi per sample; Nyquist {r['nyquist_v']:.4g} m/s), "
           f"at any n")

@@ -267,14 +267,14 @@ def _speed_ok(kind, v, n, samples=20_000, noise=0.0005):
 
 
 def task_speed(kind, v, quick):
-    """Highest n in 1..511 that keeps up at speed v (bisection; for 'phase' the result is
+    """Highest n in 1..INTERP's largest that keeps up at speed v (bisection; for 'phase' the result is
     just pass/fail at n = 100)."""
     samples = 8000 if quick else 20_000
     if kind == "phase":
         return dict(kind=kind, v=v, interp=100, ok=bool(_speed_ok(kind, v, 100, samples)))
-    lo, hi = 0, 511                     # lo passes (0: none yet), hi + 1 fails
+    lo, hi = 0, limits.N_MAX            # lo passes (0: none yet), hi + 1 fails
     if _speed_ok(kind, v, hi, samples):
-        return dict(kind=kind, v=v, n_max=511, capped=True)
+        return dict(kind=kind, v=v, n_max=hi, capped=True)
     hi -= 1
     while lo < hi:
         mid = (lo + hi + 1) // 2
@@ -548,10 +548,13 @@ def fig_limits_speed(speed, path):
     fig, ax = plt.subplots(figsize=(9, 5.5))
     ax.loglog(v, L["edge_counter_n_max"], "C2", label="x4 edge counter (paper): Eq. 13, "
               "N_n = 4, t_lp = 1 us")
-    ax.loglog(v, L["ab_n_max"], "C1", label="A/B outputs: 4 clocks per edge at 36 MHz")
+    sep = limits.SETTINGS["ab_sep"].reset
+    ax.loglog(v, L["ab_n_max"], "C1", label=f"A/B outputs: {sep} clocks per edge at 36 MHz "
+              "(ABGEN.ab_sep's reset)")
     vc = L["counter_v_max"]
-    ax.plot([v[0], vc, vc], [511, 511, 0.5], "C0", lw=2,
-            label=f"fine-phase counter: any n (1..511) below {vc:g} m/s (3/8 pitch fs)")
+    nmax = limits.N_MAX
+    ax.plot([v[0], vc, vc], [nmax, nmax, 0.5], "C0", lw=2,
+            label=f"fine-phase counter: any n (1..{nmax}) below {vc:g} m/s (3/8 pitch fs)")
     ax.axvline(L["nyquist_v"], color="C0", ls=":", lw=1, label="Nyquist (pitch fs / 2)")
     for kind, c, m, lab in (("edge", "C2", "o", "measured: edge counter (paper-literal)"),
                             ("ab", "C1", "s", "measured: A/B outputs (no backlog overflow)")):

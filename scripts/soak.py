@@ -31,7 +31,8 @@ that is off by more than pitch / 8. Reported: samples, wall time and simulation 
 slips (samples and events), the samples with each fault bit, the injected faults of each
 kind and how many the monitor flagged, the final error, the largest error outside the
 faults, the RMS error while moving and at rest, the estimator's updates and jumps
-(registers read at the end). Writes build/soak/soak.json; exit 1 on a slip.
+(registers read at the end). Writes build/soak/soak.json; exit 1 on a slip or a failed
+run, 2 on bad input (one line naming it).
 
   scripts/soak.py [--samples N] [--seed S] [--div D] [--harness PATH] [--out DIR]
 """
@@ -52,6 +53,7 @@ sys.path.insert(0, str(ROOT))
 
 from sim import siggen  # noqa: E402
 from sim.model import finequad_core as core  # noqa: E402
+from sim.run_model import DIV_MAX  # noqa: E402
 
 PITCH_NM = 4000.0
 FS = 1e6
@@ -208,7 +210,16 @@ def _slice_signal(sig, a, b):
 
 
 def generate(total, seed, out_q):
-    """Producer: situations until `total` samples, as (u1, u2, x, kind, injected)."""
+    """Producer: situations until `total` samples, as (u1, u2, x, kind, injected); an
+    exception is handed on as an ('error', text) item, so the consumer stops too."""
+    try:
+        _generate(total, seed, out_q)
+    except Exception as e:                       # noqa: BLE001 (any failure ends the run)
+        out_q.put(("error", f"{type(e).__name__}: {e}"))
+        out_q.put(None)
+
+
+def _generate(total, seed, out_q):
     rng = np.random.default_rng(seed)
     params = Params(rng)
     x0, n, i = 0.0, 0, 0
@@ -221,6 +232,12 @@ def generate(total, seed, out_q):
         n += len(x)
         i += 1
     out_q.put(None)
+
+
+def bad_input(msg):
+    """Bad input: one line naming it, exit 2 (as argparse's own errors)."""
+    print(f"soak: error: {msg}", file=sys.stderr)
+    raise SystemExit(2)
 
 
 def main():
@@ -237,16 +254,23 @@ def main():
                          "fault) to OUT/situation_<i>.npz (for debugging)")
     a = ap.parse_args()
     if not (1e4 <= a.samples < 1e15):        # (also rejects nan and inf)
-        sys.exit(f"soak: error: --samples must be at least 10000 and below 1e15, got "
+        bad_input(f"--samples must be at least 10000 and below 1e15, got "
                  f"{a.samples}")
-    if a.div < 1:
-        sys.exit("soak: error: --div must be >= 1")
-    if not pathlib.Path(a.harness).is_file():
-        sys.exit(f"soak: error: harness {a.harness} not found (make harnesses)")
-    if not os.access(a.harness, os.X_OK):
-        sys.exit(f"soak: error: harness {a.harness} is not executable")
+    if not 1 <= a.div <= DIV_MAX:
+        bad_input(f"--div must be 1..{DIV_MAX} (clocks per sample), got {a.div}")
+    if not 0 <= a.seed < 1 << 32:
+        bad_input(f"--seed must be 0..{(1 << 32) - 1}, got {a.seed}")
     out = pathlib.Path(a.out)
-    out.mkdir(parents=True, exist_ok=True)
+    if out.exists() and not out.is_dir():
+        bad_input(f"--out {out}: exists and is not a folder")
+    if not pathlib.Path(a.harness).is_file():
+        bad_input(f"harness {a.harness} not found (make harnesses)")
+    if not os.access(a.harness, os.X_OK):
+        bad_input(f"harness {a.harness} is not executable")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        bad_input(f"--out {out}: cannot make the folder: {e.strerror}")
 
     proc = subprocess.Popen([a.harness, "--raw", "--dump-regs", "--interp", str(INTERP),
                              "--div", str(a.div)], stdin=subprocess.PIPE,
@@ -258,6 +282,9 @@ def main():
             while True:
                 item = gen_q.get()
                 if item is None:
+                    break
+                if isinstance(item[0], str):         # ("error", text)
+                    truth_q.put(item)
                     break
                 u1, u2 = item[0], item[1]
                 truth_q.put(item)
@@ -289,6 +316,9 @@ def main():
         item = truth_q.get()
         if item is None:
             break
+        if isinstance(item[0], str):                 # ("error", text)
+            proc.kill()
+            sys.exit(f"soak: error: the recording's generator failed: {item[1]}")
         u1, u2, x, kind, inj = item
         n = len(x)
         raw = proc.stdout.read(n * REC.itemsize)

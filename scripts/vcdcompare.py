@@ -128,7 +128,7 @@ class Vcd:
     def _parse(self, **kw):
         try:
             return VCDVCD(self.path, **kw)
-        except _Stop:
+        except (_Stop, BadInput):
             raise
         except (OSError, UnicodeDecodeError) as e:
             raise BadInput(f"cannot read {self.role} VCD '{self.path}': {e}")
@@ -154,7 +154,13 @@ class Vcd:
         if self.vtype[ref] in ("real", "realtime", "shortreal"):
             return _norm_real
         w = self.width[ref]
-        return lambda v: _norm(v, w)
+
+        def norm(v):
+            if len(v) > w:
+                raise BadInput(f"{self.role} VCD '{self.path}': a value of {len(v)} bits for "
+                               f"'{ref}', declared {w} bits wide")
+            return _norm(v, w)
+        return norm
 
     def load(self, refs, mult):
         """Store the value changes of refs in self.tv: {ref: (times, values)} in common
@@ -450,6 +456,9 @@ def run(args):
         maps.append((src.strip().rstrip("."), dst.strip().rstrip(".")))
     if args.max_report < 1:
         raise BadInput("--max-report must be >= 1")
+    if args.period_ps is not None and not 1e-3 <= args.period_ps <= 1e12:   # (not nan)
+        raise BadInput(f"--period-ps must be 0.001..1e12 (a clock period in ps), got "
+                       f"{args.period_ps}")
     rtl = Vcd(args.rtl, "RTL")
     ref = Vcd(args.ref, "reference")
 

@@ -64,6 +64,7 @@ import numpy as np
 
 from . import siggen
 from .model import finequad_core as core
+from .model import regs
 
 
 # ---------------------------------------------------------------------------- plant
@@ -234,8 +235,9 @@ def run(exp: Experiment, interp, cfg: core.Config = None):
     settings, default Config()). Returns a dict of arrays per control tick (t s, ref_nm,
     meas_nm, true_nm at the tick, force_N motor, err_true_nm = r - x, err_meas_nm = r - y)
     and per ADC sample (x_nm), and the summary numbers (RMS in nm)."""
-    if not (isinstance(interp, (int, np.integer)) and 1 <= interp <= 511):
-        raise ValueError(f"interp must be an integer 1..511, got {interp!r}")
+    f = regs.SETTINGS["interp"]
+    if not (isinstance(interp, (int, np.integer)) and f.lo <= interp <= f.hi):
+        raise ValueError(f"interp must be an integer {f.lo}..{f.hi}, got {interp!r}")
     cfg = replace(cfg or core.Config(), interp=int(interp))
     sl = exp.slider
     q = exp.pitch_nm / (4 * interp)

@@ -3,7 +3,7 @@
 
     python3 -m sim.run_model --in in.csv --out out.csv [--table exact|paper] [--div D]
         [--adc-w W] [--engine-lanes L] [--opt-harmonic 0|1] [--opt-monitor 0|1]
-        [--opt-jump 0|1] [--<setting> N ...] [--vcd ref.vcd]
+        [--opt-jump 0|1] [--opt-tunable 0|1] [--<setting> N ...] [--vcd ref.vcd]
 
 The settings (--interp, --eps, --lambda-k, --count-mode, --ab-sep, ...) are the register
 fields of rtl/regs/finequad.rdl, as the RTL harness takes them; those not given keep
@@ -11,6 +11,7 @@ their reset values.
 """
 import argparse
 import os
+import pathlib
 import re
 import sys
 
@@ -29,6 +30,10 @@ def die(msg: str):
 # a field as the harness's strtol takes it (sim/harness/input.h parse_field): C
 # white space, an optional sign, decimal digits, nothing after them
 _FIELD = re.compile(rb"[ \t\n\v\f\r]*[+-]?[0-9]+")
+# the largest --div, the harnesses' (sim/harness/input.h DIV_MAX: its one source)
+DIV_MAX = int(re.search(r"#define DIV_MAX (\d+)", (pathlib.Path(__file__).parent / "harness"
+                                                     / "input.h").read_text()).group(1))
+LONG_MIN, LONG_MAX = -(1 << 63), (1 << 63) - 1      # the harness's strtol range
 
 
 def shown(b: bytes) -> str:
@@ -74,7 +79,8 @@ def read_codes(path: str, adc_w: int = 16):
             fld = _trim(fld)
             if not _FIELD.fullmatch(fld):
                 die(f"{path}:{ln}: {name}: not a decimal integer: '{shown(fld)}'")
-            v = int(fld)
+            digits = fld.lstrip(b" \t\n\v\f\r+-").lstrip(b"0")
+            v = int(fld) if len(digits) <= 20 else hi + 1      # (beyond any code)
             if not lo <= v <= hi:
                 die(f"{path}:{ln}: {name}: code {shown(fld)} out of the signed {adc_w}-bit "
                     f"range [{lo}, {hi}]")
@@ -100,6 +106,21 @@ def write_result(path, res):
                      zip(res["count"], res["a"], res["b"], res["fault"]))
 
 
+def bounded(text, opt, lo, hi, what=""):
+    """A whole-number option within lo..hi, named as the harness names it
+    (sim/harness/input.h parse_bounded): 'OPT: not a decimal integer: ...' or 'OPT: V is
+    outside lo..hi (what)'."""
+    raw = text.encode(errors="surrogateescape")
+    if not _FIELD.fullmatch(raw):
+        die(f"{opt}: not a decimal integer: '{shown(raw)}'")
+    digits = raw.lstrip(b" \t\n\v\f\r+-").lstrip(b"0")
+    v = int(raw) if len(digits) <= 20 else None         # (no digits limit to trip over)
+    if v is None or not lo <= v <= hi:
+        shown_v = v if v is not None and LONG_MIN <= v <= LONG_MAX else shown(raw)
+        die(f"{opt}: {shown_v} is outside {lo}..{hi}" + (f" ({what})" if what else ""))
+    return v
+
+
 def setting_options():
     """The core's settings as options, as the RTL harness takes them (sim/harness/input.h
     Settings): --<field> for each field a register write stores, '_' written '-', except
@@ -108,13 +129,31 @@ def setting_options():
             if f.reg not in core.BUNDLE_REGS}
 
 
+def refused_write(settings, build):
+    """The harness's error line when the core of `build` refuses a register write the
+    given settings make (sim/harness/harness.cpp: each register a given setting is in,
+    its other fields at their reset values, in the settings' order), or None."""
+    seen = []
+    for name, f in regs.SETTINGS.items():
+        if name not in settings or f.reg in seen:
+            continue
+        seen.append(f.reg)
+        word = regs.word(f.reg, **{g.name: settings.get(g.name, g.reset)
+                                   for g in regs.SETTINGS.values() if g.reg == f.reg})
+        if regs.illegal(f.reg, word, build):
+            return (f"the core refused the write of {f.reg} = 0x{word:08x}: this build keeps "
+                    "the register constant (rtl/regs/finequad.rdl requires; e.g. OPT_TUNABLE=0)")
+    return None
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description="bit-true model of finequad_core")
     ap.add_argument("--in", dest="inp", required=True)
     ap.add_argument("--out", required=True)
     ap.add_argument("--table", choices=["exact", "paper"], default="exact",
                     help="TABLE_EXACT: exact (1) or the paper's table (0)")
-    ap.add_argument("--div", type=int, default=36, help="clocks per sample (default 36)")
+    ap.add_argument("--div", default="36", metavar="D",
+                    help=f"clocks per sample, 1..{DIV_MAX} (default 36)")
     ap.add_argument("--adc-w", type=int, default=16, help="ADC_W, 12..16")
     ap.add_argument("--vcd", help="write the reference VCD of the core's outputs")
     ap.add_argument("--engine-lanes", type=int, choices=[1, 2], default=1,
@@ -125,6 +164,9 @@ def main(argv=None):
                     help="OPT_MONITOR: 0 = a core built without the signal monitor's checks")
     ap.add_argument("--opt-jump", type=int, choices=[0, 1], default=1,
                     help="OPT_JUMP: 0 = a core built without the estimator's jump detector")
+    ap.add_argument("--opt-tunable", type=int, choices=[0, 1], default=1,
+                    help="OPT_TUNABLE: 0 = a core whose tuning registers are constant (their "
+                         "settings are refused, as that core refuses the writes)")
     opts = setting_options()
     for o, f in opts.items():
         # (a string: the value is checked below, with the harness's message)
@@ -134,22 +176,27 @@ def main(argv=None):
     settings = {}
     for o, f in opts.items():
         text = getattr(args, "set_" + f.name)
-        if text is None:
-            continue
-        if not _FIELD.fullmatch(text.encode()):
-            die(f"{o}: not a decimal integer: '{shown(text.encode(errors='surrogateescape'))}'")
-        v = int(text)
-        if not f.lo <= v <= f.hi:
-            # (beyond the harness's long: named as written, as it does)
-            what = v if -(1 << 63) <= v < 1 << 63 else shown(text.encode(errors='surrogateescape'))
-            die(f"{o}: {what} is outside {f.lo}..{f.hi} ({f.reg}.{f.name})")
-        settings[f.name] = v
+        if text is not None:
+            settings[f.name] = bounded(text, o, f.lo, f.hi, f"{f.reg}.{f.name}")
+    refused = refused_write(settings, dict(
+        OPT_TUNABLE=args.opt_tunable, OPT_HARMONIC=args.opt_harmonic,
+        OPT_MONITOR=args.opt_monitor, OPT_JUMP=args.opt_jump))
+    if refused:
+        die(refused)
+    div = bounded(args.div, "--div", 1, DIV_MAX)
     if not 12 <= args.adc_w <= 16:
         die(f"--adc-w must be 12..16, got {args.adc_w}")
+    # the outputs can be written: before the run, not after it
+    for what, path in (("", args.out), ("the VCD ", args.vcd)):
+        if path is None:
+            continue
+        try:
+            with open(path, "a"):
+                pass
+        except OSError as e:
+            die(f"cannot write {what}'{path}': {e.strerror}")
     u1, u2 = read_codes(args.inp, args.adc_w)
-    if args.div < 1:
-        die(f"--div must be >= 1, got {args.div}")
-    cfg = core.Config(TABLE=args.table, div=args.div, ADC_W=args.adc_w,
+    cfg = core.Config(TABLE=args.table, div=div, ADC_W=args.adc_w,
                       ENGINE_LANES=args.engine_lanes, OPT_HARMONIC=args.opt_harmonic,
                       OPT_MONITOR=args.opt_monitor, OPT_JUMP=args.opt_jump, **settings)
     res = core.run(u1, u2, cfg, trace=bool(args.vcd))

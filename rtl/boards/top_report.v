@@ -51,6 +51,7 @@ module top_report #(
     wire [31:0] reg_wdata = chain[73:42];
 
     wire [31:0] reg_rdata, m_count;
+    wire        reg_err;
     wire [10:0] m_fault;
     wire        m_valid, m_a, m_b;
     wire [65:0] eng_cmd;                 // 0: the core's engine is inside
@@ -63,17 +64,17 @@ module top_report #(
         .clk(clk), .rst(rst),
         .s_valid(s_valid), .s_u1(s_u1), .s_u2(s_u2),
         .reg_we(reg_we), .reg_re(reg_re), .reg_addr(reg_addr), .reg_wdata(reg_wdata),
-        .reg_rdata(reg_rdata),
+        .reg_rdata(reg_rdata), .reg_err(reg_err),
         .m_valid(m_valid), .m_count(m_count), .m_fault(m_fault), .m_a(m_a), .m_b(m_b),
         .tdm_ok_i(1'b1), .eng_cmd_o(eng_cmd), .eng_rsp_i(115'd0)   // the engine inside
     );
     wire unused_eng = &{1'b0, eng_cmd, 1'b0};
 
     // outputs, four to a register (one LUT4 and its flip-flop), then one XOR tree
-    localparam OUT_W = 32 + 32 + 11 + 3;
+    localparam OUT_W = 32 + 32 + 11 + 3 + 1;
     localparam OUT_G = (OUT_W + 3) / 4;
     wire [4*OUT_G-1:0] outs = {{(4*OUT_G-OUT_W){1'b0}},
-                               reg_rdata, m_count, m_fault, m_valid, m_a, m_b};
+                               reg_err, reg_rdata, m_count, m_fault, m_valid, m_a, m_b};
     reg  [OUT_G-1:0] outs_q = 0;
     integer i;
     always @(posedge clk) begin

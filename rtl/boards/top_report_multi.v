@@ -40,6 +40,7 @@ module top_report_multi #(
     assign {reg_wdata, reg_addr, reg_axis, reg_re, reg_we, s_u2, s_u1, s_valid, rst} = chain;
 
     wire [31:0] reg_rdata;
+    wire        reg_err;
     wire [32*AXES-1:0] m_count;
     wire [11*AXES-1:0] m_fault;
     wire [AXES-1:0] m_valid, m_a, m_b;
@@ -51,15 +52,15 @@ module top_report_multi #(
                      .OPT_JUMP(OPT_JUMP), .ENGINE_LANES(ENGINE_LANES)) u_multi (
         .clk(clk), .rst(rst), .s_valid(s_valid), .s_u1(s_u1), .s_u2(s_u2),
         .reg_we(reg_we), .reg_re(reg_re), .reg_axis(reg_axis), .reg_addr(reg_addr),
-        .reg_wdata(reg_wdata), .reg_rdata(reg_rdata),
+        .reg_wdata(reg_wdata), .reg_rdata(reg_rdata), .reg_err(reg_err),
         .m_valid(m_valid), .m_count(m_count), .m_fault(m_fault), .m_a(m_a), .m_b(m_b)
     );
 
     // every output bit into a 4-input XOR register, then one XOR tree into sdo
-    localparam OUT_W = 32 + AXES * (32 + 11 + 3);
+    localparam OUT_W = 33 + AXES * (32 + 11 + 3);
     localparam OUT_G = (OUT_W + 3) / 4;
     wire [4*OUT_G-1:0] outs;
-    assign outs[OUT_W-1:0] = {reg_rdata, m_count, m_fault, m_valid, m_a, m_b};
+    assign outs[OUT_W-1:0] = {reg_err, reg_rdata, m_count, m_fault, m_valid, m_a, m_b};
     generate
         if (4 * OUT_G > OUT_W) begin : g_pad
             assign outs[4*OUT_G-1:OUT_W] = 0;

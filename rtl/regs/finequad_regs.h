@@ -221,7 +221,7 @@ extern "C" {
 #define FINEQUAD__ABGEN__AB_SEP_bm 0xff
 #define FINEQUAD__ABGEN__AB_SEP_bp 0
 #define FINEQUAD__ABGEN__AB_SEP_bw 8
-#define FINEQUAD__ABGEN__AB_SEP_reset 0x4
+#define FINEQUAD__ABGEN__AB_SEP_reset 0x18
 #define FINEQUAD__ABGEN__AB_SRC_bm 0x100
 #define FINEQUAD__ABGEN__AB_SRC_bp 8
 #define FINEQUAD__ABGEN__AB_SRC_bw 1
@@ -278,7 +278,7 @@ extern "C" {
 #define FINEQUAD__ID__ID_bm 0xffffffff
 #define FINEQUAD__ID__ID_bp 0
 #define FINEQUAD__ID__ID_bw 32
-#define FINEQUAD__ID__ID_reset 0x46510004
+#define FINEQUAD__ID__ID_reset 0x46510005
 
 // addrmap - finequad
 typedef struct __attribute__ ((__packed__)) {

@@ -58,21 +58,27 @@ def probe(exe, args):
 
 def measure_latency(exe, trials=50, pulses=True):
     """Per A/B source, `trials` samples forward (97/8192 period per sample) and `trials`
-    backward (131/8192), one every 64 clocks (sim/harness/probe.cpp latency). pulses
-    False: a build whose ABGEN register is constant (OPT_TUNABLE=0) has only the paced
-    source."""
+    backward (131/8192), far enough apart that the paced pins have paid each sample's
+    counts at ABGEN.ab_sep's reset value before the next (sim/harness/probe.cpp latency).
+    pulses False: a build whose ABGEN register is constant (OPT_TUNABLE=0) has only the
+    paced source."""
+    from sim.model.regs import SETTINGS
+    counts = -(-131 * 4 * SETTINGS["interp"].reset // 8192)      # per sample, at most
+    space = 64
+    while space < 2 * counts * SETTINGS["ab_sep"].reset:
+        space *= 2
     out = {}
     for src, name in ((0, "paced"), (1, "pulses"))[:2 if pulses else 1]:
         r = []
         for step, seed in (("97", "1"), ("-131", "2")):
             r += probe(exe, ["latency", "--trials", str(trials), "--ab-src", str(src),
-                             "--step", step, "--space", "64", "--seed", seed])["trials"]
+                             "--step", step, "--space", str(space), "--seed", seed])["trials"]
         valid = {t["valid"] for t in r}
         count = {t["count"] for t in r}
         ab = collections.Counter(t["ab"] for t in r if t["ab"] >= 0)
         if len(valid) != 1 or len(count) != 1 or -1 in valid | count:
             raise ReportError(f"latency not constant over {len(r)} samples: m_valid {valid}, "
-                              f"m_count {count} (-1: no change within 64 clocks)")
+                              f"m_count {count} (-1: no change within {space} clocks)")
         if not ab:
             raise ReportError(f"A/B ({name}) never changed in {len(r)} samples")
         out.update(valid=valid.pop(), count=count.pop())

@@ -162,7 +162,7 @@ int main(int argc, char **argv) {
         if (a == "--in") in = val("--in");
         else if (a == "--out") out = val("--out");
         else if (a == "--vcd") vcd = val("--vcd");
-        else if (a == "--div") div = parse_long(val("--div"), "--div");
+        else if (a == "--div") div = parse_bounded(val("--div"), "--div", 1, DIV_MAX);
         else if (set.take(argc, argv, i)) continue;
         else if (a == "--raw") raw = true;
         else if (a == "--dump-regs") dump_regs = true;
@@ -174,7 +174,6 @@ int main(int argc, char **argv) {
             Settings::usage() + " | rtlsim --raw [...]");
     if (raw && (!in.empty() || !out.empty() || !vcd.empty()))
         die("--raw streams stdin to stdout: no --in, --out or --vcd");
-    if (div < 1) die("--div must be >= 1");
 
 #if !VM_TRACE
     if (!vcd.empty()) {
@@ -296,6 +295,20 @@ int main(int argc, char **argv) {
             if (!have) last_edge = e + 12;
         }
         edge(e);
+        if (e < n_regs && top->reg_err) {
+            const char *reg = "?";
+            for (int k = 0; k < FQ_N_SETTINGS; k++)
+                if (FQ_SETTINGS[k].index == regs[e].first) reg = FQ_SETTINGS[k].reg;
+            char word[16];
+            std::snprintf(word, sizeof word, "0x%08x", (unsigned)regs[e].second);
+            if (fo) {                        // no output for a run that did not happen
+                std::fclose(fo);
+                std::remove(out.c_str());
+            }
+            die(std::string("the core refused the write of ") + reg + " = " + word +
+                ": this build keeps the register constant (rtl/regs/finequad.rdl requires; "
+                "e.g. OPT_TUNABLE=0)");
+        }
     }
     if (dump_regs) {
         // registered read port: address for one edge, the value after it

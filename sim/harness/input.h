@@ -66,6 +66,25 @@ static long parse_long(const std::string &s, const std::string &what) {
     return v;
 }
 
+// The largest --div (clocks per sample) the harnesses and sim/run_model.py accept: a run
+// clocks every edge, so the time it takes grows with it (4096: 24 kS/s at 100 MHz).
+#define DIV_MAX 4096
+
+// A whole-number option within lo..hi: 'OPT: not a decimal integer' or 'OPT: V is outside
+// lo..hi' (V as written if beyond a long); sim/run_model.py says the same.
+static long parse_bounded(const std::string &text, const std::string &opt, long lo, long hi,
+                          const std::string &what = "") {
+    errno = 0;
+    char *end = nullptr;
+    long v = std::strtol(text.c_str(), &end, 10);
+    if (end == text.c_str() || end != text.c_str() + text.size())
+        die(opt + ": not a decimal integer: '" + shown(text) + "'");
+    if (errno == ERANGE || v < lo || v > hi)
+        die(opt + ": " + (errno == ERANGE ? shown(text) : std::to_string(v)) + " is outside " +
+            std::to_string(lo) + ".." + std::to_string(hi) + (what.empty() ? "" : " (" + what + ")"));
+    return v;
+}
+
 // The line rule of the CSV input: trailing '\r', ' ' and '\n' and leading ' ' do not count.
 static void trim(const char *&p, const char *&q) {
     while (q > p && (q[-1] == '\r' || q[-1] == ' ' || q[-1] == '\n')) q--;
@@ -155,6 +174,20 @@ static long setting_reset(const char *name) {
     die(std::string("internal: no setting '") + name + "'");
 }
 
+// A setting's option value, within its field's legal values (the error names the option
+// and the register field, as Settings::take does).
+static long parse_setting(const std::string &text, const char *name) {
+    for (int k = 0; k < FQ_N_SETTINGS; k++) {
+        const FqSetting &f = FQ_SETTINGS[k];
+        if (std::strcmp(f.name, name)) continue;
+        std::string o = std::string("--") + f.name;
+        for (char &c : o)
+            if (c == '_') c = '-';
+        return parse_bounded(text, o, f.lo, f.hi, std::string(f.reg) + "." + f.name);
+    }
+    die(std::string("internal: no setting '") + name + "'");
+}
+
 // A setting's value placed at its field's position (its register's other bits 0).
 static uint32_t field_word(const char *name, long v) {
     for (int k = 0; k < FQ_N_SETTINGS; k++) {
@@ -190,17 +223,7 @@ struct Settings {
             const std::string o = option(f);
             if (bundle(f) || o != argv[i]) continue;
             if (i + 1 >= argc) die("missing value after " + o);
-            const std::string text = argv[++i];
-            errno = 0;
-            char *end = nullptr;
-            long v = std::strtol(text.c_str(), &end, 10);
-            if (end == text.c_str() || end != text.c_str() + text.size())
-                die(o + ": not a decimal integer: '" + shown(text) + "'");
-            // (beyond a long: named as written, as sim/run_model.py does)
-            if (errno == ERANGE || v < f.lo || v > f.hi)
-                die(o + ": " + (errno == ERANGE ? shown(text) : std::to_string(v)) +
-                    " is outside " + std::to_string(f.lo) + ".." + std::to_string(f.hi) + " (" +
-                    f.reg + "." + f.name + ")");
+            long v = parse_bounded(argv[++i], o, f.lo, f.hi, std::string(f.reg) + "." + f.name);
             value[k] = v;
             given[k] = true;
             return true;

@@ -173,14 +173,19 @@ static int stream(int argc, char **argv, const std::string &in, const std::strin
 static int latency(int argc, char **argv, long trials, long interp, long ab_src, long ab_sep,
                    long step_u13, long space, unsigned seed) {
     Core c(argc, argv);
-    // (AB_BOUND at its reset value)
-    const long regs[][2] = {{FQ_INTERP, interp},
-                            {FQ_ABGEN, field_word("ab_sep", ab_sep) | field_word("ab_src", ab_src)}};
+    // INTERP; ABGEN only when it differs from its reset value (a build with OPT_TUNABLE=0
+    // keeps it constant and refuses the write); AB_BOUND at its reset value
+    std::vector<std::pair<int, uint32_t>> regs = {{FQ_INTERP, (uint32_t)interp}};
+    if (ab_sep != setting_reset("ab_sep") || ab_src != setting_reset("ab_src"))
+        regs.emplace_back(FQ_ABGEN, field_word("ab_sep", ab_sep) | field_word("ab_src", ab_src));
     for (auto &r : regs) {
         c.top->reg_we = 1;
-        c.top->reg_addr = r[0];
-        c.top->reg_wdata = (uint32_t)r[1];
+        c.top->reg_addr = r.first;
+        c.top->reg_wdata = r.second;
         c.step();
+        if (c.top->reg_err)
+            die("the core refused the write of word " + std::to_string(r.first) +
+                ": this build keeps the register constant (e.g. OPT_TUNABLE=0)");
         c.fall();
     }
     c.top->reg_we = 0;
@@ -245,21 +250,17 @@ int main(int argc, char **argv) {
         if (a == "--in") in = val("--in");
         else if (a == "--out") out = val("--out");
         else if (a == "--trace") trace = val("--trace");
-        else if (a == "--div") div = parse_long(val("--div"), "--div");
-        else if (a == "--interp") interp = parse_long(val("--interp"), "--interp");
+        else if (a == "--div") div = parse_bounded(val("--div"), "--div", 1, DIV_MAX);
+        else if (a == "--interp") interp = parse_setting(val("--interp"), "interp");
         else if (a == "--trials") trials = parse_long(val("--trials"), "--trials");
-        else if (a == "--ab-src") ab_src = parse_long(val("--ab-src"), "--ab-src");
-        else if (a == "--ab-sep") ab_sep = parse_long(val("--ab-sep"), "--ab-sep");
+        else if (a == "--ab-src") ab_src = parse_setting(val("--ab-src"), "ab_src");
+        else if (a == "--ab-sep") ab_sep = parse_setting(val("--ab-sep"), "ab_sep");
         else if (a == "--seed") seed = parse_long(val("--seed"), "--seed");
         else if (a == "--step") step = parse_long(val("--step"), "--step");
         else if (a == "--space") space = parse_long(val("--space"), "--space");
         else if (a.rfind("+verilator", 0) == 0) continue;
         else die("unknown argument '" + a + "'");
     }
-    if (div < 1) die("--div must be >= 1");
-    if (interp < 1 || interp > 511) die("--interp must be 1..511");
-    if (ab_src < 0 || ab_src > 1) die("--ab-src must be 0 or 1");
-    if (ab_sep < 0 || ab_sep > 255) die("--ab-sep must be 0..255");
     if (trials < 1) die("--trials must be >= 1");
     if (mode == "stream") {
         if (in.empty() || out.empty() || trace.empty())

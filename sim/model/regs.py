@@ -10,11 +10,11 @@ from collections import namedtuple
 
 Field = namedtuple("Field", "name reg lsb width reset read write pulse w1c signed "
                    "lo hi format desc")
-Reg = namedtuple("Reg", "name index addr read write wmask rmask reset fields title "
-                 "desc")
+Reg = namedtuple("Reg", "name index addr read write wmask rmask reset requires "
+                 "fields title desc")
 
 REGS = {
-    'CTRL': Reg('CTRL', 0x00, 0x00, False, True, 0x0000000f, 0x00000000, 0x00000000, {
+    'CTRL': Reg('CTRL', 0x00, 0x00, False, True, 0x0000000f, 0x00000000, 0x00000000, (), {
         'cov_reset': Field('cov_reset', 'CTRL', 0, 1, 0, False, True, True, False, False, 0, 1, '',
             '1: request a covariance reset of the estimator (P = KAPPA I, then SETTLE updates before the next hand-over).'),
         'load': Field('load', 'CTRL', 1, 1, 0, False, True, True, False, False, 0, 1, '',
@@ -24,7 +24,7 @@ REGS = {
         'count_mode': Field('count_mode', 'CTRL', 3, 1, 0, False, True, False, False, False, 0, 1, '',
             "Counter mode: 0 phase (4 n counts per signal period of the unwrapped fine phase), 1 edge (the paper's x4 decoder of the Eq. 12 pulses). Every write of CTRL writes it; switch at standstill, together with rst (both modes run from rst)."),
     }, 'Control', 'Requests (pulses) and the counter mode. Write-only: a read of this word returns STATUS.'),
-    'STATUS': Reg('STATUS', 0x00, 0x00, True, False, 0x00000000, 0x0000001f, 0x00000000, {
+    'STATUS': Reg('STATUS', 0x00, 0x00, True, False, 0x00000000, 0x0000001f, 0x00000000, (), {
         'uncal': Field('uncal', 'STATUS', 0, 1, None, True, False, False, False, False, 0, 1, '',
             'No estimate handed over yet: the default or a loaded bundle is in use (fault bit uncal).'),
         'hold': Field('hold', 'STATUS', 1, 1, None, True, False, False, False, False, 0, 1, '',
@@ -36,43 +36,43 @@ REGS = {
         'loaded': Field('loaded', 'STATUS', 4, 1, None, True, False, False, False, False, 0, 1, '',
             'A LOADed bundle is in use (until the next hand-over).'),
     }, 'Status', "The estimator's state and the counter mode (read at word 0)."),
-    'INTERP': Reg('INTERP', 0x01, 0x04, True, True, 0x000001ff, 0x000001ff, 0x00000064, {
+    'INTERP': Reg('INTERP', 0x01, 0x04, True, True, 0x000001ff, 0x000001ff, 0x00000064, (), {
         'interp': Field('interp', 'INTERP', 0, 9, 100, True, True, False, False, False, 1, 511, 'u9',
             'n: 4 n counts per signal period. Change it at standstill.'),
     }, 'Interpolation factor', ''),
-    'EPS': Reg('EPS', 0x02, 0x08, True, True, 0x0000ffff, 0x0000ffff, 0x00000666, {
+    'EPS': Reg('EPS', 0x02, 0x08, True, True, 0x0000ffff, 0x0000ffff, 0x00000666, ('OPT_TUNABLE',), {
         'eps': Field('eps', 'EPS', 0, 16, 1638, True, True, False, False, False, 0, 65535, 'u0.15',
             'eps of the Eq. 12 comparators (1638 = 0.05). 32768 and above: no magnitude reaches it, the pulses hold. A write on edge w (or rst) decides the pulses from edge w + 3.'),
     }, 'Eq. 12 hysteresis', ''),
-    'LAMBDA_K': Reg('LAMBDA_K', 0x03, 0x0c, True, True, 0x0000001f, 0x0000001f, 0x00000008, {
+    'LAMBDA_K': Reg('LAMBDA_K', 0x03, 0x0c, True, True, 0x0000001f, 0x0000001f, 0x00000008, ('OPT_TUNABLE',), {
         'lambda_k': Field('lambda_k', 'LAMBDA_K', 0, 5, 8, True, True, False, False, False, 1, 23, 'u5',
             'k of the RLS forgetting factor lambda = 1 / (1 + 2^-k).'),
     }, 'Forgetting factor', ''),
-    'KAPPA': Reg('KAPPA', 0x04, 0x10, True, True, 0x0000ffff, 0x0000ffff, 0x00004000, {
-        'kappa': Field('kappa', 'KAPPA', 0, 16, 16384, True, True, False, False, False, 0, 65535, 'u8.8',
-            'kappa: P = kappa I after a covariance reset (0x4000 = 64; 0 is taken as 1/256). With a large KAPPA or strong forgetting the engine can saturate registers (STATUS.sat; an update whose outputs saturate is invalid and resets P).'),
+    'KAPPA': Reg('KAPPA', 0x04, 0x10, True, True, 0x0000ffff, 0x0000ffff, 0x00004000, ('OPT_TUNABLE',), {
+        'kappa': Field('kappa', 'KAPPA', 0, 16, 16384, True, True, False, False, False, 1, 65535, 'u8.8',
+            'kappa: P = kappa I after a covariance reset (0x4000 = 64; the smallest, 1, is 1/256). With a large KAPPA or strong forgetting the engine can saturate registers (STATUS.sat; an update whose outputs saturate is invalid and resets P).'),
     }, 'Covariance reset value', ''),
-    'PERIOD': Reg('PERIOD', 0x05, 0x14, True, True, 0x0000ffff, 0x0000ffff, 0x00000000, {
+    'PERIOD': Reg('PERIOD', 0x05, 0x14, True, True, 0x0000ffff, 0x0000ffff, 0x00000000, ('OPT_TUNABLE',), {
         'period': Field('period', 'PERIOD', 0, 16, 0, True, True, False, False, False, 0, 65535, 'u16',
             'Updates between periodic covariance resets; 0: never.'),
     }, 'Covariance reset period', ''),
-    'SETTLE': Reg('SETTLE', 0x06, 0x18, True, True, 0x000003ff, 0x000003ff, 0x00000020, {
+    'SETTLE': Reg('SETTLE', 0x06, 0x18, True, True, 0x000003ff, 0x000003ff, 0x00000020, ('OPT_TUNABLE',), {
         'settle': Field('settle', 'SETTLE', 0, 10, 32, True, True, False, False, False, 0, 1023, 'u10',
             'Updates after a covariance reset before the next hand-over.'),
     }, 'Settling updates', ''),
-    'GATE': Reg('GATE', 0x07, 0x1c, True, True, 0x00001fff, 0x00001fff, 0x00000040, {
+    'GATE': Reg('GATE', 0x07, 0x1c, True, True, 0x00001fff, 0x00001fff, 0x00000040, ('OPT_TUNABLE',), {
         'gate': Field('gate', 'GATE', 0, 13, 64, True, True, False, False, False, 0, 8191, 'u13',
             'Smoothed travel (8192 per signal period) the stage must make between two estimator updates (64 = 1/128 period): standstill, noise and creep do not wind the estimator up.'),
     }, 'Travel gate', ''),
-    'COUNT': Reg('COUNT', 0x08, 0x20, True, False, 0x00000000, 0xffffffff, 0x00000000, {
+    'COUNT': Reg('COUNT', 0x08, 0x20, True, False, 0x00000000, 0xffffffff, 0x00000000, (), {
         'count': Field('count', 'COUNT', 0, 32, None, True, False, False, False, True, -2147483648, 2147483647, 's32',
             'The counter (COUNT_W bits, sign-extended; wraps).'),
     }, 'Count', ''),
-    'ILLEGAL': Reg('ILLEGAL', 0x09, 0x24, True, False, 0x00000000, 0x0000ffff, 0x00000000, {
+    'ILLEGAL': Reg('ILLEGAL', 0x09, 0x24, True, False, 0x00000000, 0x0000ffff, 0x00000000, (), {
         'illegal': Field('illegal', 'ILLEGAL', 0, 16, None, True, False, False, False, False, 0, 65535, 'u16',
             'Steps of the Eq. 12 pulses that changed both channels since rst (wraps).'),
     }, 'Illegal steps', ''),
-    'FAULT_STICKY': Reg('FAULT_STICKY', 0x0a, 0x28, True, True, 0x000007ff, 0x000007ff, 0x00000000, {
+    'FAULT_STICKY': Reg('FAULT_STICKY', 0x0a, 0x28, True, True, 0x000007ff, 0x000007ff, 0x00000000, (), {
         'clip': Field('clip', 'FAULT_STICKY', 0, 1, 0, True, True, False, True, False, 0, 1, '',
             'A code at or near an ADC rail (CLIP): the estimator skips it; the counter holds only if the radius is over-range too.'),
         'nsat': Field('nsat', 'FAULT_STICKY', 1, 1, 0, True, True, False, True, False, 0, 1, '',
@@ -96,35 +96,35 @@ REGS = {
         'glitch': Field('glitch', 'FAULT_STICKY', 10, 1, 0, True, True, False, True, False, 0, 1, '',
             'The phase jumped off its prediction: held, not estimated.'),
     }, 'Sticky fault bits', 'The OR of the fault word m_fault since rst or the last clear; write 1 to clear a bit (a fault arriving on the clearing edge stays set). The fields are the fault bits of m_fault.'),
-    'GAIN': Reg('GAIN', 0x0b, 0x2c, True, True, 0x00000003, 0x00000003, 0x00000000, {
+    'GAIN': Reg('GAIN', 0x0b, 0x2c, True, True, 0x00000003, 0x00000003, 0x00000000, (), {
         'gain': Field('gain', 'GAIN', 0, 2, 0, True, True, False, False, False, 0, 3, 'u2',
             'Input gain g (the samples are scaled by 2^g) of the bundle in use; a write stages it for CTRL.load.'),
     }, 'Input gain', ''),
-    'M1': Reg('M1', 0x0c, 0x30, True, True, 0xffffffff, 0xffffffff, 0x00000000, {
+    'M1': Reg('M1', 0x0c, 0x30, True, True, 0xffffffff, 0xffffffff, 0x00000000, (), {
         'm1': Field('m1', 'M1', 0, 32, 0, True, True, False, False, True, -32768, 32767, 's1.15',
             'Offset of u1 (normalised units) in the bundle in use; a write stages it for CTRL.load.'),
     }, 'Offset m1', ''),
-    'M2': Reg('M2', 0x0d, 0x34, True, True, 0xffffffff, 0xffffffff, 0x00000000, {
+    'M2': Reg('M2', 0x0d, 0x34, True, True, 0xffffffff, 0xffffffff, 0x00000000, (), {
         'm2': Field('m2', 'M2', 0, 32, 0, True, True, False, False, True, -32768, 32767, 's1.15',
             'Offset of u2 in the bundle in use; a write stages it for CTRL.load.'),
     }, 'Offset m2', ''),
-    'C1': Reg('C1', 0x0e, 0x38, True, True, 0xffffffff, 0xffffffff, 0x00002000, {
+    'C1': Reg('C1', 0x0e, 0x38, True, True, 0xffffffff, 0xffffffff, 0x00002000, (), {
         'c1': Field('c1', 'C1', 0, 32, 8192, True, True, False, False, True, -32768, 32767, 's4.12',
             'Correction coefficient c1 (Eq. 9: u1c = c1 d1) in the bundle in use (8192 = 2.0, the default circle of radius 0.5); a write stages it for CTRL.load.'),
     }, 'Correction c1', ''),
-    'C12': Reg('C12', 0x0f, 0x3c, True, True, 0xffffffff, 0xffffffff, 0x00000000, {
+    'C12': Reg('C12', 0x0f, 0x3c, True, True, 0xffffffff, 0xffffffff, 0x00000000, (), {
         'c12': Field('c12', 'C12', 0, 32, 0, True, True, False, False, True, -32768, 32767, 's4.12',
             'Correction coefficient c12 (Eq. 9: u2c = c12 d1 + c2 d2) in the bundle in use; a write stages it for CTRL.load.'),
     }, 'Correction c12', ''),
-    'C2': Reg('C2', 0x10, 0x40, True, True, 0xffffffff, 0xffffffff, 0x00002000, {
+    'C2': Reg('C2', 0x10, 0x40, True, True, 0xffffffff, 0xffffffff, 0x00002000, (), {
         'c2': Field('c2', 'C2', 0, 32, 8192, True, True, False, False, True, -32768, 32767, 's4.12',
             'Correction coefficient c2 in the bundle in use; a write stages it for CTRL.load.'),
     }, 'Correction c2', ''),
-    'UPDATES': Reg('UPDATES', 0x11, 0x44, True, False, 0x00000000, 0xffffffff, 0x00000000, {
+    'UPDATES': Reg('UPDATES', 0x11, 0x44, True, False, 0x00000000, 0xffffffff, 0x00000000, (), {
         'updates': Field('updates', 'UPDATES', 0, 32, None, True, False, False, False, False, 0, 4294967295, 'u32',
             'RLS updates since rst (wraps).'),
     }, 'Estimator updates', ''),
-    'HARM': Reg('HARM', 0x12, 0x48, True, True, 0x00000133, 0x00000033, 0x00000013, {
+    'HARM': Reg('HARM', 0x12, 0x48, True, True, 0x00000133, 0x00000033, 0x00000013, ('OPT_TUNABLE', 'OPT_HARMONIC'), {
         'harm_apply': Field('harm_apply', 'HARM', 0, 1, 1, True, True, False, False, False, 0, 1, '',
             "Apply the learned correction to the counter's phase."),
         'harm_learn': Field('harm_learn', 'HARM', 1, 1, 1, True, True, False, False, False, 0, 1, '',
@@ -134,57 +134,57 @@ REGS = {
         'harm_clear': Field('harm_clear', 'HARM', 8, 1, 0, False, True, True, False, False, 0, 1, '',
             '1: clear the table (a 64-clock sweep).'),
     }, 'Harmonic compensation', 'Reads 0 with OPT_HARMONIC = 0.'),
-    'JUMP': Reg('JUMP', 0x13, 0x4c, True, True, 0x000087ff, 0x000087ff, 0x00000029, {
+    'JUMP': Reg('JUMP', 0x13, 0x4c, True, True, 0x000087ff, 0x000087ff, 0x00000029, ('OPT_TUNABLE', 'OPT_JUMP'), {
         'jump_min': Field('jump_min', 'JUMP', 0, 11, 41, True, True, False, False, False, 0, 2047, 'u0.13',
             "The detector's floor of the mean |e| (41 = 0.005): a jump is a fast mean |e| above 4 times the slow one plus this."),
         'jump_off': Field('jump_off', 'JUMP', 15, 1, 0, True, True, False, False, False, 0, 1, '',
             '1: the jump detector is off.'),
     }, 'Jump detector', 'Reads 0x8000 (off) with OPT_JUMP = 0.'),
-    'JUMPS': Reg('JUMPS', 0x14, 0x50, True, False, 0x00000000, 0x0000ffff, 0x00000000, {
+    'JUMPS': Reg('JUMPS', 0x14, 0x50, True, False, 0x00000000, 0x0000ffff, 0x00000000, (), {
         'jumps': Field('jumps', 'JUMPS', 0, 16, None, True, False, False, False, False, 0, 65535, 'u16',
             'Jumps detected since rst (wraps); 0 with OPT_JUMP = 0.'),
     }, 'Jumps detected', ''),
-    'ABGEN': Reg('ABGEN', 0x15, 0x54, True, True, 0x000001ff, 0x000001ff, 0x00000004, {
-        'ab_sep': Field('ab_sep', 'ABGEN', 0, 8, 4, True, True, False, False, False, 0, 255, 'u8',
-            'Minimum clocks between two A/B edges (0 acts as 1).'),
+    'ABGEN': Reg('ABGEN', 0x15, 0x54, True, True, 0x000001ff, 0x000001ff, 0x00000018, ('OPT_TUNABLE',), {
+        'ab_sep': Field('ab_sep', 'ABGEN', 0, 8, 24, True, True, False, False, False, 1, 255, 'u8',
+            "Minimum clocks between two A/B edges. The default, 24 clocks (667 ns at 36 MHz, 672 ns at the ULX3S build's 35.714 MHz), is slower than the input filters of common counters need (sim/counters.py: 640 ns for LinuxCNC's Mesa hostmot2 encoder with its default filter); at a faster clock raise it to keep the nanoseconds (make limits, rtl/README.md)."),
         'ab_src': Field('ab_src', 'ABGEN', 8, 1, 0, True, True, False, False, False, 0, 1, '',
             '1: the A/B pins show the Eq. 12 pulses instead of the paced outputs.'),
     }, 'A/B generator', ''),
-    'AB_BOUND': Reg('AB_BOUND', 0x16, 0x58, True, True, 0x0000ffff, 0x0000ffff, 0x00000400, {
+    'AB_BOUND': Reg('AB_BOUND', 0x16, 0x58, True, True, 0x0000ffff, 0x0000ffff, 0x00000400, ('OPT_TUNABLE',), {
         'ab_bound': Field('ab_bound', 'AB_BOUND', 0, 16, 1024, True, True, False, False, False, 0, 65535, 'u16',
             'Backlog (counts) above which fault bit abovf is set.'),
     }, 'A/B backlog bound', ''),
-    'AB_BACKLOG': Reg('AB_BACKLOG', 0x17, 0x5c, True, False, 0x00000000, 0xffffffff, 0x00000000, {
+    'AB_BACKLOG': Reg('AB_BACKLOG', 0x17, 0x5c, True, False, 0x00000000, 0xffffffff, 0x00000000, (), {
         'ab_backlog': Field('ab_backlog', 'AB_BACKLOG', 0, 32, None, True, False, False, False, True, -2147483648, 2147483647, 's16',
             "The count minus the pins' position, saturated to s16 and sign-extended."),
     }, 'A/B backlog', ''),
-    'CLIP': Reg('CLIP', 0x18, 0x60, True, True, 0x0000ffff, 0x0000ffff, 0x00007f00, {
+    'CLIP': Reg('CLIP', 0x18, 0x60, True, True, 0x0000ffff, 0x0000ffff, 0x00007f00, ('OPT_TUNABLE',), {
         'clip': Field('clip', 'CLIP', 0, 16, 32512, True, True, False, False, False, 0, 65535, 'u16',
             '|u| (MSB-aligned to s1.15) at or above which a code is clipped.'),
     }, 'Clip level', ''),
-    'RADIUS': Reg('RADIUS', 0x19, 0x64, True, True, 0xffffffff, 0xffffffff, 0x56660ccd, {
+    'RADIUS': Reg('RADIUS', 0x19, 0x64, True, True, 0xffffffff, 0xffffffff, 0x56660ccd, ('OPT_TUNABLE', 'OPT_MONITOR'), {
         'loss': Field('loss', 'RADIUS', 0, 16, 3277, True, True, False, False, False, 0, 65535, 'u2.14',
             'Signal loss below this radius (3277 = 0.2).'),
         'over': Field('over', 'RADIUS', 16, 16, 22118, True, True, False, False, False, 0, 65535, 'u2.14',
             'Over-range above this radius (22118 = 1.35).'),
     }, 'Radius thresholds', 'Lissajous radius thresholds, s2.14 units (16384 = the unit circle). Reads 0 with OPT_MONITOR = 0.'),
-    'MONITOR': Reg('MONITOR', 0x1a, 0x68, True, True, 0x00ff000f, 0x00ff000f, 0x0008000a, {
+    'MONITOR': Reg('MONITOR', 0x1a, 0x68, True, True, 0x00ff000f, 0x00ff000f, 0x0008000a, ('OPT_TUNABLE', 'OPT_MONITOR'), {
         'glitch_k': Field('glitch_k', 'MONITOR', 0, 4, 10, True, True, False, False, False, 0, 15, 'u4',
             'Glitch check: the largest |phase acceleration| is 2^glitch_k phase units per sample^2; 0: off.'),
         'stuck_n': Field('stuck_n', 'MONITOR', 16, 8, 8, True, True, False, False, False, 0, 255, 'u8',
             'Stuck channel: a channel whose code stays unchanged for this many samples while the other moves; 0: off.'),
     }, 'Monitor checks', 'Reads 0 with OPT_MONITOR = 0.'),
-    'CAPTURE': Reg('CAPTURE', 0x1b, 0x6c, True, False, 0x00000000, 0xffffffff, 0x00000000, {
+    'CAPTURE': Reg('CAPTURE', 0x1b, 0x6c, True, False, 0x00000000, 0xffffffff, 0x00000000, (), {
         'capture': Field('capture', 'CAPTURE', 0, 32, None, True, False, False, False, True, -2147483648, 2147483647, 's32',
             'The count captured by CTRL.capture.'),
     }, 'Captured count', ''),
-    'TRAVEL': Reg('TRAVEL', 0x1c, 0x70, True, False, 0x00000000, 0x000fffff, 0x00000000, {
+    'TRAVEL': Reg('TRAVEL', 0x1c, 0x70, True, False, 0x00000000, 0x000fffff, 0x00000000, (), {
         'travel': Field('travel', 'TRAVEL', 0, 20, None, True, False, False, False, False, 0, 1048575, 'u20',
             "The monitor's smoothed unwrapped travel S (integer part; 8192 per signal period, wraps)."),
     }, 'Travel', ''),
-    'ID': Reg('ID', 0x1f, 0x7c, True, False, 0x00000000, 0xffffffff, 0x00000000, {
-        'id': Field('id', 'ID', 0, 32, 1179713540, True, False, False, False, False, 0, 4294967295, 'u32',
-            '"FQ" (0x4651) and the register map\'s version, major.minor (0x0004: 0.4).'),
+    'ID': Reg('ID', 0x1f, 0x7c, True, False, 0x00000000, 0xffffffff, 0x00000000, (), {
+        'id': Field('id', 'ID', 0, 32, 1179713541, True, False, False, False, False, 0, 4294967295, 'u32',
+            '"FQ" (0x4651) and the register map\'s version, major.minor (0x0005: 0.5).'),
     }, 'Identification', ''),
 }
 
@@ -226,6 +226,7 @@ SETTINGS = {f.name: f for r in REGS.values() for f in r.fields.values()
 FAULT_BITS = {f.name: f.lsb for f in REGS['FAULT_STICKY'].fields.values()}
 FAULT_W = max(FAULT_BITS.values()) + 1
 ID_VALUE = REGS['ID'].fields['id'].reset
+OPTIONS = ('OPT_HARMONIC', 'OPT_JUMP', 'OPT_MONITOR', 'OPT_TUNABLE')   # the core parameters writes depend on
 
 def word(reg, **fields):
     """The word a write of `reg` (a name) gives: its writable fields at their reset values,
@@ -260,12 +261,21 @@ def value(reg, field, w):
     return v - (1 << f.width) if f.signed and v >> (f.width - 1) else v
 
 
-def illegal(reg, w):
-    """Why a write of word `w` to `reg` is outside the register's legal values (a field
-    out of its range, or a bit no field holds), or None if it is legal."""
+def illegal(reg, w, build=None):
+    """Why a write of word `w` to `reg` is refused (the register takes no writes, or none
+    in `build`: a dict of the core's parameters, default every OPT_ 1; a field out of its
+    range; a bit no field holds), or None if the core takes it."""
     r = REGS[reg]
+    if not r.write:
+        return f"{reg} is read-only"
+    off = [o for o in r.requires if not (build or {}).get(o, 1)]
+    if off:
+        return f"{reg} is constant in a build with {', '.join(o + '=0' for o in off)}"
     if not 0 <= w <= 0xFFFFFFFF:
         return f"{reg}: 0x{w:x} is not a 32-bit word"
+    wf = [f for f in r.fields.values() if f.write]
+    if len(wf) == 1 and wf[0].lsb == 0 and not wf[0].signed and not wf[0].lo <= w <= wf[0].hi:
+        return f"{reg}.{wf[0].name} = {w}: outside {wf[0].lo}..{wf[0].hi}"
     if w & ~r.wmask & 0xFFFFFFFF:
         return (f"{reg}: bits 0x{w & ~r.wmask & 0xFFFFFFFF:08x} are outside its fields "
                 f"(writable bits 0x{r.wmask:08x})")

@@ -142,7 +142,7 @@ def test_a_bad_description_is_refused_with_its_place(tmp_path, edit, message):
     rdl.write_text(text.replace(edit[0], edit[1], 1))
     before = {k: p.read_bytes() for k, p in files.items()}
     r = gen("--rdl", str(rdl), "--root", str(tmp_path))
-    assert r.returncode != 0 and r.stderr.startswith("gen_regs: error: "), r.stderr
+    assert r.returncode == 2 and r.stderr.startswith("gen_regs: error: "), r.stderr
     assert message in r.stderr, r.stderr
     assert len(r.stderr.strip().splitlines()) == 1, r.stderr
     assert {k: p.read_bytes() for k, p in files.items()} == before

@@ -688,9 +688,12 @@ def _full_report(fits=True, rtl_equals_model=True):
 
 
 def test_markdown_is_tables_and_labels_with_a_link_to_the_method():
-    md = markdown.markdown(_full_report(), readme="../README.md")
+    md = markdown.markdown(_full_report(), readme="../scripts/README.md")
     lines = md.splitlines()
-    assert "(../README.md#performance-report)" in md
+    assert f"(../scripts/README.md{markdown.SECTION})" in md
+    # the section linked is there: scripts/README.md's heading "## `make report`"
+    heads = (ROOT / "scripts" / "README.md").read_text().splitlines()
+    assert "## `make report`" in heads and markdown.SECTION == "#make-report"
     # every line a heading, a table row or a short label: no paragraphs of prose
     prose = [ln for ln in lines if ln and not ln.startswith(("#", "|", "**"))]
     assert all(len(ln) <= 160 for ln in prose), [ln for ln in prose if len(ln) > 160]

@@ -142,6 +142,8 @@ BAD_CSV = [
     ("u1,u2\n5\x00junk,2\n", 2, "u1: not a decimal integer: '5\\x00junk'"),
     ("u1\x01,u2\n1,2\n", 1, "header is 'u1\\x01,u2'"),
     ("u1,u2\n\t1 ,\t-2\n1,2,\x7f\n", 3, "got '1,2,\\x7f'"),
+    # a field of more digits than Python converts by default (4300): the same error
+    ("u1,u2\n1,2\n" + "7" * 5000 + ",3\n", 3, "u1: code 777777"),
 ]
 
 
@@ -167,6 +169,76 @@ def test_bad_input_is_rejected_alike_with_file_line_and_reason(tmp_path, text, l
         assert len(err) == 1, (tool, p.stderr)
         msgs.append(err[0][len(tool) + 2:])
     assert msgs[0] == msgs[1]
+
+
+BAD_OPTIONS = [
+    # DIV bounded (a run clocks every edge: 4611686018427387904 ran until killed)
+    ("DIV=4611686018427387904", "--div: 4611686018427387904 is outside 1..4096"),
+    ("DIV=99999999999999999999", "--div: 99999999999999999999 is outside 1..4096"),
+    ("DIV=0", "--div: 0 is outside 1..4096"),
+    ("DIV=1e3", "--div: not a decimal integer: '1e3'"),
+    # a setting outside its register field's legal values (rtl/regs/finequad.rdl)
+    ("INTERP=512", "--interp: 512 is outside 1..511 (INTERP.interp)"),
+    ("SETTINGS=--lambda-k 24", "--lambda-k: 24 is outside 1..23 (LAMBDA_K.lambda_k)"),
+    ("SETTINGS=--ab-sep 0", "--ab-sep: 0 is outside 1..255 (ABGEN.ab_sep)"),
+    ("SETTINGS=--gate 8192", "--gate: 8192 is outside 0..8191 (GATE.gate)"),
+    ("SETTINGS=--eps x", "--eps: not a decimal integer: 'x'"),
+]
+
+
+@pytest.mark.parametrize("opt,reason", BAD_OPTIONS)
+def test_bad_option_is_refused_alike(tmp_path, opt, reason):
+    """A knob or setting out of its range: the harness and the model refuse it with the
+    same one-line error, before anything runs (exit 2)."""
+    good = tmp_path / "in.csv"
+    good.write_text("u1,u2\n100,200\n")
+    msgs = []
+    for tool in ("rtlsim", "model"):
+        p = subprocess.run(["make", "-s", "-C", str(ROOT), tool, f"IN={good}",
+                            f"OUT={tmp_path / 'o.csv'}", opt], capture_output=True,
+                           text=True, timeout=300)
+        assert p.returncode != 0 and reason in p.stderr, (tool, p.stderr)
+        err = [ln for ln in p.stderr.splitlines() if ln.startswith(f"{tool}: error: ")]
+        assert len(err) == 1, (tool, p.stderr)
+        msgs.append(err[0][len(tool) + 2:])
+    assert msgs[0] == msgs[1]
+    assert not (tmp_path / "o.csv").exists()
+
+
+@pytest.mark.parametrize("opt", ["AB_SEP=30", "SETTINGS=--eps 1000"])
+def test_constant_register_setting_is_refused_alike(tmp_path, opt):
+    """A setting of a register the build keeps constant (the UP5K build, OPT_TUNABLE=0):
+    the core refuses the write (reg_err), the harness stops with the register and word,
+    the model names the same, and neither leaves an output."""
+    good = tmp_path / "in.csv"
+    good.write_text("u1,u2\n100,200\n")
+    msgs = []
+    for tool in ("rtlsim", "model"):
+        p = subprocess.run(["make", "-s", "-C", str(ROOT), tool, "PROFILE=up5k", f"IN={good}",
+                            f"OUT={tmp_path / 'o.csv'}", opt], capture_output=True,
+                           text=True, timeout=600)
+        err = [ln for ln in p.stderr.splitlines() if ln.startswith(f"{tool}: error: ")]
+        assert p.returncode != 0 and len(err) == 1, (tool, p.stderr)
+        assert "the core refused the write of " in err[0], (tool, err)
+        msgs.append(err[0][len(tool) + 2:])
+        assert not (tmp_path / "o.csv").exists(), tool
+    assert msgs[0] == msgs[1]
+
+
+@pytest.mark.parametrize("target", ["rtlsim", "model"])
+def test_unwritable_output_fails_before_the_run(tmp_path, target):
+    """OUT in a folder that does not exist: the error comes before the simulation (a
+    recording of 300 000 samples takes the model tens of seconds; the error, well under
+    a few)."""
+    import time
+    big = tmp_path / "in.csv"
+    big.write_text("u1,u2\n" + "100,200\n" * 300_000)
+    out = tmp_path / "no_such_folder" / "o.csv"
+    t0 = time.monotonic()
+    p = subprocess.run(["make", "-s", "-C", str(ROOT), target, f"IN={big}", f"OUT={out}"],
+                       capture_output=True, text=True, timeout=300)
+    assert p.returncode != 0 and f"cannot write '{out}'" in p.stderr, p.stderr
+    assert time.monotonic() - t0 < 8.0
 
 
 @pytest.mark.parametrize("target", ["rtlsim", "model"])
