@@ -33,13 +33,16 @@ import time
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))
 from sim import counters  # noqa: E402
 from sim.model import regs  # noqa: E402
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+import builds  # noqa: E402
 
 # finequad_core's registers by their names (rtl/regs/finequad.rdl, lower case; word 0 is
 # STATUS when read, CTRL when written); numbers are accepted for any other word
 REGS = {name.lower(): r.index for name, r in regs.REGS.items()}
 SIGNED = {name.lower() for name, r in regs.REGS.items()
           if any(f.signed for f in r.fields.values())}
-FCLK_HZ = 35.714e6      # the ULX3S build's clock (the board with the host link)
+# the ULX3S build's clock (the board with the host link; rtl/builds.toml)
+FCLK_HZ = builds.clock("ulx3s")["mhz"] * 1e6
 
 
 class ProtocolError(Exception):
@@ -308,7 +311,7 @@ def ab_warning(sep_clocks, fclk_hz):
     slow = counters.too_fast(sep_ns)
     if not slow:
         return None
-    return (f"ABGEN.ab_sep = {sep_clocks} clocks = {sep_ns:.0f} ns at {fclk_hz / 1e6:g} MHz: "
+    return (f"ABGEN.ab_sep = {sep_clocks} clocks = {sep_ns:.0f} ns at {fclk_hz / 1e6:.3f} MHz: "
             "too fast for " + "; ".join(f"{c.name}, {c.setting} (needs {c.min_sep_ns:.0f} ns)"
                                         for c in slow)
             + ": such a counter loses counts without a quadrature error")
@@ -359,7 +362,7 @@ def main(argv=None):
     ap.add_argument("-b", "--baud", type=int, default=115200)
     ap.add_argument("--fclk", type=float, default=FCLK_HZ,
                     help="the FPGA's clock in Hz, for the A/B edge separation in ns "
-                         f"(default {FCLK_HZ:g}: the ULX3S build)")
+                         f"(default {FCLK_HZ:.6g}: the ULX3S build)")
     sub = ap.add_subparsers(dest="cmd", required=True)
     sub.add_parser("id", help="read the ID register")
     r = sub.add_parser("read", help="read registers (names or word indices)")
