@@ -433,35 +433,68 @@ module finequad_core #(
     );
 
     // ---- fault bits, carried with the sample -------------------------------------------------
-    // Index k of each delay line holds the value registered k + 1 edges after the flag's
-    // own edge: flags of edge t (clip, gain, offset saturation, and the bundle's uncal and
-    // hold, sampled with the sample) reach index LATENCY - 1 on edge t + LATENCY. csat:
-    // the offset removal's saturation (edge t), joined by the correction's (rsat, edge
-    // t + CORR_AT) at index CORR_AT, which is registered on the same edge as rsat.
-    reg [LATENCY-1:0] clip_d = 0, nsat_d = 0, csat_d = 0, uncal_d = 0, hold_d = 0;
+    // The flags of edge t (clip, gain and offset saturation, and the bundle's uncal and
+    // hold, sampled with the sample: uncal0, hold0) reach the output on edge t + LATENCY.
+    // csat: the offset removal's saturation (edge t), joined by the correction's (rsat,
+    // edge t + CORR_AT) at index CORR_AT of its delay line (index k: registered k + 1
+    // edges after edge t), which is registered on the same edge as rsat.
+    reg [LATENCY-1:0] csat_d = 0;
     reg uncal0 = 1'b1, hold0 = 1'b0;
     always @(posedge clk) begin
         uncal0 <= b_uncal;
         hold0  <= b_hold;
-        clip_d  <= {clip_d[LATENCY-2:0], c_clip};
-        nsat_d  <= {nsat_d[LATENCY-2:0], c_nsat};
-        csat_d  <= {csat_d[LATENCY-2:CORR_AT], csat_d[CORR_AT-1] | c_rsat,
-                    csat_d[CORR_AT-2:0], c_dsat};
-        uncal_d <= {uncal_d[LATENCY-2:0], uncal0};
-        hold_d  <= {hold_d[LATENCY-2:0], hold0};
+        csat_d <= {csat_d[LATENCY-2:CORR_AT], csat_d[CORR_AT-1] | c_rsat,
+                   csat_d[CORR_AT-2:0], c_dsat};
     end
+    // clip, nsat, uncal, hold: OPT_DISTRAM = 0 (iCE40: short of logic cells, and a
+    // flip-flop of a shift register takes a whole one): in a block RAM of LATENCY = 8
+    // words written on every edge at fl_wp (3 bits) and read at fl_wp + 1, so the word
+    // written on edge t + 1 is read on edge t + LATENCY, into the RAM's output register;
+    // OPT_DISTRAM = 1 (ECP5): flip-flops.
+    wire [3:0] fl_in = {c_clip, c_nsat, uncal0, hold0};
+    wire [3:0] fl_out;                           // {clip, nsat, uncal, hold}
+    generate
+        if (OPT_DISTRAM) begin : g_flag_ff
+            reg [3:0] fl_d [0:LATENCY-1];
+            integer k;
+            initial
+                for (k = 0; k < LATENCY; k = k + 1)
+                    fl_d[k] = 4'd0;
+            always @(posedge clk) begin
+                fl_d[0] <= fl_in;
+                for (k = 1; k < LATENCY; k = k + 1)
+                    fl_d[k] <= fl_d[k - 1];
+            end
+            assign fl_out = fl_d[LATENCY-1];
+        end else begin : g_flag_ram
+            (* ram_style = "block" *) reg [3:0] fl_mem [0:LATENCY-1];
+            reg [2:0] fl_wp = 3'd0;
+            wire [2:0] fl_rp = fl_wp + 3'd1;     // (3 bits: wraps)
+            reg [3:0] fl_q = 4'd0;
+            integer k;
+            initial
+                for (k = 0; k < LATENCY; k = k + 1)
+                    fl_mem[k] = 4'd0;
+            always @(posedge clk) begin
+                fl_mem[fl_wp] <= fl_in;
+                fl_q <= fl_mem[fl_rp];
+                fl_wp <= fl_wp + 3'd1;
+            end
+            assign fl_out = fl_q;
+        end
+    endgenerate
     // the monitor's flags are registered on t + 7, one edge before the output
     reg [3:0] mon_q = 4'd0;                      // {glitch, stuck, over, loss}
     always @(posedge clk)
         mon_q <= {mon_glitch, mon_stuck, mon_over, mon_loss};
     // the fault word: its bits where FAULT_STICKY has them; csat: the offset removal (t)
     // or the correction's products (t + 2) saturated
-    assign m_fault[FQ_FAULT_STICKY_CLIP_LSB] = clip_d[LATENCY-1];
-    assign m_fault[FQ_FAULT_STICKY_NSAT_LSB] = nsat_d[LATENCY-1];
+    assign m_fault[FQ_FAULT_STICKY_CLIP_LSB] = fl_out[3];
+    assign m_fault[FQ_FAULT_STICKY_NSAT_LSB] = fl_out[2];
     assign m_fault[FQ_FAULT_STICKY_CSAT_LSB] = csat_d[LATENCY-1];
     assign m_fault[FQ_FAULT_STICKY_OVS_LSB] = k_ovs;
-    assign m_fault[FQ_FAULT_STICKY_UNCAL_LSB] = uncal_d[LATENCY-1];
-    assign m_fault[FQ_FAULT_STICKY_HOLD_LSB] = hold_d[LATENCY-1];
+    assign m_fault[FQ_FAULT_STICKY_UNCAL_LSB] = fl_out[1];
+    assign m_fault[FQ_FAULT_STICKY_HOLD_LSB] = fl_out[0];
     assign m_fault[FQ_FAULT_STICKY_ABOVF_LSB] = g_sticky;
     assign m_fault[FQ_FAULT_STICKY_LOSS_LSB] = mon_q[0];
     assign m_fault[FQ_FAULT_STICKY_OVER_LSB] = mon_q[1];

@@ -478,43 +478,83 @@ localparam [31:0] FQ_ID_ID_RESET = 32'h46510005;
 // fq_write_ok(a, d, options...): a write of d to word a is taken: the register
 // takes writes in this build (its requires), no bit outside its fields is set and
 // every field is within its legal values. `FQ_WRITE_OK(a, d) passes the module's
-// parameters of those names. z[k]: bits 31..k of d are 0, o[k]: all 1 (prefix
-// chains the registers' checks share: most registers' free bits are those above
-// their top field).
+// parameters of those names. z<k>: bits 31..k of d are 0, o<k>: all 1 (a chain
+// the registers' checks share: most registers' free bits are those above their
+// top field).
 /* verilator lint_off UNUSEDSIGNAL */
 function automatic fq_write_ok(input [5:0] a, input [31:0] d, input opt_harmonic, input opt_jump, input opt_monitor, input opt_tunable);
-    reg [32:0] z, o;
-    integer i;
+    reg z31, z30, z29, z28, z27, z26, z25, z24, z23, z22, z21, z20, z19, z18, z17, z16, z15, z14, z13, z12, z11, z10, z9, z8, z7, z6, z5, z4, z3, z2, o31, o30, o29, o28, o27, o26, o25, o24, o23, o22, o21, o20, o19, o18, o17, o16, o15;
     begin
-        z[32] = 1'b1;
-        o[32] = 1'b1;
-        for (i = 31; i >= 0; i = i - 1) begin
-            z[i] = z[i + 1] & ~d[i];
-            o[i] = o[i + 1] & d[i];
-        end
+        z31 = ~d[31];
+        z30 = z31 & ~d[30];
+        z29 = z30 & ~d[29];
+        z28 = z29 & ~d[28];
+        z27 = z28 & ~d[27];
+        z26 = z27 & ~d[26];
+        z25 = z26 & ~d[25];
+        z24 = z25 & ~d[24];
+        z23 = z24 & ~d[23];
+        z22 = z23 & ~d[22];
+        z21 = z22 & ~d[21];
+        z20 = z21 & ~d[20];
+        z19 = z20 & ~d[19];
+        z18 = z19 & ~d[18];
+        z17 = z18 & ~d[17];
+        z16 = z17 & ~d[16];
+        z15 = z16 & ~d[15];
+        z14 = z15 & ~d[14];
+        z13 = z14 & ~d[13];
+        z12 = z13 & ~d[12];
+        z11 = z12 & ~d[11];
+        z10 = z11 & ~d[10];
+        z9 = z10 & ~d[9];
+        z8 = z9 & ~d[8];
+        z7 = z8 & ~d[7];
+        z6 = z7 & ~d[6];
+        z5 = z6 & ~d[5];
+        z4 = z5 & ~d[4];
+        z3 = z4 & ~d[3];
+        z2 = z3 & ~d[2];
+        o31 = d[31];
+        o30 = o31 & d[30];
+        o29 = o30 & d[29];
+        o28 = o29 & d[28];
+        o27 = o28 & d[27];
+        o26 = o27 & d[26];
+        o25 = o26 & d[25];
+        o24 = o25 & d[24];
+        o23 = o24 & d[23];
+        o22 = o23 & d[22];
+        o21 = o22 & d[21];
+        o20 = o21 & d[20];
+        o19 = o20 & d[19];
+        o18 = o19 & d[18];
+        o17 = o18 & d[17];
+        o16 = o17 & d[16];
+        o15 = o16 & d[15];
         case (a)
-            FQ_CTRL: fq_write_ok = z[4];
-            FQ_INTERP: fq_write_ok = z[9] && d[8:0] != 9'd0;
-            FQ_EPS: fq_write_ok = opt_tunable && z[16];
-            FQ_LAMBDA_K: fq_write_ok = opt_tunable && z[5] && d[4:0] != 5'd0 && d[4:0] <= 5'd23;
-            FQ_KAPPA: fq_write_ok = opt_tunable && z[16] && d[15:0] != 16'd0;
-            FQ_PERIOD: fq_write_ok = opt_tunable && z[16];
-            FQ_SETTLE: fq_write_ok = opt_tunable && z[10];
-            FQ_GATE: fq_write_ok = opt_tunable && z[13];
-            FQ_FAULT_STICKY: fq_write_ok = z[11];
-            FQ_GAIN: fq_write_ok = z[2];
-            FQ_M1: fq_write_ok = (z[15] || o[15]);
-            FQ_M2: fq_write_ok = (z[15] || o[15]);
-            FQ_C1: fq_write_ok = (z[15] || o[15]);
-            FQ_C12: fq_write_ok = (z[15] || o[15]);
-            FQ_C2: fq_write_ok = (z[15] || o[15]);
-            FQ_HARM: fq_write_ok = opt_tunable && opt_harmonic && z[9] && (d & 32'h000000cc) == 32'd0;
-            FQ_JUMP: fq_write_ok = opt_tunable && opt_jump && z[16] && (d & 32'h00007800) == 32'd0;
-            FQ_ABGEN: fq_write_ok = opt_tunable && z[9] && d[7:0] != 8'd0;
-            FQ_AB_BOUND: fq_write_ok = opt_tunable && z[16];
-            FQ_CLIP: fq_write_ok = opt_tunable && z[16];
+            FQ_CTRL: fq_write_ok = z4;
+            FQ_INTERP: fq_write_ok = z9 && d[8:0] != 9'd0;
+            FQ_EPS: fq_write_ok = opt_tunable && z16;
+            FQ_LAMBDA_K: fq_write_ok = opt_tunable && z5 && d[4:0] != 5'd0 && d[4:0] <= 5'd23;
+            FQ_KAPPA: fq_write_ok = opt_tunable && z16 && d[15:0] != 16'd0;
+            FQ_PERIOD: fq_write_ok = opt_tunable && z16;
+            FQ_SETTLE: fq_write_ok = opt_tunable && z10;
+            FQ_GATE: fq_write_ok = opt_tunable && z13;
+            FQ_FAULT_STICKY: fq_write_ok = z11;
+            FQ_GAIN: fq_write_ok = z2;
+            FQ_M1: fq_write_ok = (z15 || o15);
+            FQ_M2: fq_write_ok = (z15 || o15);
+            FQ_C1: fq_write_ok = (z15 || o15);
+            FQ_C12: fq_write_ok = (z15 || o15);
+            FQ_C2: fq_write_ok = (z15 || o15);
+            FQ_HARM: fq_write_ok = opt_tunable && opt_harmonic && z9 && (d & 32'h000000cc) == 32'd0;
+            FQ_JUMP: fq_write_ok = opt_tunable && opt_jump && z16 && (d & 32'h00007800) == 32'd0;
+            FQ_ABGEN: fq_write_ok = opt_tunable && z9 && d[7:0] != 8'd0;
+            FQ_AB_BOUND: fq_write_ok = opt_tunable && z16;
+            FQ_CLIP: fq_write_ok = opt_tunable && z16;
             FQ_RADIUS: fq_write_ok = opt_tunable && opt_monitor;
-            FQ_MONITOR: fq_write_ok = opt_tunable && opt_monitor && z[24] && (d & 32'h0000fff0) == 32'd0;
+            FQ_MONITOR: fq_write_ok = opt_tunable && opt_monitor && z24 && (d & 32'h0000fff0) == 32'd0;
             default: fq_write_ok = 1'b0;
         endcase
     end

@@ -275,7 +275,7 @@ def field_check(f, d="d"):
             return None
         sb = sign_bits(f)
         if sb is not None:                      # bits 31..sb all 0 or all 1
-            return f"(z[{sb}] || o[{sb}])"
+            return f"(z{sb} || o{sb})"
         conds.append(f"$signed({sel}) >= $signed({vnum(w, f['lo'])})")
         conds.append(f"$signed({sel}) <= $signed({vnum(w, f['hi'])})")
     else:
@@ -292,25 +292,42 @@ def write_ok_function(regs):
     """fq_write_ok(): the core's verdict on a write (the rule in rtl/regs/finequad.rdl)."""
     opts = options(regs)
     args = "".join(f", input {o.lower()}" for o in opts)
+    # z<k>: bits 31..k of d are 0 (a chain from the top, one step per boundary that a
+    # check uses: the registers share it); o<k>: bits 31..k are 1 (sign extensions)
+    zs, os_ = set(), set()
+    for r in regs:
+        if not r["write"]:
+            continue
+        extra = reg_mask(r, True) ^ 0xFFFFFFFF
+        k = 32
+        while k > 0 and extra >> (k - 1) & 1:
+            k -= 1
+        if k < 32:
+            zs.add(k)
+        for f in r["fields"]:
+            if f["write"] and sign_bits(f) is not None:
+                zs.add(sign_bits(f))
+                os_.add(sign_bits(f))
+    zs, os_ = sorted(zs, reverse=True), sorted(os_, reverse=True)
+    # one bit per step (the structure synthesis maps best, and cheap to simulate)
+    chain = []
+    for name, lo, op in (("z", min(zs, default=32), "~"), ("o", min(os_, default=32), "")):
+        for i in range(31, lo - 1, -1):
+            prev = f"{name}{i + 1} & " if i < 31 else ""
+            chain.append(f"        {name}{i} = {prev}{op}d[{i}];")
+    zs = list(range(31, min(zs, default=32) - 1, -1))
+    os_ = list(range(31, min(os_, default=32) - 1, -1))
     out = ["",
            "// fq_write_ok(a, d, options...): a write of d to word a is taken: the register",
            "// takes writes in this build (its requires), no bit outside its fields is set and",
            "// every field is within its legal values. `FQ_WRITE_OK(a, d) passes the module's",
-           "// parameters of those names. z[k]: bits 31..k of d are 0, o[k]: all 1 (prefix",
-           "// chains the registers' checks share: most registers' free bits are those above",
-           "// their top field).",
+           "// parameters of those names. z<k>: bits 31..k of d are 0, o<k>: all 1 (a chain",
+           "// the registers' checks share: most registers' free bits are those above their",
+           "// top field).",
            "/* verilator lint_off UNUSEDSIGNAL */",
            f"function automatic fq_write_ok(input [5:0] a, input [31:0] d{args});",
-           "    reg [32:0] z, o;",
-           "    integer i;",
-           "    begin",
-           "        z[32] = 1'b1;",
-           "        o[32] = 1'b1;",
-           "        for (i = 31; i >= 0; i = i - 1) begin",
-           "            z[i] = z[i + 1] & ~d[i];",
-           "            o[i] = o[i + 1] & d[i];",
-           "        end",
-           "        case (a)"]
+           f"    reg {', '.join([f'z{k}' for k in zs] + [f'o{k}' for k in os_])};",
+           "    begin"] + chain + ["        case (a)"]
     for r in regs:
         if not r["write"]:
             continue
@@ -320,7 +337,7 @@ def write_ok_function(regs):
         while k > 0 and extra >> (k - 1) & 1:
             k -= 1
         if k < 32:
-            conds.append(f"z[{k}]")
+            conds.append(f"z{k}")
         holes = extra & ((1 << k) - 1)          # free bits below a field
         if holes:
             conds.append(f"(d & 32'h{holes:08x}) == 32'd0")
