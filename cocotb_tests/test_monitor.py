@@ -17,7 +17,9 @@ frozen while the stage moves (stuck), a channel on the rail (clip), occasional c
 codes, the radius dropping below LOSS and rising above
 OVER (also for longer than OVER_PERSIST samples, when over-range is let in to the
 estimator again), single-sample phase glitches, the checks off (0 thresholds), radius
-checks disarmed (ref low), and an rst in the middle. Every output of every sample equals
+checks disarmed (ref low), and an rst in the middle. sv_i strobes each sample's bundle
+(g, c1, c2) and the code step (the stuck spans) on t, the bundle drawn per segment and
+changed now and then inside one (a new bundle takes new snapshots). Every output of every sample equals
 the model's; each fault kind must have been raised. With OPT_MONITOR = 0 (Verilator) the
 same stimulus against Monitor(enabled=False): no flag and no hold, only clipped samples
 excluded, the travel following every sample; the full model raises every flag there."""
@@ -42,6 +44,7 @@ def test_monitor(sim, opt):
 # ---- stimulus (importable without a simulator) -------------------------------------------
 T_REF, T_RAW, T_MAG, T_PH = 0, 1, 3, 7      # edges sampling each input, after strobe t
 ADC_SH = 4                                   # 12-bit codes aligned to 16 bits
+ADC_W = 16                                   # the block's ADC_W (its default)
 
 
 def motion(rng, kind, length, phi0, amp):
@@ -81,9 +84,9 @@ def motion(rng, kind, length, phi0, amp):
 
 
 def plan(scale):
-    """(kind, length, ref, registers (loss, over, glitch_k, stuck_n), before) segments;
+    """(kind, length, ref, registers (loss, over, glitch_k, stuck_n, code_step), before) segments;
     before: None, 'drain' or 'rst'."""
-    d = (3277, 22118, 10, 8)
+    d = (3277, 22118, 10, 8, 0)
     return [
         ("slow", 300 * scale, 0, d, None),          # from power-up, radius checks off
         ("mix", 400 * scale, 1, d, "drain"),
@@ -91,20 +94,27 @@ def plan(scale):
         ("stand", 400 * scale, 1, d, None),
         ("stuck1", 300 * scale, 1, d, None),
         ("slow", 100 * scale, 1, d, None),
-        ("stuck2", 300 * scale, 1, (3277, 22118, 10, 3), "drain"),
+        ("stuck2", 300 * scale, 1, (3277, 22118, 10, 3, 0), "drain"),
         ("glitch", 400 * scale, 1, d, None),
         ("rail", 300 * scale, 1, d, None),
         ("over", 300 * scale, 1, d, None),
         ("fast", 300 * scale, 1, d, None),
         ("over_long", 4500 + 200 * scale, 1, d, None),
-        ("glitch", 300 * scale, 1, (0, 65535, 0, 0), "drain"),     # every check off
+        ("glitch", 300 * scale, 1, (0, 65535, 0, 0, 8), "drain"),     # every check off
         ("loss", 200 * scale, 0, d, "drain"),                       # disarmed
-        ("creep", 300 * scale, 1, (8000, 20000, 8, 255), "rst"),
-        ("glitch", 300 * scale, 1, (5000, 19000, 11, 1), "drain"),
-        ("glitch", 200 * scale, 1, (5000, 19000, 12, 1), "drain"),     # K >= 12: off
-        ("glitch", 200 * scale, 1, (5000, 19000, 1, 1), "drain"),
+        ("creep", 300 * scale, 1, (8000, 20000, 8, 255, 4), "rst"),
+        ("glitch", 300 * scale, 1, (5000, 19000, 11, 1, 2), "drain"),
+        ("glitch", 200 * scale, 1, (5000, 19000, 12, 1, 6), "drain"),     # K >= 12: off
+        ("glitch", 200 * scale, 1, (5000, 19000, 1, 1, 8), "drain"),
         ("mix", 300 * scale, 1, d, None),
     ]
+
+
+# bundles (g, c1, c2) for the stuck spans: the reset one (span 2048), a calibrated 60 %
+# signal, gains and coefficients up to the spans' cap, a zero and the most negative c
+BUNDLE0 = (0, 8192, 8192)
+BUNDLES = (BUNDLE0, (0, 6827, -7500), (1, 16384, 13000), (3, -32768, 0), (2, 30000, 20000),
+           (0, 1, 3), (0, 100, 4096))
 
 
 def build(scale, seed=5):
@@ -123,10 +133,16 @@ def build(scale, seed=5):
                 t += 2
         amp = rng.choice((900, 1500, 2000))
         seg, phi = motion(rng, kind, length, phi, amp)
+        # the bundle (g, c1, c2): the reset one where a channel freezes (its stuck flag
+        # must rise), else drawn, and changed now and then inside the segment (rebase)
+        bundle = BUNDLE0 if kind.startswith("stuck") else rng.choice(BUNDLES)
         for r1, r2, ax, ay, xn, yn, ph, clip in seg:
             t += rng.choice((0, 0, 0, 0, 1, 2, 5))
+            if not kind.startswith("stuck") and rng.random() < 0.01:
+                bundle = rng.choice(BUNDLES)
             samples.append(dict(t=t, seg=si, kind=kind, r1=r1, r2=r2, ax=ax, ay=ay,
-                                xn=xn, yn=yn, phase=ph, clip=clip, ref=ref, regs=regs))
+                                xn=xn, yn=yn, phase=ph, clip=clip, ref=ref, regs=regs,
+                                bundle=bundle))
             t += 1
     return samples, resets
 
@@ -134,7 +150,7 @@ def build(scale, seed=5):
 def model(samples, resets, enabled=True):
     """Per sample (hold, excl, loss, over, stuck, glitch, travel) from sim.model.monitor,
     epoch by epoch (rst restarts the state); enabled: OPT_MONITOR."""
-    from sim.model.monitor import Monitor, MonitorRegs
+    from sim.model.monitor import Monitor, MonitorRegs, stuck_span
     out = []
     mon = Monitor(enabled)
     ri = 0
@@ -142,11 +158,14 @@ def model(samples, resets, enabled=True):
         while ri < len(resets) and resets[ri] < x["t"] + T_RAW:
             mon = Monitor(enabled)
             ri += 1
-        loss, over, glitch_k, stuck_n = x["regs"]
+        loss, over, glitch_k, stuck_n, code_step = x["regs"]
         regs = MonitorRegs(loss=loss, over=over, glitch_k=glitch_k, stuck_n=stuck_n)
+        g, c1, c2 = x["bundle"]
+        sh = 16 - ADC_W + code_step + g
         lo, ov, st, gl, hold, excl = mon.step(x["r1"], x["r2"], x["ax"], x["ay"], x["xn"],
                                               x["yn"], x["phase"], x["ref"], x["clip"],
-                                              regs)
+                                              regs, (stuck_span(c1, sh), stuck_span(c2, sh)),
+                                              x["bundle"])
         out.append((int(hold), int(excl), int(lo), int(ov), int(st), int(gl),
                     mon.travel()))
     return out
@@ -184,8 +203,13 @@ async def monitor_stream(dut):
         regs = regs_at.get(e, regs)
         dut.loss_th_i.value, dut.over_th_i.value = regs[0], regs[1]
         dut.glitch_k_i.value, dut.stuck_n_i.value = regs[2], regs[3]
+        dut.code_step_i.value = regs[4]
         k = at[T_REF].get(e)
         dut.ref_i.value = samples[k]["ref"] if k is not None else rng.randint(0, 1)
+        dut.sv_i.value = int(k is not None)
+        g, c1, c2 = (samples[k]["bundle"] if k is not None else
+                     (rng.randint(0, 3), rng.randint(-32768, 32767), rng.randint(-32768, 32767)))
+        dut.g_i.value, dut.c1_i.value, dut.c2_i.value = g, c1, c2
         k = at[T_RAW].get(e)
         dut.valid0_i.value = int(k is not None)
         dut.raw1_i.value = samples[k]["r1"] if k is not None else rng.randint(-32768, 32767)

@@ -186,6 +186,7 @@ module finequad_core #(
     reg [FQ_RADIUS_OVER_W-1:0]       r_over = FQ_RADIUS_OVER_RESET;      // s2.14 radius
     reg [FQ_MONITOR_GLITCH_K_W-1:0]  r_glitch_k = FQ_MONITOR_GLITCH_K_RESET;  // 2^K
     reg [FQ_MONITOR_STUCK_N_W-1:0]   r_stuck_n = FQ_MONITOR_STUCK_N_RESET;    // samples
+    reg [FQ_MONITOR_CODE_STEP_W-1:0] r_code_step = FQ_MONITOR_CODE_STEP_RESET; // 2^k LSBs
     // staged bundle (GAIN, M1, M2, C1, C12, C2), handed to the fast path by CTRL.load
     reg [1:0]  st_gain = G_INIT;
     reg signed [15:0] st_m1 = FQ_M1_M1_RESET[15:0], st_m2 = FQ_M2_M2_RESET[15:0];
@@ -258,6 +259,7 @@ module finequad_core #(
                 FQ_MONITOR: begin
                     r_glitch_k <= reg_wdata[FQ_MONITOR_GLITCH_K_MSB:FQ_MONITOR_GLITCH_K_LSB];
                     r_stuck_n <= reg_wdata[FQ_MONITOR_STUCK_N_MSB:FQ_MONITOR_STUCK_N_LSB];
+                    r_code_step <= reg_wdata[FQ_MONITOR_CODE_STEP_MSB:FQ_MONITOR_CODE_STEP_LSB];
                 end
                 default: ;
             endcase
@@ -287,6 +289,7 @@ module finequad_core #(
             r_over <= FQ_RADIUS_OVER_RESET;
             r_glitch_k <= FQ_MONITOR_GLITCH_K_RESET;
             r_stuck_n <= FQ_MONITOR_STUCK_N_RESET;
+            r_code_step <= FQ_MONITOR_CODE_STEP_RESET;
             st_gain <= G_INIT;
             st_m1 <= FQ_M1_M1_RESET[15:0];
             st_m2 <= FQ_M2_M2_RESET[15:0];
@@ -357,8 +360,9 @@ module finequad_core #(
     // ---- signal monitor: faults, the counter's hold (stage t+6 .. t+7), the travel ------------
     wire mon_hold, mon_excl, mon_loss, mon_over, mon_stuck, mon_glitch;
     wire [19:0] mon_travel;
-    monitor #(.OPT_MONITOR(OPT_MONITOR)) u_monitor (
-        .clk(clk), .rst(rst), .valid0_i(c_v0), .raw1_i(c_raw1), .raw2_i(c_raw2),
+    monitor #(.OPT_MONITOR(OPT_MONITOR), .ADC_W(ADC_W)) u_monitor (
+        .clk(clk), .rst(rst), .sv_i(s_valid && !rst), .g_i(b_g), .c1_i(b_c1), .c2_i(b_c2),
+        .code_step_i(r_code_step), .valid0_i(c_v0), .raw1_i(c_raw1), .raw2_i(c_raw2),
         .clip_i(c_clip), .ref_i(b_ref), .ax_i(c_ax), .ay_i(c_ay), .xn_i(c_xn), .yn_i(c_yn), .pvalid_i(h_valid), .phase_i(h_phase),
         .loss_th_i(r_loss), .over_th_i(r_over), .glitch_k_i(r_glitch_k),
         .stuck_n_i(r_stuck_n), .hold_o(mon_hold), .excl_o(mon_excl), .loss_o(mon_loss),
@@ -545,7 +549,7 @@ module finequad_core #(
                 FQ_AB_BACKLOG: reg_rdata <= `FQ_RD_AB_BACKLOG({{16{g_backlog[15]}}, g_backlog});
                 FQ_CLIP: reg_rdata <= `FQ_RD_CLIP(r_clip);
                 FQ_RADIUS: reg_rdata <= OPT_MONITOR ? `FQ_RD_RADIUS(r_loss, r_over) : 32'd0;
-                FQ_MONITOR: reg_rdata <= OPT_MONITOR ? `FQ_RD_MONITOR(r_glitch_k, r_stuck_n) :
+                FQ_MONITOR: reg_rdata <= OPT_MONITOR ? `FQ_RD_MONITOR(r_glitch_k, r_code_step, r_stuck_n) :
                                          32'd0;
                 FQ_CAPTURE: reg_rdata <= `FQ_RD_CAPTURE({{(32-COUNT_W+1){r_capture[COUNT_W-1]}},
                                                         r_capture[COUNT_W-2:0]});

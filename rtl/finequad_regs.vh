@@ -375,7 +375,7 @@ localparam [31:0] FQ_RADIUS_OVER_HI = 32'hffff;
 
 // MONITOR (RW, byte 0x68): Monitor checks
 localparam [5:0] FQ_MONITOR = 6'h1a;
-localparam [31:0] FQ_MONITOR_WMASK = 32'h00ff000f;
+localparam [31:0] FQ_MONITOR_WMASK = 32'h00ff0f0f;
 localparam [31:0] FQ_MONITOR_RESET = 32'h0008000a;
 localparam integer FQ_MONITOR_GLITCH_K_LSB = 0;
 localparam integer FQ_MONITOR_GLITCH_K_MSB = 3;
@@ -383,6 +383,12 @@ localparam integer FQ_MONITOR_GLITCH_K_W = 4;
 localparam [3:0] FQ_MONITOR_GLITCH_K_RESET = 4'ha;
 localparam [31:0] FQ_MONITOR_GLITCH_K_LO = 32'h0;
 localparam [31:0] FQ_MONITOR_GLITCH_K_HI = 32'hf;
+localparam integer FQ_MONITOR_CODE_STEP_LSB = 8;
+localparam integer FQ_MONITOR_CODE_STEP_MSB = 11;
+localparam integer FQ_MONITOR_CODE_STEP_W = 4;
+localparam [3:0] FQ_MONITOR_CODE_STEP_RESET = 4'h0;
+localparam [31:0] FQ_MONITOR_CODE_STEP_LO = 32'h0;
+localparam [31:0] FQ_MONITOR_CODE_STEP_HI = 32'h8;
 localparam integer FQ_MONITOR_STUCK_N_LSB = 16;
 localparam integer FQ_MONITOR_STUCK_N_MSB = 23;
 localparam integer FQ_MONITOR_STUCK_N_W = 8;
@@ -407,7 +413,7 @@ localparam [5:0] FQ_ID = 6'h1f;
 localparam integer FQ_ID_ID_LSB = 0;
 localparam integer FQ_ID_ID_MSB = 31;
 localparam integer FQ_ID_ID_W = 32;
-localparam [31:0] FQ_ID_ID_RESET = 32'h46510005;
+localparam [31:0] FQ_ID_ID_RESET = 32'h46510006;
 /* verilator lint_on UNUSEDPARAM */
 
 // `FQ_RD_<REG>(fields...): the word a read of the register returns, its readable
@@ -467,8 +473,8 @@ localparam [31:0] FQ_ID_ID_RESET = 32'h46510005;
     {16'd0, (clip)}
 `define FQ_RD_RADIUS(loss, over) \
     {(over), (loss)}
-`define FQ_RD_MONITOR(glitch_k, stuck_n) \
-    {8'd0, (stuck_n), 12'd0, (glitch_k)}
+`define FQ_RD_MONITOR(glitch_k, code_step, stuck_n) \
+    {8'd0, (stuck_n), 4'd0, (code_step), 4'd0, (glitch_k)}
 `define FQ_RD_CAPTURE(capture) \
     {(capture)}
 `define FQ_RD_TRAVEL(travel) \
@@ -554,7 +560,7 @@ function automatic fq_write_ok(input [5:0] a, input [31:0] d, input opt_harmonic
             FQ_AB_BOUND: fq_write_ok = opt_tunable && z16;
             FQ_CLIP: fq_write_ok = opt_tunable && z16;
             FQ_RADIUS: fq_write_ok = opt_tunable && opt_monitor;
-            FQ_MONITOR: fq_write_ok = opt_tunable && opt_monitor && z24 && (d & 32'h0000fff0) == 32'd0;
+            FQ_MONITOR: fq_write_ok = opt_tunable && opt_monitor && z24 && (d & 32'h0000f0f0) == 32'd0 && d[11:8] <= 4'd8;
             default: fq_write_ok = 1'b0;
         endcase
     end

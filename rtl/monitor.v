@@ -11,9 +11,16 @@
 //   t + 2  ax_i, ay_i, xn_i, yn_i     u15 |u1c|, |u2c| (s2.14: calibrated circle 16384),
 //          their signs
 //   t + 3  o_1 = u2c, o_2 = u1c (the other channel, s17); max, min of ax, ay
-//   t + 4  x_c = o_c - snap_c (s18); det_c = run_ok_c and x_c outside [-2048, 2047] (a
-//          bit test: 1/8 of the calibrated radius); stk_c <= !chg_c and (stk_c or det_c);
-//          snap_c <= o_c if chg_c; stuck = stk_1 or stk_2 (as updated)
+//   t      sv_i strobes the sample's bundle (g, c1, c2, as rtl/correct.v samples it) and
+//          the code step: sc_c, sg, sst registered; the previous sample's pc_c, pg
+//   t + 1  rebase = (g, c1, c2) differ from the previous sample's; per channel E =
+//          msb(|c_c|) + 16 - ADC_W + code_step + g, m = the 2 bits below the msb
+//   t + 2  span_c = clamp(ceil(SPAN_K[E & 1][m] 2^(E >> 1) / 16), 2048, 32767) (u15:
+//          sim/model/monitor.py stuck_span(), where the bound is argued)
+//   t + 4  x_c = o_c - snap_c (s18); det_c = run_ok_c and x_c outside [-sp_c, sp_c - 1]
+//          and not rebase (sp_c: the span stored with the snapshot); stk_c <= !chg_c and
+//          (stk_c or det_c); snap_c <= o_c, sp_c <= span_c if chg_c or rebase; stuck =
+//          stk_1 or stk_2 (as updated)
 //          r = max + min >> 2 + min >> 3           u16 radius (alpha-max-plus-beta-min)
 //   t + 5  loss = ref and r < LOSS, over = ref and r > OVER
 //   Every per-sample recurrence (run, stk, snap, and stage H below) is one carry chain
@@ -55,10 +62,17 @@
 // estimator's gate) follow every sample. The checks' logic drives nothing and synthesis
 // removes it. sim/model/monitor.py Monitor(enabled=False) is the same.
 module monitor #(
-    parameter [0:0] OPT_MONITOR = 1'b1
+    parameter [0:0] OPT_MONITOR = 1'b1,
+    parameter       ADC_W = 16              // the ADC port's width (rtl/correct.v)
 ) (
     input  wire               clk,
     input  wire               rst,
+    // before edge t (sampled on t, as rtl/correct.v samples them)
+    input  wire               sv_i,         // the sample's strobe
+    input  wire [1:0]         g_i,          // the bundle's input gain 2^g
+    input  wire signed [15:0] c1_i,         // s4.12 the bundle's c1 and c2
+    input  wire signed [15:0] c2_i,
+    input  wire [3:0]         code_step_i,  // u4 the converter's code step, 2^k port LSBs
     // edge t
     input  wire               valid0_i,
     input  wire signed [15:0] raw1_i,       // s1.15 aligned codes
@@ -118,6 +132,70 @@ module monitor #(
             prev1 <= 0; prev2 <= 0; run1 <= 0; run2 <= 0;
         end
     end
+    // ---- t .. t + 3: the stuck spans of the sample's bundle ------------------------------
+    reg [1:0]         sg = 2'd0, pg = 2'd0;
+    reg signed [15:0] sc1 = 0, sc2 = 0, pc1 = 0, pc2 = 0;
+    reg [3:0]         sst = 4'd0;
+    always @(posedge clk) begin
+        if (sv_i) begin
+            {sg, sc1, sc2, sst} <= {g_i, c1_i, c2_i, code_step_i};
+            {pg, pc1, pc2} <= {sg, sc1, sc2};
+        end
+        if (rst) begin
+            sg <= 2'd0; sc1 <= 0; sc2 <= 0; sst <= 4'd0; pg <= 2'd0; pc1 <= 0; pc2 <= 0;
+        end
+    end
+    // {zero, E, m} of |c| with the code step 2^sh (sh <= 15, E <= 30)
+    /* verilator lint_off UNUSEDSIGNAL */
+    function automatic [7:0] span_exp(input signed [15:0] c, input [4:0] sh);
+        reg [15:0] a;
+        reg [3:0]  e;
+        reg [17:0] am;
+        integer    k;
+        begin
+            a = c[15] ? -c : c;                   // |-32768| = 32768: bit 15
+            e = 4'd0;
+            for (k = 1; k < 16; k = k + 1)
+                if (a[k])
+                    e = k[3:0];
+            am = {a, 2'b00} >> e;                 // the leading one at bit 2
+            span_exp = {a == 16'd0, {1'b0, e} + sh, am[1:0]};
+        end
+    endfunction
+    // ceil(K 2^(E >> 1) / 16), clamped to [2048, 32767]
+    function automatic [14:0] span_val(input [7:0] x);
+        reg [7:0]  kk;
+        reg [22:0] t;
+        begin
+            case ({x[2], x[1:0]})                // E & 1, m: SPAN_K of the model
+                3'd0: kk = 8'd108; 3'd1: kk = 8'd118; 3'd2: kk = 8'd127; 3'd3: kk = 8'd136;
+                3'd4: kk = 8'd152; 3'd5: kk = 8'd167; 3'd6: kk = 8'd180; default: kk = 8'd192;
+            endcase
+            t = ({15'd0, kk} << x[6:3]) + 23'd15;
+            if (x[7] || t[22:4] < 19'd2048)
+                span_val = 15'd2048;
+            else if (t[22:4] > 19'd32767)
+                span_val = 15'h7fff;
+            else
+                span_val = t[18:4];
+        end
+    endfunction
+    /* verilator lint_on UNUSEDSIGNAL */
+    localparam integer SH0I = 16 - ADC_W;      // the port's LSB in s1.15 LSBs, 2^SH0
+    localparam [4:0]   SH0 = SH0I[4:0];
+    wire [4:0] sh = SH0 + {1'b0, sst} + {3'b000, sg};
+    reg  [7:0] sx1_1 = 8'd0, sx2_1 = 8'd0;
+    reg        reb_1 = 1'b0, reb_2 = 1'b0, reb_3 = 1'b0;
+    reg [14:0] sp1_2 = 15'd2048, sp2_2 = 15'd2048, sp1_3 = 15'd2048, sp2_3 = 15'd2048;
+    always @(posedge clk) begin
+        sx1_1 <= span_exp(sc1, sh);
+        sx2_1 <= span_exp(sc2, sh);
+        reb_1 <= {sg, sc1, sc2} != {pg, pc1, pc2};
+        sp1_2 <= span_val(sx1_1);
+        sp2_2 <= span_val(sx2_1);
+        reb_2 <= reb_1;
+        {sp1_3, sp2_3, reb_3} <= {sp1_2, sp2_2, reb_2};
+    end
     // ---- t + 2 .. t + 4: the other channel's excursion, the stuck latch -----------------
     reg        v1 = 1'b0, v2 = 1'b0, v3 = 1'b0;
     reg        chg1_2 = 1'b0, chg2_2 = 1'b0, rok1_2 = 1'b0, rok2_2 = 1'b0;
@@ -127,8 +205,9 @@ module monitor #(
     reg signed [16:0] snap1 = 0, snap2 = 0;
     wire signed [17:0] x1 = {o1[16], o1} - {snap1[16], snap1};
     wire signed [17:0] x2 = {o2[16], o2} - {snap2[16], snap2};
-    wire far1 = (x1[17:11] != {7{x1[17]}});      // x outside [-2048, 2047]
-    wire far2 = (x2[17:11] != {7{x2[17]}});
+    reg [14:0] sp1 = 15'd2048, sp2 = 15'd2048;  // the spans stored with the snapshots
+    wire far1 = !reb_3 && ((x1 >= $signed({3'b000, sp1})) || (x1 < -$signed({3'b000, sp1})));
+    wire far2 = !reb_3 && ((x2 >= $signed({3'b000, sp2})) || (x2 < -$signed({3'b000, sp2})));
     wire stk1n = !chg1_3 && (stk1 || (rok1_3 && far1));
     wire stk2n = !chg2_3 && (stk2 || (rok2_3 && far2));
     always @(posedge clk) begin
@@ -143,14 +222,18 @@ module monitor #(
         if (v3) begin
             stk1 <= stk1n;
             stk2 <= stk2n;
-            if (chg1_3)
+            if (chg1_3 || reb_3) begin
                 snap1 <= o1;
-            if (chg2_3)
+                sp1 <= sp1_3;
+            end
+            if (chg2_3 || reb_3) begin
                 snap2 <= o2;
+                sp2 <= sp2_3;
+            end
         end
         if (rst) begin
             v1 <= 1'b0; v2 <= 1'b0; v3 <= 1'b0; stk1 <= 1'b0; stk2 <= 1'b0;
-            snap1 <= 0; snap2 <= 0;
+            snap1 <= 0; snap2 <= 0; sp1 <= 15'd2048; sp2 <= 15'd2048;
         end
     end
     // the stuck flag of edge t + 4, at t + 6
@@ -270,13 +353,17 @@ module monitor #(
     //     E - 4 (computed here in 17 bits), the thresholds sampled on E - 2; the 16-bit
     //     radius register holds the exact sum (it never passes 16 bits).
     //  M2 stuck: a channel's latch, on each sample's update (v3), becomes !chg && (latch ||
-    //     (run >= N > 0 && the other channel outside [-2048, 2047] of its snapshot)), chg =
-    //     the code changed from the previous sample, run its run of unchanged codes as
-    //     updated by the sample (the spec run >= N, not the run >= N - 1 shortcut), the
-    //     difference o - snap taken exactly (19 bits: o and snap stay in [-32767, 32767], so
-    //     the s18 x never wraps); the snapshot follows the other channel on a change;
-    //     stuck (in H, stuck_o after E) == the latch (either channel) right after the update
-    //     on E - 3.
+    //     (run >= N > 0 && !rebase && the other channel outside [-sp, sp - 1] of its
+    //     snapshot)), chg = the code changed from the previous sample, run its run of
+    //     unchanged codes as updated by the sample (the spec run >= N, not the run >= N -
+    //     1 shortcut), the difference o - snap taken exactly (19 bits: o and snap stay in
+    //     [-32767, 32767], so the s18 x never wraps); the snapshot and its span sp follow
+    //     the other channel and the sample's span on a change or a rebase; stuck (in H,
+    //     stuck_o after E) == the latch (either channel) right after the update on E - 3.
+    //     The spans' pipeline: the sample's (g, c1, c2, code step) registered on sv_i, its
+    //     predecessor's beside it; rebase and span_exp() one edge later, span_val() the
+    //     next, one more delay; every span in [2048, 32767]. (The functions' values are
+    //     held to the model by cocotb_tests/test_monitor.py, not here.)
     //  M3 glitch_o == K > 0 && chk == 2 && wrap13(phase - pred) outside [-2^K, 2^K - 1]
     //     (signed compares; off for K >= 12 as the range then covers every s13);
     //     hold_o == pvalid && (loss || stuck || (clip && over) || glitch) of the sample
@@ -298,7 +385,8 @@ module monitor #(
     //  M6 S: the difference (U << 5) - S (s25) stays within +-2^22 (|U - S| <= 32 x 4096
     //     in U units, at any phase steps: wrap13 bounds them), so S's step never sees a
     //     wrapped difference.
-    //  M7 rst: the flags, orun, chk, U, S, ph_a, pred, the runs, latches and snapshots 0.
+    //  M7 rst: the flags, orun, chk, U, S, ph_a, pred, the runs, latches and snapshots 0,
+    //     the spans 2048, the sampled bundles 0.
     //  M8 OPT_MONITOR = 0 (sby task prf_m): M1..M7 with loss, over, stuck and glitch as
     //     specified replaced by 0: hold_o never, excl_o == pvalid && clip, every sample
     //     accepted (M4's accepted branch: U and S follow every sample).
@@ -384,8 +472,9 @@ module monitor #(
     end
     wire signed [18:0] f_x1 = $signed({{2{o1[16]}}, o1}) - $signed({{2{snap1[16]}}, snap1});
     wire signed [18:0] f_x2 = $signed({{2{o2[16]}}, o2}) - $signed({{2{snap2[16]}}, snap2});
-    wire f_far1 = (f_x1 < -19'sd2048) || (f_x1 > 19'sd2047);
-    wire f_far2 = (f_x2 < -19'sd2048) || (f_x2 > 19'sd2047);
+    wire signed [18:0] f_sp1 = $signed({4'd0, sp1}), f_sp2 = $signed({4'd0, sp2});
+    wire f_far1 = !reb_3 && ((f_x1 < -f_sp1) || (f_x1 > f_sp1 - 19'sd1));
+    wire f_far2 = !reb_3 && ((f_x2 < -f_sp2) || (f_x2 > f_sp2 - 19'sd1));
     assign f_stk1n = !f_chg1[2] && (stk1 || (f_rok1[2] && f_far1));
     assign f_stk2n = !f_chg2[2] && (stk2 || (f_rok2[2] && f_far2));
 
@@ -401,6 +490,8 @@ module monitor #(
         assert (o2 <= 17'sd32767 && o2 >= -17'sd32767);
         assert (x1 == f_x1[17:0] && x2 == f_x2[17:0]);                  // s18 exact
         assert (stk1n == f_stk1n && stk2n == f_stk2n);
+        assert (sp1 >= 15'd2048 && sp2 >= 15'd2048 && sp1_3 >= 15'd2048 && sp2_3 >= 15'd2048
+                && sp1_2 >= 15'd2048 && sp2_2 >= 15'd2048);
         assert (stuck == (OPT_MONITOR && f_stkp[2]));
         assert (f_rin < 17'h10000);                                      // M1
         assert ({1'b0, r4} == f_r4);
@@ -434,7 +525,17 @@ module monitor #(
             assert (ph_a == 13'd0 && pred == 13'd0 && grun == 5'd0 && !acc && v == 16'sd0);
             assert (run1 == 8'd0 && run2 == 8'd0 && prev1 == 0 && prev2 == 0);
             assert (!stk1 && !stk2 && snap1 == 0 && snap2 == 0 && !v1 && !v2 && !v3);
+            assert (sp1 == 15'd2048 && sp2 == 15'd2048 && sc1 == 0 && sc2 == 0 && sg == 2'd0);
+            assert (pc1 == 0 && pc2 == 0 && pg == 2'd0 && sst == 4'd0);
         end else begin
+            // M2: the spans' pipeline
+            if ($past(sv_i)) begin
+                assert ({sg, sc1, sc2, sst} == $past({g_i, c1_i, c2_i, code_step_i}));
+                assert ({pg, pc1, pc2} == $past({sg, sc1, sc2}));
+            end else begin
+                assert ({sg, sc1, sc2, sst, pg, pc1, pc2}
+                        == $past({sg, sc1, sc2, sst, pg, pc1, pc2}));
+            end
             // M5: the runs
             if ($past(valid0_i)) begin
                 assert (run1 == $past(f_run1n) && run2 == $past(f_run2n));
@@ -448,12 +549,22 @@ module monitor #(
             if ($past(v3)) begin
                 assert (stk1 == $past(f_stk1n) && stk2 == $past(f_stk2n));
                 assert ((stk1 || stk2) == f_stkp[0]);
-                assert (snap1 == ($past(f_chg1[2]) ? $past(o1) : $past(snap1)));
-                assert (snap2 == ($past(f_chg2[2]) ? $past(o2) : $past(snap2)));
+                assert (snap1 == ($past(f_chg1[2] || reb_3) ? $past(o1) : $past(snap1)));
+                assert (snap2 == ($past(f_chg2[2] || reb_3) ? $past(o2) : $past(snap2)));
+                assert (sp1 == ($past(f_chg1[2] || reb_3) ? $past(sp1_3) : $past(sp1)));
+                assert (sp2 == ($past(f_chg2[2] || reb_3) ? $past(sp2_3) : $past(sp2)));
             end else begin
                 assert (stk1 == $past(stk1) && stk2 == $past(stk2));
                 assert (snap1 == $past(snap1) && snap2 == $past(snap2));
+                assert (sp1 == $past(sp1) && sp2 == $past(sp2));
             end
+        end
+        if (!$past(rst)) begin
+            assert (sx1_1 == span_exp($past(sc1), $past(sh)));
+            assert (sx2_1 == span_exp($past(sc2), $past(sh)));
+            assert (reb_1 == ($past({sg, sc1, sc2}) != $past({pg, pc1, pc2})));
+            assert (sp1_2 == span_val($past(sx1_1)) && sp2_2 == span_val($past(sx2_1)));
+            assert ({sp1_3, sp2_3, reb_3, reb_2} == $past({sp1_2, sp2_2, reb_2, reb_1}));
             assert (o1 == $past(f_o1[16:0]) && o2 == $past(f_o2[16:0]));
             // the stage H state
             if (!$past(pvalid_i)) begin
@@ -517,6 +628,7 @@ module monitor #(
         cover (glitch_o && $past(f_k) == 4'd3);
         cover ($past(pvalid_i && !hold_o) && $past(pvalid_i && hold_o, 2) && chk == 2'd1);
         cover (run1 == 8'd5 && stk2);
+        cover (stk1 && sp1 > 15'd8192);
         cover ($past(hold_o) && $past(f_clip[5] && over && !loss && !stuck && !f_glitch));
         cover (grun == 5'd3);
         cover ($past(pvalid_i && !hold_o && !acc) && grun == 5'd2);

@@ -59,21 +59,23 @@ def score(count, sc, a, var_a, interp):
     return s
 
 
-def run_rtl(inp, out, interp, adc_w):
+def run_rtl(inp, out, interp, adc_w, code_step=0):
     """`make rtlsim` in the background; returns the process."""
     cmd = ["make", "--no-print-directory", "-C", str(ROOT), "rtlsim", f"IN={inp}",
            f"OUT={out}", f"INTERP={interp}", f"ADC_W={adc_w}", "TABLE=exact"]
+    if code_step:
+        cmd.append(f"SETTINGS=--code-step {code_step}")
     return subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
 
 
 def bench(sc, d, interp, rtl):
     u1, u2, a = sc.codes()
-    bits = sc.sig.adc_bits
+    bits, code_step = sc.port()           # the port's width; the converter's code step
     d.mkdir(parents=True, exist_ok=True)
     write_codes(d / "in.csv", u1, u2)
-    proc = run_rtl(d / "in.csv", d / "rtl.csv", interp, bits) if rtl else None
+    proc = run_rtl(d / "in.csv", d / "rtl.csv", interp, bits, code_step) if rtl else None
     t0 = time.time()
-    cfg = core.Config(interp=interp, ADC_W=bits)
+    cfg = core.Config(interp=interp, ADC_W=bits, code_step=code_step)
     res = core.run(u1, u2, cfg)
     write_result(d / "model.csv", res)
     t_model = time.time() - t0
@@ -92,7 +94,8 @@ def bench(sc, d, interp, rtl):
         "raw": baselines.raw_atan2(f1, f2, interp),
     }
     row = {"scenario": sc.name, "title": sc.title, "samples": len(u1),
-           "scored_from": sc.start(), "adc_bits": bits, "signal": siggen.describe(sc.sig),
+           "scored_from": sc.start(), "adc_bits": sc.sig.adc_bits, "adc_port_bits": bits,
+           "signal": siggen.describe(sc.sig),
            "estimator_updates": res["n_updates"], "jumps_detected": len(res["jumps"]),
            "model_seconds": round(t_model, 1), "paper_illegal_steps": int(paper["illegal"]),
            "paper_invalid_samples": int(paper["invalid"])}
@@ -147,8 +150,8 @@ def summary_table(rows):
         return f"{s['ratio']:.3f}" + (f" ({s['slips']} slips)" if s["slips"] else "")
     lines = ["| scenario | RTL RMS nm | floor nm | ratio | peak nm | slips | convergence "
              "periods (samples) | float twin | paper table, fine-phase count | paper "
-             "literal | Heydemann offline | raw atan2 |",
-             "|---|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|"]
+             "literal | Heydemann offline | RTL / offline (RMS) | raw atan2 |",
+             "|---|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|"]
     for x in rows:
         s = x["rtl"]
         lines.append(f"| {x['scenario']} | {s['rms_nm']:.2f} | {s['floor_nm']:.2f} | "
@@ -157,7 +160,7 @@ def summary_table(rows):
                      f"{r(x['float'])} | {r(x['paper_table'])} | "
                      f"{x['paper']['ratio']:.3f} ({x['paper']['slips']} slips, "
                      f"{x['paper_illegal_steps']} illegal) | {r(x['heydemann'])} | "
-                     f"{r(x['raw'])} |")
+                     f"{s['rms_nm'] / x['heydemann']['rms_nm']:.3f} | {r(x['raw'])} |")
     return "\n".join(lines)
 
 

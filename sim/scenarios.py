@@ -28,10 +28,19 @@ class Scenario:
     settle_s: float = 0.01
     settle_periods: float = 2.0
     events: list = field(default_factory=list)
+    port_bits: int = 0              # the core's ADC port (ADC_W) when wider than the
+                                    # converter: codes shifted left, MONITOR.code_step set
+
+    def port(self):
+        """(ADC_W, code_step): the core's port width and the converter's code step on it."""
+        w = self.port_bits or self.sig.adc_bits
+        return w, w - self.sig.adc_bits
 
     def codes(self):
-        """(u1, u2, angle): ADC codes and the true angle."""
-        return siggen.encode(self.x, PITCH_NM, self.sig, seed=self.seed)
+        """(u1, u2, angle): codes on the core's ADC port and the true angle."""
+        u1, u2, a = siggen.encode(self.x, PITCH_NM, self.sig, seed=self.seed)
+        sh = self.port()[1]
+        return u1 << sh, u2 << sh, a
 
     def start(self):
         """First scored sample."""
@@ -93,6 +102,20 @@ def suite():
                       "0.1 % noise", x,
                       replace(base, A1=0.93, A2=0.90, m1=0.02, m2=-0.015, phi=0.05,
                               noise=0.001, adc_bits=12), seed=16))
+
+    # coarse converters on a 12-bit port, scanning slowly: a code stays unchanged across
+    # a channel's peak for hundreds of samples (the stuck check must know the code step)
+    x = siggen.moves(FS, [("dwell", 0.01), _move(0.1 * MM, 0.5 * MM, 0.05 * MM * 1e3),
+                          ("dwell", 0.01), _move(-0.05 * MM, 0.5 * MM, 0.05 * MM * 1e3)])
+    s.append(Scenario("adc8_slow", "8-bit ADC on a 12-bit port, A1 0.6 / A2 0.54, "
+                      "0.1 % noise; moves of 0.1 mm / -0.05 mm at 0.5 mm/s", x,
+                      replace(base, noise=0.001, adc_bits=8), seed=22, port_bits=12))
+    x = siggen.moves(FS, [("dwell", 0.01), _move(0.2 * MM, 2 * MM, 0.2 * MM * 1e3),
+                          ("dwell", 0.01), _move(-0.1 * MM, 2 * MM, 0.2 * MM * 1e3)])
+    s.append(Scenario("adc10_slow", "10-bit ADC on a 12-bit port at 30 % of full scale, "
+                      "0.1 % noise; moves of 0.2 mm / -0.1 mm at 2 mm/s", x,
+                      replace(base, A1=0.30, A2=0.27, m1=0.015, m2=-0.01, noise=0.001,
+                              adc_bits=10), seed=23, port_bits=12))
 
     # a dwell scores its own rounding error (with noise below a count it is fixed), so one
     # dwell's ratio depends on where it falls in its count cell (0.78..1.08 when the

@@ -259,6 +259,10 @@ extern "C" {
 #define FINEQUAD__MONITOR__GLITCH_K_bp 0
 #define FINEQUAD__MONITOR__GLITCH_K_bw 4
 #define FINEQUAD__MONITOR__GLITCH_K_reset 0xa
+#define FINEQUAD__MONITOR__CODE_STEP_bm 0xf00
+#define FINEQUAD__MONITOR__CODE_STEP_bp 8
+#define FINEQUAD__MONITOR__CODE_STEP_bw 4
+#define FINEQUAD__MONITOR__CODE_STEP_reset 0x0
 #define FINEQUAD__MONITOR__STUCK_N_bm 0xff0000
 #define FINEQUAD__MONITOR__STUCK_N_bp 16
 #define FINEQUAD__MONITOR__STUCK_N_bw 8
@@ -278,7 +282,7 @@ extern "C" {
 #define FINEQUAD__ID__ID_bm 0xffffffff
 #define FINEQUAD__ID__ID_bp 0
 #define FINEQUAD__ID__ID_bw 32
-#define FINEQUAD__ID__ID_reset 0x46510005
+#define FINEQUAD__ID__ID_reset 0x46510006
 
 // addrmap - finequad
 typedef struct __attribute__ ((__packed__)) {

@@ -37,6 +37,7 @@ static const FqSetting FQ_SETTINGS[] = {
     {"loss", "RADIUS", 0x19, 0, 16, 0L, 65535L, 3277L},
     {"over", "RADIUS", 0x19, 16, 16, 0L, 65535L, 22118L},
     {"glitch_k", "MONITOR", 0x1a, 0, 4, 0L, 15L, 10L},
+    {"code_step", "MONITOR", 0x1a, 8, 4, 0L, 8L, 0L},
     {"stuck_n", "MONITOR", 0x1a, 16, 8, 0L, 255L, 8L},
 };
 static const int FQ_N_SETTINGS = (int)(sizeof FQ_SETTINGS / sizeof FQ_SETTINGS[0]);

@@ -35,7 +35,7 @@ from .correct import align, correct
 from .counter import counter, edge_steps
 from .estimator import PHASE_AT, PHASE_STAGE, Estimator
 from .lut import Lut
-from .monitor import Monitor, MonitorRegs
+from .monitor import Monitor, MonitorRegs, stuck_span
 from .octant import octant
 from .pulse import pulse
 
@@ -106,6 +106,7 @@ class Config:
     over: int = _S["over"].reset
     glitch_k: int = _S["glitch_k"].reset
     stuck_n: int = _S["stuck_n"].reset
+    code_step: int = _S["code_step"].reset   # the converter's code step, 2^code_step LSBs
     loads: list = field(default_factory=list)   # [(w, (g, m1, m2, c1, c12, c2))]: a
                              # LOAD (CTRL.load) written on edge w with that bundle staged
                              # in GAIN..C2; samples strobed on edges >= w + 2 use it
@@ -390,15 +391,19 @@ class Core:
                     blk_hi = min(blk_hi, int(np.searchsorted(t, self.ev_edge[i],
                                                              side="right")))
                 fr = _front(u1r[k:blk_hi], u2r[k:blk_hi], bundle, lut)
+                # the stuck spans of the bundle: the code step 2^sh of the gained code
+                sh = 16 - cfg.ADC_W + cfg.code_step + int(bundle[0])
                 blk = (fr["ax"].tolist(), fr["ay"].tolist(), fr["phase"].tolist(),
-                       (not b_uncal) or b_loaded, fr["xn"].tolist(), fr["yn"].tolist())
+                       (not b_uncal) or b_loaded, fr["xn"].tolist(), fr["yn"].tolist(),
+                       (stuck_span(bundle[3], sh), stuck_span(bundle[5], sh)),
+                       (int(bundle[0]), int(bundle[3]), int(bundle[5])))
             j = k - blk_lo
             ph = blk[2][j]
             # ---- the monitor (every sample) ----
             s_prev = mon.travel()      # S after the previous sample (the gate's input)
             loss, over, stuck, glitch, hold, excl = mon.step(
                 r1l[k], r2l[k], blk[0][j], blk[1][j], blk[4][j], blk[5][j], ph, blk[3],
-                clipl[k], mregs)
+                clipl[k], mregs, blk[6], blk[7])
             out["loss"][k], out["over"][k], out["stuck"][k] = loss, over, stuck
             out["glitch"][k], out["hold"][k], out["excl"][k] = glitch, hold, excl
             out["ref"][k] = blk[3]

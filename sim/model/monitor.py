@@ -10,18 +10,36 @@ t + 6 and t + 7, when the sample's fine phase is registered and the counter deci
   stuck channel  run_c(k) = how many consecutive samples up to k have channel c's code
                  equal to the previous sample's (0 if it changed at k), saturating at 255.
                  snap_c = the OTHER channel's corrected value (s2.14, signed) when channel
-                 c's code last changed. Channel c is stuck when run_c(k) >= STUCK_N
-                 (STUCK_N > 0) and the other channel has since moved out of [-STUCK_SPAN,
-                 STUCK_SPAN - 1] (1/8 of the calibrated radius, 6 sigma of 2 % noise
-                 between two samples; a bit test in the RTL). Measured on the other channel, not on the phase: with one
+                 c's code last changed, and span_c the stuck span (below) of the sample
+                 at that change. Channel c is stuck when run_c(k) >= STUCK_N
+                 (STUCK_N > 0) and the other channel has since moved out of [-span_c,
+                 span_c - 1]. Measured on the other channel, not on the phase: with one
                  channel frozen the phase can stand nearly still while the stage moves.
-                 The other channel moves that far within 58 degrees of motion from any
+                 A working channel's code stays unchanged only near its peak, while the
+                 signal's excursion there stays within one code step q: over the arc
+                 |theta| <= sqrt(2 q / A), in which the other channel (calibrated radius
+                 R = 16384) moves by up to 2 R sqrt(2 q / A). With the correction
+                 coefficient c (s4.12, u_cal = d c >> 13, so A = 2^27 / c in d's units)
+                 that is 4 sqrt(q c), at any speed: a slow scan only lingers longer on
+                 the same arc. q = 2^(16 - ADC_W + code_step + g) (the aligned code step
+                 after the input gain 2^g; MONITOR.code_step for a converter coarser
+                 than the port). The span is 1.5 times that bound (noise on the other
+                 channel, the code bin's position against the peak), rounded up by a
+                 2-bit mantissa of |c| (stuck_span()), and never below STUCK_SPAN_MIN
+                 (1/8 of the calibrated radius, 6 sigma of 2 % noise between two
+                 samples), capped at 32767. At 60 % and 30 % of full scale: 16 and
+                 14 bits 2048 and 2048, 12 bits 2048 and 2880, 10 bits 4064 and 5760,
+                 8 bits 8128 and 11520 (half and 0.7 of the radius: a coarse converter
+                 cannot tell a dead channel from a live one sooner). From STUCK_SPAN_MIN,
+                 the other channel moves that far within 58 degrees of motion from any
                  start (worst: it starts just below its peak and must pass it), typically
                  far sooner; until then the count follows a distorted phase, and it is
                  right again once the channel works (the distorted phase does not wind).
-                 A working channel changes its code over that motion (by >= 0.8 % of its
-                 amplitude); standstill with toggling codes is never flagged. Once
-                 detected, the channel stays stuck until its code changes (stk_c).
+                 Standstill with toggling codes is never flagged. Once detected, the
+                 channel stays stuck until its code changes (stk_c). A sample whose
+                 bundle's (g, c1, c2) differ from the previous sample's (a hand-over or
+                 a load: the calibrated units change) takes new snapshots of both
+                 channels and detects nothing.
   radius         r = max(|u1c|, |u2c|) + min >> 2 + min >> 3 (alpha-max-plus-beta-min,
                  alpha = 1, beta = 3/8: within -2.8 % .. +6.8 % of the true radius; u16,
                  s2.14 units: the calibrated circle is 16384). Only while the bundle is a
@@ -96,11 +114,17 @@ Without the checks (OPT_MONITOR = 0, rtl/monitor.v: a small device): loss, over,
 and glitch are never flagged, no sample is held, excl = clip, and every sample moves the
 travel (U, S) as an accepted one does.
 """
+import math
 from dataclasses import dataclass
 
 from .regs import SETTINGS
 
-STUCK_SPAN = 2048        # s2.14: 1/8 of the calibrated radius
+STUCK_SPAN_MIN = 2048    # s2.14: 1/8 of the calibrated radius, the least stuck span
+STUCK_SPAN_MAX = 32767   # u15: the largest (the other channel never moves further)
+# 16 x 6 sqrt((5 + m) / 4 x 2^o), rounded up, for o = E & 1 and m = the 2 bits below
+# |c|'s leading one: the span's mantissa (stuck_span())
+SPAN_K = tuple(math.ceil(16 * 6 * math.sqrt((5 + m) / 4 * 2 ** o))
+               for o in (0, 1) for m in range(4))
 OVER_PERSIST = 4095      # samples of over-range before it is let in to the estimator
 COAST_MAX = 16           # glitches coasted in a row before an unclipped sample re-anchors
 V_FRAC = 3               # fraction bits of the line's velocity v (s13.3)
@@ -112,6 +136,23 @@ S_W = U_W + S_FRAC
 
 def wrap13(v):
     return ((v + 4096) & 8191) - 4096
+
+
+def stuck_span(c, shift):
+    """The stuck span (u15, s2.14 units) of a channel with correction coefficient c (s4.12)
+    whose code step is 2^shift LSBs of the aligned, gained code d: an upper bound of
+    6 sqrt(2^shift |c|) (1.5 times the other channel's excursion while a working channel's
+    code stays unchanged at its peak), clamped to [STUCK_SPAN_MIN, STUCK_SPAN_MAX]. With
+    |c| in [2^e (4 + m) / 4, 2^e (5 + m) / 4) and E = e + shift: ceil(SPAN_K[E & 1][m]
+    2^(E >> 1) / 16). rtl/monitor.v computes the same in two stages."""
+    a = abs(int(c))
+    if a == 0:
+        return STUCK_SPAN_MIN
+    e = a.bit_length() - 1
+    m = ((a << 2) >> e) & 3
+    big = e + shift
+    t = ((SPAN_K[(big & 1) * 4 + m] << (big >> 1)) + 15) >> 4
+    return min(max(t, STUCK_SPAN_MIN), STUCK_SPAN_MAX)
 
 
 def radius(ax, ay):
@@ -138,6 +179,8 @@ class Monitor:
         self.prev = (0, 0)        # the previous sample's aligned codes
         self.run = [0, 0]         # consecutive unchanged codes per channel
         self.snap = [0, 0]        # s2.14: the other channel when this one last changed
+        self.span = [STUCK_SPAN_MIN] * 2   # u15: the sample's stuck span at that change
+        self.bkey = (0, 0, 0)     # (g, c1, c2) of the previous sample's bundle
         self.stk = [False, False]  # channel detected stuck (until its code changes)
         self.ph_a = 0             # last accepted phase
         self.pred = 0             # u13 prediction of the next phase
@@ -153,11 +196,13 @@ class Monitor:
         """Integer part of S (u20), what the estimator's gate compares."""
         return self.s >> S_FRAC
 
-    def step(self, r1, r2, ax, ay, xn, yn, phase, ref, clip, regs: MonitorRegs):
+    def step(self, r1, r2, ax, ay, xn, yn, phase, ref, clip, regs: MonitorRegs,
+             spans=(STUCK_SPAN_MIN, STUCK_SPAN_MIN), bkey=(0, 0, 0)):
         """One sample: aligned codes r1, r2 (s1.15), magnitudes ax, ay (u15) and signs
         xn, yn of the corrected signals, fine phase (u13, uncorrected), ref (the bundle
-        is a calibration), clip (a code at or near a rail). Returns (loss, over, stuck,
-        glitch, hold, excl)."""
+        is a calibration), clip (a code at or near a rail), the stuck spans of its bundle
+        (stuck_span() of c1 and c2) and the bundle's (g, c1, c2). Returns (loss, over,
+        stuck, glitch, hold, excl)."""
         if not self.enabled:
             self._travel(wrap13(phase - self.ph_a))
             self.ph_a = phase
@@ -166,15 +211,18 @@ class Monitor:
         other = (-ay if yn else ay, -ax if xn else ax)     # the other channel, signed
         stuck = False
         changed = (r1 != self.prev[0], r2 != self.prev[1])
+        rebase = tuple(bkey) != self.bkey     # a new bundle: new units, new snapshots
+        self.bkey = tuple(bkey)
         for c in (0, 1):
             self.run[c] = 0 if changed[c] else min(self.run[c] + 1, 255)
             x = other[c] - self.snap[c]
-            far = x >= STUCK_SPAN or x < -STUCK_SPAN      # outside [-2048, 2047]
+            far = (x >= self.span[c] or x < -self.span[c]) and not rebase
             det = bool(regs.stuck_n) and self.run[c] >= regs.stuck_n and far
             self.stk[c] = (self.stk[c] or det) and not changed[c]
             stuck = stuck or self.stk[c]
-            if changed[c]:
+            if changed[c] or rebase:
                 self.snap[c] = other[c]
+                self.span[c] = spans[c]
         self.prev = (r1, r2)
         # radius
         r = radius(ax, ay)

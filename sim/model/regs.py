@@ -168,9 +168,11 @@ REGS = {
         'over': Field('over', 'RADIUS', 16, 16, 22118, True, True, False, False, False, 0, 65535, 'u2.14',
             'Over-range above this radius (22118 = 1.35).'),
     }, 'Radius thresholds', 'Lissajous radius thresholds, s2.14 units (16384 = the unit circle). Reads 0 with OPT_MONITOR = 0.'),
-    'MONITOR': Reg('MONITOR', 0x1a, 0x68, True, True, 0x00ff000f, 0x00ff000f, 0x0008000a, ('OPT_TUNABLE', 'OPT_MONITOR'), {
+    'MONITOR': Reg('MONITOR', 0x1a, 0x68, True, True, 0x00ff0f0f, 0x00ff0f0f, 0x0008000a, ('OPT_TUNABLE', 'OPT_MONITOR'), {
         'glitch_k': Field('glitch_k', 'MONITOR', 0, 4, 10, True, True, False, False, False, 0, 15, 'u4',
             'Glitch check: the largest |phase acceleration| is 2^glitch_k phase units per sample^2; 0: off.'),
+        'code_step': Field('code_step', 'MONITOR', 8, 4, 0, True, True, False, False, False, 0, 8, 'u4',
+            "The converter's code step as a power of two of the ADC port's LSB (0: the port's width is the converter's resolution; an 8-bit converter on a 12-bit port, its codes shifted left by 4: 4). The stuck-channel check allows a healthy channel's code to stay unchanged across its peak for the span that one code step covers (sim/model/monitor.py)."),
         'stuck_n': Field('stuck_n', 'MONITOR', 16, 8, 8, True, True, False, False, False, 0, 255, 'u8',
             'Stuck channel: a channel whose code stays unchanged for this many samples while the other moves; 0: off.'),
     }, 'Monitor checks', 'Reads 0 with OPT_MONITOR = 0.'),
@@ -183,8 +185,8 @@ REGS = {
             "The monitor's smoothed unwrapped travel S (integer part; 8192 per signal period, wraps)."),
     }, 'Travel', ''),
     'ID': Reg('ID', 0x1f, 0x7c, True, False, 0x00000000, 0xffffffff, 0x00000000, (), {
-        'id': Field('id', 'ID', 0, 32, 1179713541, True, False, False, False, False, 0, 4294967295, 'u32',
-            '"FQ" (0x4651) and the register map\'s version, major.minor (0x0005: 0.5).'),
+        'id': Field('id', 'ID', 0, 32, 1179713542, True, False, False, False, False, 0, 4294967295, 'u32',
+            '"FQ" (0x4651) and the register map\'s version, major.minor (0x0006: 0.6).'),
     }, 'Identification', ''),
 }
 
