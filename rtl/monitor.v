@@ -15,8 +15,9 @@
 //          the code step: sc_c, sg, sst registered; the previous sample's pc_c, pg
 //   t + 1  rebase = (g, c1, c2) differ from the previous sample's; per channel E =
 //          msb(|c_c|) + 16 - ADC_W + code_step + g, m = the 2 bits below the msb
-//   t + 2  span_c = clamp(ceil(SPAN_K[E & 1][m] 2^(E >> 1) / 16), 2048, 32767) (u15:
-//          sim/model/monitor.py stuck_span(), where the bound is argued)
+//   t + 2  SPAN_K[E & 1][m] 2^(E >> 1) / 16 (u19; 0 for c = 0)
+//   t + 3  span_c = that clamped to [2048, 32767] (u15: sim/model/monitor.py
+//          stuck_span(), where the bound is argued)
 //   t + 4  x_c = o_c - snap_c (s18); det_c = run_ok_c and x_c outside [-sp_c, sp_c - 1]
 //          and not rebase (sp_c: the span stored with the snapshot); stk_c <= !chg_c and
 //          (stk_c or det_c); snap_c <= o_c, sp_c <= span_c if chg_c or rebase; stuck =
@@ -162,8 +163,8 @@ module monitor #(
             span_exp = {a == 16'd0, {1'b0, e} + sh, am[1:0]};
         end
     endfunction
-    // ceil(K 2^(E >> 1) / 16), clamped to [2048, 32767]
-    function automatic [14:0] span_val(input [7:0] x);
+    // K 2^(E >> 1) / 16 (exact where it reaches 2048: E >> 1 >= 4), 0 for c = 0 (u19)
+    function automatic [18:0] span_shift(input [7:0] x);
         reg [7:0]  kk;
         reg [22:0] t;
         begin
@@ -171,33 +172,43 @@ module monitor #(
                 3'd0: kk = 8'd108; 3'd1: kk = 8'd118; 3'd2: kk = 8'd127; 3'd3: kk = 8'd136;
                 3'd4: kk = 8'd152; 3'd5: kk = 8'd167; 3'd6: kk = 8'd180; default: kk = 8'd192;
             endcase
-            t = ({15'd0, kk} << x[6:3]) + 23'd15;
-            if (x[7] || t[22:4] < 19'd2048)
-                span_val = 15'd2048;
-            else if (t[22:4] > 19'd32767)
-                span_val = 15'h7fff;
-            else
-                span_val = t[18:4];
+            t = {15'd0, kk} << x[6:3];
+            span_shift = x[7] ? 19'd0 : t[22:4];
         end
+    endfunction
+    // clamped to [2048, 32767]: two bit tests
+    function automatic [14:0] span_clamp(input [18:0] v);
+        span_clamp = (v[18:11] == 8'd0) ? 15'd2048 : (|v[18:15]) ? 15'h7fff : v[14:0];
     endfunction
     /* verilator lint_on UNUSEDSIGNAL */
     localparam integer SH0I = 16 - ADC_W;      // the port's LSB in s1.15 LSBs, 2^SH0
     localparam [4:0]   SH0 = SH0I[4:0];
     wire [4:0] sh = SH0 + {1'b0, sst} + {3'b000, sg};
-    reg  [7:0] sx1_1 = 8'd0, sx2_1 = 8'd0;
-    reg        reb_1 = 1'b0, reb_2 = 1'b0, reb_3 = 1'b0;
-    reg [14:0] sp1_2 = 15'd2048, sp2_2 = 15'd2048, sp1_3 = 15'd2048, sp2_3 = 15'd2048;
-    always @(posedge clk) begin
-        sx1_1 <= span_exp(sc1, sh);
-        sx2_1 <= span_exp(sc2, sh);
-        reb_1 <= {sg, sc1, sc2} != {pg, pc1, pc2};
-        sp1_2 <= span_val(sx1_1);
-        sp2_2 <= span_val(sx2_1);
-        reb_2 <= reb_1;
-        {sp1_3, sp2_3, reb_3} <= {sp1_2, sp2_2, reb_2};
-    end
     // ---- t + 2 .. t + 4: the other channel's excursion, the stuck latch -----------------
     reg        v1 = 1'b0, v2 = 1'b0, v3 = 1'b0;
+    // the spans, stage by stage with the sample (clock enables: simulation skips them
+    // between samples)
+    reg  [7:0]  sx1_1 = 8'd0, sx2_1 = 8'd0;
+    reg  [18:0] sv1_2 = 19'd0, sv2_2 = 19'd0;
+    reg         reb_1 = 1'b0, reb_2 = 1'b0, reb_3 = 1'b0;
+    reg  [14:0] sp1_3 = 15'd2048, sp2_3 = 15'd2048;
+    always @(posedge clk) begin
+        if (valid0_i) begin
+            sx1_1 <= span_exp(sc1, sh);
+            sx2_1 <= span_exp(sc2, sh);
+            reb_1 <= {sg, sc1, sc2} != {pg, pc1, pc2};
+        end
+        if (v1) begin
+            sv1_2 <= span_shift(sx1_1);
+            sv2_2 <= span_shift(sx2_1);
+            reb_2 <= reb_1;
+        end
+        if (v2) begin
+            sp1_3 <= span_clamp(sv1_2);
+            sp2_3 <= span_clamp(sv2_2);
+            reb_3 <= reb_2;
+        end
+    end
     reg        chg1_2 = 1'b0, chg2_2 = 1'b0, rok1_2 = 1'b0, rok2_2 = 1'b0;
     reg        chg1_3 = 1'b0, chg2_3 = 1'b0, rok1_3 = 1'b0, rok2_3 = 1'b0;
     reg signed [16:0] o1 = 0, o2 = 0;            // t + 3: the other channel, signed
@@ -361,8 +372,8 @@ module monitor #(
     //     the other channel and the sample's span on a change or a rebase; stuck (in H,
     //     stuck_o after E) == the latch (either channel) right after the update on E - 3.
     //     The spans' pipeline: the sample's (g, c1, c2, code step) registered on sv_i, its
-    //     predecessor's beside it; rebase and span_exp() one edge later, span_val() the
-    //     next, one more delay; every span in [2048, 32767]. (The functions' values are
+    //     predecessor's beside it; rebase and span_exp() with the sample one edge later,
+    //     span_shift() the next, span_clamp() the next; every span in [2048, 32767]. (The functions' values are
     //     held to the model by cocotb_tests/test_monitor.py, not here.)
     //  M3 glitch_o == K > 0 && chk == 2 && wrap13(phase - pred) outside [-2^K, 2^K - 1]
     //     (signed compares; off for K >= 12 as the range then covers every s13);
@@ -490,8 +501,7 @@ module monitor #(
         assert (o2 <= 17'sd32767 && o2 >= -17'sd32767);
         assert (x1 == f_x1[17:0] && x2 == f_x2[17:0]);                  // s18 exact
         assert (stk1n == f_stk1n && stk2n == f_stk2n);
-        assert (sp1 >= 15'd2048 && sp2 >= 15'd2048 && sp1_3 >= 15'd2048 && sp2_3 >= 15'd2048
-                && sp1_2 >= 15'd2048 && sp2_2 >= 15'd2048);
+        assert (sp1 >= 15'd2048 && sp2 >= 15'd2048 && sp1_3 >= 15'd2048 && sp2_3 >= 15'd2048);
         assert (stuck == (OPT_MONITOR && f_stkp[2]));
         assert (f_rin < 17'h10000);                                      // M1
         assert ({1'b0, r4} == f_r4);
@@ -560,11 +570,22 @@ module monitor #(
             end
         end
         if (!$past(rst)) begin
-            assert (sx1_1 == span_exp($past(sc1), $past(sh)));
-            assert (sx2_1 == span_exp($past(sc2), $past(sh)));
-            assert (reb_1 == ($past({sg, sc1, sc2}) != $past({pg, pc1, pc2})));
-            assert (sp1_2 == span_val($past(sx1_1)) && sp2_2 == span_val($past(sx2_1)));
-            assert ({sp1_3, sp2_3, reb_3, reb_2} == $past({sp1_2, sp2_2, reb_2, reb_1}));
+            if ($past(valid0_i)) begin
+                assert (sx1_1 == span_exp($past(sc1), $past(sh)));
+                assert (sx2_1 == span_exp($past(sc2), $past(sh)));
+                assert (reb_1 == ($past({sg, sc1, sc2}) != $past({pg, pc1, pc2})));
+            end else
+                assert ({sx1_1, sx2_1, reb_1} == $past({sx1_1, sx2_1, reb_1}));
+            if ($past(v1))
+                assert (sv1_2 == span_shift($past(sx1_1)) && sv2_2 == span_shift($past(sx2_1))
+                        && reb_2 == $past(reb_1));
+            else
+                assert ({sv1_2, sv2_2, reb_2} == $past({sv1_2, sv2_2, reb_2}));
+            if ($past(v2))
+                assert (sp1_3 == span_clamp($past(sv1_2)) && sp2_3 == span_clamp($past(sv2_2))
+                        && reb_3 == $past(reb_2));
+            else
+                assert ({sp1_3, sp2_3, reb_3} == $past({sp1_3, sp2_3, reb_3}));
             assert (o1 == $past(f_o1[16:0]) && o2 == $past(f_o2[16:0]));
             // the stage H state
             if (!$past(pvalid_i)) begin

@@ -143,15 +143,16 @@ def stuck_span(c, shift):
     whose code step is 2^shift LSBs of the aligned, gained code d: an upper bound of
     6 sqrt(2^shift |c|) (1.5 times the other channel's excursion while a working channel's
     code stays unchanged at its peak), clamped to [STUCK_SPAN_MIN, STUCK_SPAN_MAX]. With
-    |c| in [2^e (4 + m) / 4, 2^e (5 + m) / 4) and E = e + shift: ceil(SPAN_K[E & 1][m]
-    2^(E >> 1) / 16). rtl/monitor.v computes the same in two stages."""
+    |c| in [2^e (4 + m) / 4, 2^e (5 + m) / 4) and E = e + shift: SPAN_K[E & 1][m]
+    2^(E >> 1) / 16, exact wherever it reaches STUCK_SPAN_MIN (E >> 1 >= 4: below, it is
+    at most 192 x 8 / 16). rtl/monitor.v computes the same in three stages."""
     a = abs(int(c))
     if a == 0:
         return STUCK_SPAN_MIN
     e = a.bit_length() - 1
     m = ((a << 2) >> e) & 3
     big = e + shift
-    t = ((SPAN_K[(big & 1) * 4 + m] << (big >> 1)) + 15) >> 4
+    t = (SPAN_K[(big & 1) * 4 + m] << (big >> 1)) >> 4
     return min(max(t, STUCK_SPAN_MIN), STUCK_SPAN_MAX)
 
 
