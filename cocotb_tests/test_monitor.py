@@ -51,7 +51,8 @@ def motion(rng, kind, length, phi0, amp):
     """Per sample (r1, r2, ax, ay, xn, yn, phase, clip) of one segment."""
     out = []
     phi = phi0
-    v = {"slow": 3.0, "creep": 0.05, "fast": 3600.0, "stand": 0.0}.get(kind, 40.0)
+    v = {"slow": 3.0, "creep": 0.05, "fast": 3600.0, "stand": 0.0,
+         "stuck2_rebase": 10.0}.get(kind, 40.0)
     v *= rng.choice((1, -1))
     frozen = None
     for i in range(length):
@@ -67,9 +68,9 @@ def motion(rng, kind, length, phi0, amp):
             rad = rng.uniform(0.02, 0.25)
         if kind in ("over", "over_long") and length // 8 <= i:
             rad = rng.uniform(1.45, 1.9)
-        if kind in ("stuck1", "stuck2") and i >= length // 5:
+        if kind.startswith("stuck") and i >= length // 5:
             frozen = frozen if frozen is not None else (r1, r2)
-            r1, r2 = (frozen[0], r2) if kind == "stuck1" else (r1, frozen[1])
+            r1, r2 = (frozen[0], r2) if kind.startswith("stuck1") else (r1, frozen[1])
         clip = rng.random() < 0.01
         if kind == "rail" and length // 3 <= i < 2 * length // 3:
             r1, clip = 2047 << ADC_SH, True
@@ -95,6 +96,8 @@ def plan(scale):
         ("stuck1", 300 * scale, 1, d, None),
         ("slow", 100 * scale, 1, d, None),
         ("stuck2", 300 * scale, 1, (3277, 22118, 10, 3, 0), "drain"),
+        ("stuck1_wide", 300 * scale, 1, (3277, 22118, 10, 8, 8), "drain"),  # span 8128
+        ("stuck2_rebase", 300 * scale, 1, d, "drain"),   # a new bundle after the freeze
         ("glitch", 400 * scale, 1, d, None),
         ("rail", 300 * scale, 1, d, None),
         ("over", 300 * scale, 1, d, None),
@@ -113,6 +116,7 @@ def plan(scale):
 # bundles (g, c1, c2) for the stuck spans: the reset one (span 2048), a calibrated 60 %
 # signal, gains and coefficients up to the spans' cap, a zero and the most negative c
 BUNDLE0 = (0, 8192, 8192)
+BUNDLE_WIDE = (0, 6827, 6827)       # a 60 % signal: with code step 8 the span is 8128
 BUNDLES = (BUNDLE0, (0, 6827, -7500), (1, 16384, 13000), (3, -32768, 0), (2, 30000, 20000),
            (0, 1, 3), (0, 100, 4096))
 
@@ -134,12 +138,16 @@ def build(scale, seed=5):
         amp = rng.choice((900, 1500, 2000))
         seg, phi = motion(rng, kind, length, phi, amp)
         # the bundle (g, c1, c2): the reset one where a channel freezes (its stuck flag
-        # must rise), else drawn, and changed now and then inside the segment (rebase)
-        bundle = BUNDLE0 if kind.startswith("stuck") else rng.choice(BUNDLES)
-        for r1, r2, ax, ay, xn, yn, ph, clip in seg:
+        # must rise; with code step 8 a wide span, or a new bundle 12 samples after the
+        # freeze: a rebase), else drawn, and changed now and then inside the segment
+        bundle = {"stuck1_wide": BUNDLE_WIDE}.get(kind, BUNDLE0) if kind.startswith("stuck") \
+            else rng.choice(BUNDLES)
+        for i, (r1, r2, ax, ay, xn, yn, ph, clip) in enumerate(seg):
             t += rng.choice((0, 0, 0, 0, 1, 2, 5))
             if not kind.startswith("stuck") and rng.random() < 0.01:
                 bundle = rng.choice(BUNDLES)
+            if kind == "stuck2_rebase" and i == length // 5 + 12:
+                bundle = (0, 8300, 8100)
             samples.append(dict(t=t, seg=si, kind=kind, r1=r1, r2=r2, ax=ax, ay=ay,
                                 xn=xn, yn=yn, phase=ph, clip=clip, ref=ref, regs=regs,
                                 bundle=bundle))
@@ -147,9 +155,10 @@ def build(scale, seed=5):
     return samples, resets
 
 
-def model(samples, resets, enabled=True):
+def model(samples, resets, enabled=True, span=None, rebase=True):
     """Per sample (hold, excl, loss, over, stuck, glitch, travel) from sim.model.monitor,
-    epoch by epoch (rst restarts the state); enabled: OPT_MONITOR."""
+    epoch by epoch (rst restarts the state); enabled: OPT_MONITOR. span (every span
+    forced to it) and rebase=False are mutations: the stimulus must tell them apart."""
     from sim.model.monitor import Monitor, MonitorRegs, stuck_span
     out = []
     mon = Monitor(enabled)
@@ -164,11 +173,23 @@ def model(samples, resets, enabled=True):
         sh = 16 - ADC_W + code_step + g
         lo, ov, st, gl, hold, excl = mon.step(x["r1"], x["r2"], x["ax"], x["ay"], x["xn"],
                                               x["yn"], x["phase"], x["ref"], x["clip"],
-                                              regs, (stuck_span(c1, sh), stuck_span(c2, sh)),
-                                              x["bundle"])
+                                              regs, (span, span) if span else
+                                              (stuck_span(c1, sh), stuck_span(c2, sh)),
+                                              x["bundle"] if rebase else (0, 0, 0))
         out.append((int(hold), int(excl), int(lo), int(ov), int(st), int(gl),
                     mon.travel()))
     return out
+
+
+@pytest.mark.parametrize("scale", [1, 4])
+def test_stimulus_makes_spans_and_rebase_visible(scale):
+    """The stimulus tells the stuck spans and the rebase apart: the model's outputs change
+    when every span is 2048 (the old fixed span) or 32767, and without the rebase, so an
+    RTL with such a bug fails test_monitor."""
+    samples, resets = build(scale)
+    want = model(samples, resets)
+    for mutant in (dict(span=2048), dict(span=32767), dict(rebase=False)):
+        assert model(samples, resets, **mutant) != want, f"{mutant} changes no output"
 
 
 # ---- cocotb side ------------------------------------------------------------------------

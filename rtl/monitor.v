@@ -73,7 +73,8 @@ module monitor #(
     input  wire [1:0]         g_i,          // the bundle's input gain 2^g
     input  wire signed [15:0] c1_i,         // s4.12 the bundle's c1 and c2
     input  wire signed [15:0] c2_i,
-    input  wire [3:0]         code_step_i,  // u4 the converter's code step, 2^k port LSBs
+    input  wire [3:0]         code_step_i,  // u4 the converter's code step, 2^k port LSBs,
+                                            // 0..8 (MONITOR.code_step's legal range)
     // edge t
     input  wire               valid0_i,
     input  wire signed [15:0] raw1_i,       // s1.15 aligned codes
@@ -373,8 +374,11 @@ module monitor #(
     //     stuck_o after E) == the latch (either channel) right after the update on E - 3.
     //     The spans' pipeline: the sample's (g, c1, c2, code step) registered on sv_i, its
     //     predecessor's beside it; rebase and span_exp() with the sample one edge later,
-    //     span_shift() the next, span_clamp() the next; every span in [2048, 32767]. (The functions' values are
-    //     held to the model by cocotb_tests/test_monitor.py, not here.)
+    //     span_shift() the next, span_clamp() the next; every span in [2048, 32767]. (The
+    //     functions' values are held to the model's stuck_span() by
+    //     cocotb_tests/test_monitor.py, whose stimulus makes wrong spans and a missing
+    //     rebase visible; not here.) Assumed: code_step_i <= 8 (the register's legal
+    //     range; with ADC_W >= 12, E <= 30 fits its 5 bits).
     //  M3 glitch_o == K > 0 && chk == 2 && wrap13(phase - pred) outside [-2^K, 2^K - 1]
     //     (signed compares; off for K >= 12 as the range then covers every s13);
     //     hold_o == pvalid && (loss || stuck || (clip && over) || glitch) of the sample
@@ -406,6 +410,8 @@ module monitor #(
     reg f_past_valid = 1'b0;
     always @(posedge clk)
         f_past_valid <= 1'b1;
+    always @(*)
+        assume (code_step_i <= 4'd8);
 
     // the radius as specified, in 17 bits (used in continuous assignments only)
     function [16:0] f_radius(input [14:0] a, input [14:0] b);

@@ -30,16 +30,22 @@ t + 6 and t + 7, when the sample's fine phase is registered and the counter deci
                  samples), capped at 32767. At 60 % and 30 % of full scale: 16 and
                  14 bits 2048 and 2048, 12 bits 2048 and 2880, 10 bits 4064 and 5760,
                  8 bits 8128 and 11520 (half and 0.7 of the radius: a coarse converter
-                 cannot tell a dead channel from a live one sooner). From STUCK_SPAN_MIN,
-                 the other channel moves that far within 58 degrees of motion from any
-                 start (worst: it starts just below its peak and must pass it), typically
-                 far sooner; until then the count follows a distorted phase, and it is
-                 right again once the channel works (the distorted phase does not wind).
-                 Standstill with toggling codes is never flagged. Once detected, the
-                 channel stays stuck until its code changes (stk_c). A sample whose
-                 bundle's (g, c1, c2) differ from the previous sample's (a hand-over or
-                 a load: the calibrated units change) takes new snapshots of both
-                 channels and detects nothing.
+                 cannot tell a dead channel from a live one sooner). The other channel
+                 moves by a span s (as a fraction of the radius) within at most
+                 max over a of a + acos(cos a - s) of motion, with 1 - cos a < s (worst:
+                 it starts just below its peak, rises by less than s, and must fall by
+                 s from its start): 70 degrees for STUCK_SPAN_MIN, 150 for half the
+                 radius (worst_motion()), then STUCK_N samples; typically far sooner.
+                 Until then the count follows a distorted phase, and it is right again
+                 once the channel works (the distorted phase does not wind). Standstill
+                 with toggling codes is never flagged. Once detected, the channel stays
+                 stuck until its code changes (stk_c). A sample whose bundle's (g, c1,
+                 c2) differ from the previous sample's (a hand-over or a load: the
+                 calibrated units change) takes new snapshots of both channels and
+                 detects nothing. Offsets and c12 are not in that key: a change of them
+                 alone moves the other channel by about c dm, a small fraction of the
+                 span for a calibration's updates. A change of MONITOR.code_step takes
+                 effect at each channel's next code change.
   radius         r = max(|u1c|, |u2c|) + min >> 2 + min >> 3 (alpha-max-plus-beta-min,
                  alpha = 1, beta = 3/8: within -2.8 % .. +6.8 % of the true radius; u16,
                  s2.14 units: the calibrated circle is 16384). Only while the bundle is a
@@ -154,6 +160,15 @@ def stuck_span(c, shift):
     big = e + shift
     t = (SPAN_K[(big & 1) * 4 + m] << (big >> 1)) >> 4
     return min(max(t, STUCK_SPAN_MIN), STUCK_SPAN_MAX)
+
+
+def worst_motion(s):
+    """The most motion (rad) in which the other channel of a dead one moves by s (a
+    fraction of the radius) from the snapshot: max over a of a + acos(cos a - s), where
+    the other channel starts a before its peak and rises by 1 - cos a < s."""
+    a_max = math.acos(max(-1.0, 1.0 - s))
+    return max(a + math.acos(max(-1.0, math.cos(a) - s))
+               for a in (a_max * i / 4096 for i in range(4096)))
 
 
 def radius(ax, ay):

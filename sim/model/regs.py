@@ -172,7 +172,7 @@ REGS = {
         'glitch_k': Field('glitch_k', 'MONITOR', 0, 4, 10, True, True, False, False, False, 0, 15, 'u4',
             'Glitch check: the largest |phase acceleration| is 2^glitch_k phase units per sample^2; 0: off.'),
         'code_step': Field('code_step', 'MONITOR', 8, 4, 0, True, True, False, False, False, 0, 8, 'u4',
-            "The converter's code step as a power of two of the ADC port's LSB (0: the port's width is the converter's resolution; an 8-bit converter on a 12-bit port, its codes shifted left by 4: 4). The stuck-channel check allows a healthy channel's code to stay unchanged across its peak for the span that one code step covers (sim/model/monitor.py)."),
+            "The converter's code step as a power of two of the ADC port's LSB: the port's width minus the converter's bits (0: as wide as the port; an 8-bit converter on a 12-bit port, its codes shifted left by 4: 4). The stuck-channel check lets the other channel move by max(1/8 of the radius, about 6 sqrt(q |c|)) while a channel's code stays unchanged (q the code step after the input gain GAIN, which is added by the core; c the channel's C1 or C2), capped at the radius: a coarser setting delays the detection of a dead channel (an 8-bit converter at 12.5 % of full scale turns the check off in effect). A change takes effect at each channel's next code change (sim/model/monitor.py)."),
         'stuck_n': Field('stuck_n', 'MONITOR', 16, 8, 8, True, True, False, False, False, 0, 255, 'u8',
             'Stuck channel: a channel whose code stays unchanged for this many samples while the other moves; 0: off.'),
     }, 'Monitor checks', 'Reads 0 with OPT_MONITOR = 0.'),

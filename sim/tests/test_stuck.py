@@ -8,7 +8,7 @@ import pytest
 
 from sim import siggen
 from sim.model import finequad_core as core
-from sim.model.monitor import STUCK_SPAN_MIN, stuck_span
+from sim.model.monitor import STUCK_SPAN_MIN, stuck_span, worst_motion
 
 FS, PITCH = 1e6, 4e-6                 # 1 MS/s, a 4 um scale
 
@@ -48,10 +48,10 @@ def test_without_the_code_step_the_coarse_scan_is_flagged(bits, amp):
 @pytest.mark.parametrize("chan", [0, 1])
 def test_dead_channel_is_caught_within_its_span(bits, chan):
     """A channel freezes at its code of sample 20 000 while the stage moves on at 5 mm/s
-    (800 samples per period): the stuck flag rises before the other channel has moved
-    by its span plus one period's eighth of motion, and stays up to the end. With 16 bits
-    the span is STUCK_SPAN_MIN, the distance the check has always had; with 12 bits
-    within 10 % of it."""
+    (800 samples per period): the stuck flag rises within the worst-case motion for its
+    span (worst_motion()) plus STUCK_N samples, and stays up for 90 % of the rest (a
+    noisy frozen code may still toggle). With 16 bits the span is STUCK_SPAN_MIN, the
+    distance the check has always had; with 12 bits within 10 % of it."""
     n, k0 = 30000, 20000
     u1, u2, a = coarse_scan(bits, 0.6, 5e-3, n, noise=0.005)
     u = (u1, u2)[chan]
@@ -68,9 +68,9 @@ def test_dead_channel_is_caught_within_its_span(bits, chan):
         assert span == STUCK_SPAN_MIN
     elif bits == 12:
         assert span <= 1.1 * STUCK_SPAN_MIN
-    # motion needed for the other channel to move by the span, from the worst start,
-    # plus an eighth of a period
-    worst = 2 * np.arcsin(min(1.0, span / 16384 / 2)) * 2 + np.pi / 4
+    # the most motion in which the other channel moves by the span, then STUCK_N samples
+    # (and one more: the snapshot is the sample before the freeze at the latest)
+    worst = worst_motion(span / 16384) + (core.Config().stuck_n + 1) * 2 * np.pi / 800
     assert a[first] - a[k0] <= worst, \
         f"flagged after {np.degrees(a[first] - a[k0]):.0f} deg of motion"
     assert st[first:].mean() > 0.9, "the flag does not stay up while the channel is dead"
