@@ -87,6 +87,8 @@ import copy
 import functools
 import random
 
+import os
+
 import numpy as np
 import pytest
 
@@ -107,13 +109,13 @@ OUT_AT = core_model.PHASE_AT - ARRIVE_AT      # ph_i used; phase_o, phase_c_o, v
 # The block's register sampling, as rtl/harmonic.v's header states it (sim/model has no
 # names for them; core.Config's harm_* text uses the same offsets).
 APPLY_AT = 1                                  # apply_i
-LEARN_AT = 5                                  # learn_i, mu_i
+LEARN_AT = 7                                  # learn_i, mu_i
 
 # table kind of each block stream; samples of the random streams per simulator (the
 # directed stream is the same everywhere)
-PATTERNS = {"directed": "exact", "gaps": "paper", "b2b": "exact"}
-SAMPLES = {"icarus": {"gaps": 6000, "b2b": 10000},
-           "verilator": {"gaps": 40000, "b2b": 60000}}
+PATTERNS = {"directed": "exact", "gaps": "paper", "b2b": "exact", "slow": "exact"}
+SAMPLES = {"icarus": {"gaps": 6000, "b2b": 10000, "slow": 12000},
+           "verilator": {"gaps": 40000, "b2b": 60000, "slow": 400000}}
 
 
 @pytest.mark.parametrize("distram", [0, 1], ids=["BRAM", "DISTRAM"])
@@ -124,7 +126,22 @@ def test_harmonic(sim, pattern, distram):
     exact = int(PATTERNS[pattern] == "exact")
     fqtb.run_block(sim, "harmonic", fqtb.sources("harmonic", "hbin"), "test_harmonic",
                    parameters=dict(TABLE_EXACT=exact, OPT_DISTRAM=distram),
-                   extra_env=dict(PATTERN=pattern, SAMPLES=n), testcase="harmonic_stream")
+                   extra_env=dict(PATTERN=pattern, SAMPLES=n, **({"HDEBUG": os.environ["HDEBUG"]} if os.environ.get("HDEBUG") else {})), testcase="harmonic_stream")
+
+
+def test_slow_stream_exercises_gears():
+    """The slow stream (the RTL runs it on Verilator) takes the observer through its
+    gears: every kind of gear change (up, down, back to 0 on a lost lock), gears up to 5,
+    and learning in two gears above 0 with and without the larger step (the other streams
+    learn in gear 0; the accuracy suite's creep scenarios take the core's RTL to gears 8
+    and 11)."""
+    st = stimulus("slow", SAMPLES["verilator"]["slow"])
+    _, tr, _ = run_model(st, trace=True)
+    conv = np.bincount(tr["conv"], minlength=4)
+    learned = np.bincount(tr["g"][tr["gate"].astype(bool)], minlength=hm.GMAX + 1)
+    assert conv[1] >= 5 and conv[2] >= 1 and conv[3] >= 1, conv
+    assert tr["g"].max() >= 5
+    assert (learned[1:] > 500).sum() >= 2, learned
 
 
 # Model constants changed one at a time: the directed stream's expected output must change
@@ -140,17 +157,23 @@ MUTATIONS = [
     ("ELOCK", 248), ("ELOCK", 264),                                   # lock gate |E| < 256
     ("ELOST", 992), ("ELOST", 1056),                                  # lock lost |E| >= 1024
     ("SWEEP", 63), ("SWEEP", 65),                                     # clear: blocked samples
-    ("D", 6), ("D", 8),                                               # commit on sample k + 7
-    ("SKIP_MIN", 6), ("SKIP_MIN", 8), ("LFSR_SEED", 0xE0),            # candidates
+    ("D", 8), ("D", 10),                                              # commit on sample k + 9
+    ("SKIP_MIN", 8), ("SKIP_MIN", 10), ("LFSR_SEED", 0xE0),           # candidates
     ("KM", 9), ("KM", 11), ("ANCHOR", 3), ("ANCHOR", 5),              # mean of E, anchor
     ("H_W", 15), ("H_W", 17), ("D_W", 11),                            # entry and update limits
+    ("VUP", 15), ("VUP", 17), ("VDOWN", 63), ("VDOWN", 65),           # gear shifts
+    ("GDELAY", 5), ("GDELAY", 7), ("SETTLE", 255), ("SETTLE", 257),
+    ("MQ", (2 << 7) - 1), ("MQ", (2 << 7) + 1),                       # |M| < 2 units
+    ("EQUIET", 32), ("EQUIET", 128), ("GSLOW", 3), ("GSLOW", 5),      # learning in gears
+    ("ANNEAL", 1024), ("ANNEAL", 2049),                               # the step halves
 ]
 
 
 def test_directed_sensitivity(monkeypatch):
-    """The directed stream tells the exact edges and the constants apart: every placed
-    event moved by one edge (the directions that matter for it, see Planner) and every
-    entry of MUTATIONS change the model's output."""
+    """The directed stream tells the exact edges apart (every placed event moved by one
+    edge, in the directions that matter for it, see Planner, changes the model's output)
+    and the streams the RTL runs tell the constants apart (every entry of MUTATIONS
+    changes the output of the directed stream or of a random one)."""
     st = directed_stim()
     out = run_model(st)[0]
     same = []
@@ -161,10 +184,15 @@ def test_directed_sensitivity(monkeypatch):
             ctrl, clears = moved(st.ctrl, st.clears, items, sh)
             if np.array_equal(run_model(pre, ctrl, clears)[0], out[:end]):
                 same.append(f"{name} (sample {k}) moved by {sh:+d} edge")
+    # (a constant the directed stream cannot tell must change the output of one of the
+    # random streams, which the RTL runs too)
+    others = [stimulus(p, SAMPLES["verilator"][p]) for p in ("b2b", "slow")]
+    outs = [run_model(o)[0] for o in others]
     for name, val in MUTATIONS:
         with monkeypatch.context() as m:
             m.setattr(hm, name, val)
-            if np.array_equal(run_model(st)[0], out):
+            if all(np.array_equal(run_model(x)[0], y)
+                   for x, y in zip([st] + others, [out] + outs)):
                 same.append(f"harmonic.{name} = {val}")
     assert not same, "the directed stream does not tell apart:\n" + "\n".join(same)
 
@@ -381,14 +409,14 @@ DIRECTED = [
     ("upper_step", 1, -511.97, "b2b"),    # velocity step: lock lost, the wide gear again
     # pull-in, lock, learning: just inside the window every candidate lands in one of 16
     # bins (8..15 samples of 512 units), whose entries reach the s16 limits
-    ("upper", 6900, -511.97, "b2b"),
+    ("upper", 9000, -511.97, "b2b"),
     ("up_ramp", 1200, -515.0, "b2b"),     # |V| through 512, the window's upper edge
     ("up_back", 1200, -506.0, "b2b"),     # (+ pad samples: see _lock_pad)
     ("step", 1, 20.0, "b2b"),             # velocity step: lock lost, the wide gear again
     ("relock", 3000, 20.0, "b2b"),        # apply changes while the lock returns
-    ("pulses_b2b", 800, 20.0, "b2b"),     # learn and mu changes at candidates
-    ("pulses_g23", 800, 20.0, "g23"),
-    ("pulses_rand", 800, 20.0, "rand"),
+    ("pulses_b2b", 1200, 20.0, "b2b"),     # learn and mu changes at candidates
+    ("pulses_g23", 1200, 20.0, "g23"),
+    ("pulses_rand", 1200, 20.0, "rand"),
     ("low_down", 1300, 13.0, "b2b"),      # |V| through 16, the window's lower edge
     ("low_up", 1300, 20.0, "b2b"),
     ("reverse", 1, -20.0, "b2b"),         # reversal step: lock lost again
@@ -397,7 +425,7 @@ DIRECTED = [
     ("nlow_down", 1100, -13.0, "b2b"),    # the lower edge, negative speed
     ("nlow_up", 1100, -20.0, "b2b"),
     ("clear_g23b", 300, -20.0, "g23"),    # a clear: the first sample that sees it
-    ("clears_b2b", 1600, -20.0, "b2b"),   # clears around learning candidates
+    ("clears_b2b", 2200, -20.0, "b2b"),   # clears around learning candidates
     ("clears_rand", 1200, -20.0, "rand"),
     ("noise", 800, -20.0, "b2b"),         # large noise: samples hop between bins
 ]
@@ -469,7 +497,7 @@ def directed_stim():
     # of a candidate tells a block that samples one edge early, a step on a + LEARN_AT +
     # 1 one that samples late (the samples next to a candidate do not learn).
     for seg in ("pulses_b2b", "pulses_g23", "pulses_rand"):
-        k, hi = S[seg], S[seg] + 800
+        k, hi = S[seg], S[seg] + 1200
         k = P.place(f"{seg}: apply off for one edge", k, hi, P.pulse(A, 0, APPLY_AT), pre=_corr)
         k = P.place(f"{seg}: learn off for one edge", k, hi, P.pulse(L, 0, LEARN_AT),
                     pre=_learns)
@@ -575,11 +603,75 @@ def phases(n, rng):
     return np.concatenate(xs_all)[:n]
 
 
+def slow_phases(n, rng):
+    """n angles (float, phase units) of slow motion, which the observer follows in its
+    gears above 0: cruises between 0.01 and 24 units/sample (both directions) with gentle
+    ramps, standstill, servo dither around a point, reversals, and now and then a burst
+    of fast motion or a jump (down-shifts, a lost lock); the error is a 1st and a 4th
+    harmonic of the phase plus noise (a small 1st harmonic: the
+    observer follows it at the bottom of a gear, and V's ripple reads as acceleration)."""
+    nrng = np.random.default_rng(rng.randrange(1 << 30))
+    h1, h4 = rng.uniform(0.5, 2), rng.uniform(8, 20)
+    p1, p4 = rng.uniform(0, 6.3), rng.uniform(0, 6.3)
+    x, v = rng.uniform(0, 8192), 1.5
+    # standstill, then cruises that the observer follows in gears 4 and 3
+    vel = np.concatenate([np.zeros(20000), np.full(100000, 1.5), np.linspace(1.5, 3.0, 20000),
+                          np.full(80000, 3.0)])
+    v = 3.0
+    xs = x + np.cumsum(vel)
+    xs_all = [xs + h1 * np.sin(2 * np.pi * xs / 8192 + p1) + h4 * np.sin(8 * np.pi * xs / 8192 + p4)
+              + 2.0 * nrng.standard_normal(len(xs))]
+    x, total = float(xs[-1]), len(xs)
+    while total < n:
+        kind = rng.choices(["cruise", "stop", "dither", "reverse", "fast", "jump"],
+                           [64, 6, 8, 6, 12, 4])[0]
+        hold = rng.randint(20000, 80000)
+        if kind == "cruise":
+            # from the speed now by up to 8 times up or down (gear changes one at a time)
+            tgt = float(np.clip(abs(v) * 2 ** rng.uniform(-3, 3), 0.01, 24)) if v else 1.0
+            tgt *= np.sign(v) if v and rng.random() < 0.9 else rng.choice([-1, 1])
+        elif kind in ("stop", "dither"):
+            tgt = 0.0
+        elif kind == "reverse":
+            tgt = -v
+        elif kind == "fast":      # up through the gears to gear 0, one shift at a time
+            tgt, hold = np.sign(v or 1) * rng.uniform(20, 60), rng.randint(2000, 10000)
+            v = np.sign(v or 1) * max(abs(v), 2.0)
+        else:
+            tgt = v
+        acc = 10 ** rng.uniform(-6.5, -4)
+        m = min(int(abs(tgt - v) / acc) + 1, 30000)
+        ramp = v + (tgt - v) * np.arange(1, m + 1) / m
+        if kind == "fast":
+            # an acceleration the observer follows in every gear: v^2 / 2^18 per sample
+            # (its lag a D^2 2^15 stays below 1024 units at 64 units per tick)
+            sp, r = abs(v), []
+            while sp < abs(tgt):
+                sp += sp * sp / 2 ** 18
+                r.append(sp)
+            ramp = np.sign(tgt) * np.minimum(np.array(r), abs(tgt))
+        vel = np.concatenate([ramp, np.full(hold, tgt)])
+        xs = x + np.cumsum(vel)
+        if kind == "dither":
+            amp, per = rng.uniform(5, 300), rng.uniform(200, 20000)
+            xs += amp * np.sin(2 * np.pi * np.arange(len(xs)) / per)
+        if kind == "jump":
+            xs[rng.randrange(len(xs)):] += rng.choice([-1, 1]) * rng.uniform(1500, 3000)
+        x, v = float(xs[-1]), float(tgt)
+        sigma = rng.choice([0.5, 2.0, 5.0])
+        err = (h1 * np.sin(2 * np.pi * xs / 8192 + p1) + h4 * np.sin(8 * np.pi * xs / 8192 + p4)
+               + sigma * nrng.standard_normal(len(xs)))
+        xs_all.append(xs + err)
+        total += len(xs)
+    return np.concatenate(xs_all)[:n]
+
+
 def random_stim(pattern, n, seed):
-    """A seeded random stream: strobes back to back with a few gaps (b2b) or random gaps
-    with bursts back to back (gaps); random control changes and clears."""
+    """A seeded random stream: strobes back to back with a few gaps (b2b, slow) or random
+    gaps with bursts back to back (gaps); random control changes and clears (rarer in the
+    slow stream, whose gears take thousands of samples)."""
     rng = random.Random(seed)
-    x = phases(n, rng)
+    x = slow_phases(n, rng) if pattern == "slow" else phases(n, rng)
     kind = PATTERNS[pattern]
     f = front(x, kind, np.random.default_rng(seed), 0.3 if kind == "exact" else 0.05)
     edges = []
@@ -587,7 +679,7 @@ def random_stim(pattern, n, seed):
     burst = 0
     for _ in range(n):
         edges.append(e)
-        if pattern == "b2b":
+        if pattern in ("b2b", "slow"):
             gap = 1 if rng.random() < 0.97 else rng.randint(2, 12)
         elif burst:
             burst -= 1
@@ -601,12 +693,13 @@ def random_stim(pattern, n, seed):
     last = edges[-1]
     # control changes: mostly apply = learn = 1, mu 3..6
     ctrl = {0: (1, 1, 4)}
-    for _ in range(max(8, n // 400)):
+    sparse = 40 if pattern == "slow" else 1
+    for _ in range(max(8, n // (400 * sparse))):
         w = rng.randint(1, last)
         ctrl[w] = (int(rng.random() < 0.8), int(rng.random() < 0.85),
                    rng.choice([3, 3, 4, 4, 4, 5, 6]))
     clears = set()
-    for _ in range(max(4, n // 2000)):
+    for _ in range(max(4, n // (2000 * sparse))):
         k = rng.randrange(8, n)
         clears.add(edges[k] + rng.choice([-2, -1, 0, 0, 1, 1, 2, 3, 4, 5, 6, 7]))
     return Stim(edges, f, ctrl, clears)
@@ -615,7 +708,7 @@ def random_stim(pattern, n, seed):
 def stimulus(pattern, n):
     if pattern == "directed":
         return directed_stim()
-    return random_stim(pattern, n, {"gaps": 11, "b2b": 12}[pattern])
+    return random_stim(pattern, n, {"gaps": 11, "b2b": 12, "slow": 18}[pattern])
 
 
 # ---- cocotb side -----------------------------------------------------------------------------
@@ -691,8 +784,17 @@ async def harmonic_stream(dut):
     cocotb.start_soon(_watch(dut.valid_o, vlog))
     got = [None] * n
     junk = random.Random(len(edges))
+    import os
+    dbg = {e + 5: k for k, e in enumerate(edges)} if os.environ.get("HDEBUG") else {}
+    if dbg:
+        slots = sorted(set(slots) | set(dbg))
+    dlog = []
     for s in slots:
         await bench.goto(s)
+        k = dbg.get(s)
+        if k is not None:
+            dlog.append((k, int(dut.v_st.value), int(dut.c_st.value), int(dut.m_st.value),
+                         int(dut.p_st.value), int(dut.gear.value)))
         k = reads.get(s)
         if k is not None:
             got[k] = (fqtb.uval(dut.phase_o), fqtb.uval(dut.phase_c_o))
@@ -712,6 +814,8 @@ async def harmonic_stream(dut):
         pin["clear_i"] = int(nxt in clear_set)
     await bench.goto(bench.edge + 4)
 
+    if dbg:
+        np.save(os.environ["HDEBUG"], np.array(dlog, dtype=np.int64))
     want = list(zip(f["phase"], exp.tolist()))
     bad = [k for k in range(n) if got[k] != want[k]]
     if bad:
@@ -720,7 +824,8 @@ async def harmonic_stream(dut):
                  f"(phase, corrected)"
                  f" {got[k]}, model {want[k]}" for k in bad[:12]]
         raise AssertionError(f"{len(bad)} of {n} samples differ, first:\n" + "\n".join(lines))
-    assert h.learned > n // 40, f"only {h.learned} updates: the stimulus hardly learns"
+    assert h.learned > n // (400 if pattern == "slow" else 40), \
+        f"only {h.learned} updates: the stimulus hardly learns"
     high = _high_edges(vlog, bench.t0)
     want_v = {e + OUT_AT for e in edges}
     assert high == want_v, f"valid_o high after other edges: {sorted(high ^ want_v)[:8]}"
@@ -894,7 +999,8 @@ async def core_harmonic(dut):
     log.info("core: %d samples, %d register writes (%d placed events), %d table updates, "
              "%d samples corrected", n, len(writes), len(events), h.learned,
              int(np.sum(res["phase_c"] != res["phase"])))
-    assert h.learned > n // 40, f"only {h.learned} updates: the stimulus hardly learns"
+    assert h.learned > n // 40, \
+        f"only {h.learned} updates: the stimulus hardly learns"
     lat = core_model.LATENCY
     strobe = {int(e): k for k, e in enumerate(t)}
     outs = {int(e) + lat: k for k, e in enumerate(t)}

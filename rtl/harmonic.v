@@ -16,23 +16,33 @@
 //   corr is not formed on its own: phase - corr = phase + ((~A + R' + 256) >> 8) (mod
 //   2**13) with R' = R >>> 6; y = (~A + R' + 256) >> 8 (or 0) is registered with the
 //   phase, and phase_c_o is their sum after the register (stage 3 below).
-//   observer of pc = phase - corr (always, also while apply is off):
-//     E = wrap18(pc * 32 - P);  P += (V >>> 8) + (E >>> KA);  V += E * 2^(8 - KB)
-//     P u13.5 (wraps with the period), V s13.13 units/sample (wraps), E s13.5;
-//     (KA, KB) = (2, 10) while C < 256, else (7, 15) (both: P and V step by E >>> KA);
-//     C (u11, saturating at 2047) counts the samples since |E| >= 1024 units
-//   Y = E * 4 - M;  M += Y >>> 10               M: running mean of E, s13.7 (s20)
-//   learning candidates: one sample in 8..15 (after a candidate, 7 + lfsr[2:0] samples
-//   are skipped; 8-bit Galois LFSR 0xB8, seed 0xE1, stepped per candidate). A candidate k
-//   learns when learn_i, C == 2047, 16 <= |V| >> 13 < 512 (|V| one's complement; C, V
-//   before this sample's update), -256 <= E >> 5 < 256, and no clear since it arrived:
-//     x = sat12((Y >>> 2) - (R >>> 7))          E minus its mean, minus 4 mean(A), in
-//                                                 E's units (1/32)
-//     H = A[b] + (x >>> mu_i)                      H in 1/256 units: LMS step 2^-(3 + mu_i);
-//                                                 not made if H would leave s16
-//   and H is written to A[b] (and R updated) when sample k + 7 arrives: the correction
-//   of sample j sees the updates of the candidates <= j - 7, whatever the strobe pattern.
-//   Candidates are 8 or more samples apart, so at most one update is in flight and the
+//   the observer (of pc = phase - corr, always, also while apply is off) runs on ticks,
+//   in gears g = 0..GEARS: a tick ends a block of 2**g samples (every sample in gear 0);
+//   the tick's decision (stage 1) reads the request the observer left for the sample six
+//   arrivals before (a ring of 8 by arrival): up (locked, |M| < 2, |V| < 16 units/tick),
+//   down (|V| >= 64), back to 0 (lost), unless the gear changed within six arrivals.
+//     meas = 32 base + (32 S >>> g) + ((V >>> 1) - (V >>> (g + 1))) >>> 8   the block's
+//            mean at its last sample; base its first pc, S the sum of pc - base (s24)
+//     E = wrap18(meas - P);  P += (W >>> 8) + round(E / 2^KA);  V = V' + round(E / 2^KA)
+//     P u13.5 (wraps with the period), V s13.13 units/tick (wraps), E s13.5; a gear
+//     change converts V' = 2V, V/2 or 0 and W = 1.5V, 0.75V or 0 (else V' = W = V);
+//     KA = 2 while C < 256, else 7; C (u11, saturating at 2047) counts the ticks since
+//     |E| >= 1024 units, at most 1791 after a gear change
+//   Y = E * 4 - M;  M += round(Y / 1024), 0 after a gear change   M: running mean of E
+//   learning candidates: the first tick after 10..17 samples (after a candidate,
+//   9 + lfsr[2:0] samples are skipped; 8-bit Galois LFSR 0xB8, seed 0xE1, stepped per
+//   candidate). A candidate k learns when learn_i, C == 2047, 16 <= |V| >> 13 < 512
+//   (|V| one's complement; C, V, M before this tick's update), -256 <= E >> 5 < 256, in
+//   gears above 0 |M| < 2 units and |E| < 64 units, and no clear since it arrived:
+//     x = sat12(X - (R >>> 7))                   X = Y >>> 2 (E minus its mean) in gear
+//                                                 0, E above; minus 4 mean(A); 1/32 units
+//     H = A[b] + (x >>> (mu_i + s + n))            H in 1/256 units: LMS step
+//                                                 2^-(3 + mu_i + s + n), s = 1 in gears
+//                                                 >= 4, n = 1 after 2048 updates since a
+//                                                 clear; not made if H would leave s16
+//   and H is written to A[b] (and R updated) when sample k + 9 arrives: the correction
+//   of sample j sees the updates of the candidates <= j - 9, whatever the strobe pattern.
+//   Candidates are 10 or more samples apart, so at most one update is in flight and the
 //   learning view is the table itself.
 //
 // The bin is found from the octant address's scale t_i (rtl/octant.v t_o) before the
@@ -40,7 +50,8 @@
 // both words are read and the comparison inside the bucket (c) selects one afterwards.
 //
 // Timing, a = the edge on which valid_i is high (the sample's arrival; t + 4 in the core):
-//   a      candidate decision; commit (RAM write and R) of the candidate k - 7
+//   a      tick, gear and candidate decisions; commit (RAM write and R) of the
+//          candidate k - 9
 //   a + 1  t_i registered (it is combinational before this edge, the ratio multiply's
 //          result); the phase sums' constant parts registered (apply_i sampled).
 //          The candidates b0, b1 are formed from t_i before this edge (rtl/hbin.v).
@@ -54,10 +65,12 @@
 //          commit on this edge is undone by lha below).
 //   a + 2  phase_o, phase_c_o, valid_o (ph_i is the phase table's output, valid after
 //          a + 1); a candidate's A[b] captured
-//   a + 3  observer: E, P, V, C
-//   a + 4  Y, M
-//   a + 5  update (learn_i and mu_i sampled on this edge)
-//   a + 6  new entry H (pending until sample k + 7 arrives)
+//   a + 3  the block's base and sum
+//   a + 4  the block's mean (meas)
+//   a + 5  observer on ticks: E, P, V, C, M; the gear request (every sample)
+//   a + 6  the learning error
+//   a + 7  update (learn_i and mu_i sampled on this edge)
+//   a + 8  new entry H (pending until sample k + 9 arrives)
 // Every stage's registers take a sample only with its valid bit (a clock enable; between
 // samples they hold the last one's values).
 // clear_i high on edge w: R = -8192, a pending update is dropped and so are those of
@@ -72,7 +85,10 @@ module harmonic #(
     // (distributed RAM: ECP5 and the like; the read starts at flip-flops, a shorter path at
     // high clock rates); 0: read on edge a + 1 (block RAM: iCE40). Either way the
     // addresses are formed from t_i before edge a + 1. The results are the same.
-    parameter [0:0] OPT_DISTRAM = 1'b0
+    parameter [0:0] OPT_DISTRAM = 1'b0,
+    // the observer's gears 0..GEARS: in gear g it sees the mean of blocks of 2**g samples
+    // (GEARS = 0: every sample; the table then learns from 16 units/sample up); 0..11
+    parameter integer GEARS = 11
 ) (
     input  wire        clk,
     input  wire        valid_i,     // the sample's arrival (edge a)
@@ -112,30 +128,63 @@ module harmonic #(
     // ---- stage 1 (edge a): candidates, commit, sweep ------------------------------------
     reg  [6:0]  swp = 7'd0;         // clear sweep: words left
     wire        sweeping = (swp != 7'd0);
-    reg  [3:0]  skip = 4'd0;
+    reg  [4:0]  skip = 5'd0;
     reg  [7:0]  lfsr = 8'hE1;
-    reg  [2:0]  cc = 3'd0;          // arrivals until the pending update is committed
+    reg  [3:0]  cc = 4'd0;          // arrivals until the pending update is committed
     reg         pw = 1'b0;          // pending update valid
     reg  [15:0] hp = 16'd0;         // pending entry (zero while sweeping)
     reg  [11:0] pd = 12'd0;         // pending entry - old entry
     reg  [5:0]  lb = 6'd0;          // candidate's bin
     reg  [15:0] lha = 16'd0;        // candidate's A[b] (the entry before the update)
     reg  signed [22:0] r_sum = R0;  // R, updated with the commits and clears
-    wire        cand = (skip == 4'd0);
-    wire        commit = valid_i && cc == 3'd1 && pw && !clear_i;
-    reg         v1 = 1'b0, cand1 = 1'b0, blk1 = 1'b0, neg1 = 1'b0;
-    reg  [1:0]  oct1 = 2'd0;
+    // gears: the tick schedule (the observer's samples), the gear of the next block; a
+    // tick's decision reads the request the observer (stage 6) wrote for the sample 6
+    // arrivals before (ring, by arrival mod 8), unless the gear changed within them
+    reg  [3:0]  gear = 4'd0;        // the gear of the block being collected
+    reg  [10:0] tcnt = 11'd0;       // arrivals until the next tick
+    reg  [2:0]  hold = 3'd6;        // arrivals since the last gear change (saturating)
+    reg  [2:0]  n1 = 3'd0;          // arrivals mod 8
+    reg  [1:0]  ring [0:7];         // the observer's gear request by sample (stage 6)
+    integer     ri;
+    initial
+        for (ri = 0; ri < 8; ri = ri + 1)
+            ring[ri] = 2'd0;
+    wire        tick = (tcnt == 11'd0);
+    wire [2:0]  n1r = n1 + 3'd2;                         // arrival - 6, mod 8
+    wire [1:0]  req = (hold == 3'd6) ? ring[n1r] : 2'd0;
+    wire        g_rst = (req == 2'd3) && (gear != 4'd0);
+    localparam [3:0] GMAX = GEARS[3:0];
+    wire        g_up = (req == 2'd1) && (gear < GMAX);
+    wire        g_dn = (req == 2'd2) && (gear != 4'd0);
+    wire [1:0]  conv = !tick ? 2'd0 : g_rst ? 2'd3 : g_up ? 2'd1 : g_dn ? 2'd2 : 2'd0;
+    wire [3:0]  g_new = (conv == 2'd3) ? 4'd0 : (conv == 2'd1) ? gear + 1'b1
+                      : (conv == 2'd2) ? gear - 1'b1 : gear;
+    wire        cand = (skip == 5'd0) && tick;
+    wire        commit = valid_i && cc == 4'd1 && pw && !clear_i;
+    reg         v1 = 1'b0, cand1 = 1'b0, blk1 = 1'b0, neg1 = 1'b0, tick1 = 1'b0;
+    reg  [1:0]  oct1 = 2'd0, conv1 = 2'd0;
+    reg  [3:0]  gb1 = 4'd0;         // the gear of the block this sample ends or belongs to
     always @(posedge clk) begin
         v1 <= valid_i;
         if (valid_i) begin
             oct1 <= oct2_i;
             neg1 <= neg_i;
             cand1 <= cand;
+            tick1 <= tick;
+            conv1 <= conv;
+            gb1 <= gear;
             blk1 <= clear_i || sweeping;
-            skip <= cand ? 4'd7 + {1'b0, lfsr[2:0]} : skip - 1'b1;
+            n1 <= n1 + 1'b1;
+            if (tick) begin
+                gear <= g_new;
+                tcnt <= ~(11'h7ff << g_new);
+            end else
+                tcnt <= tcnt - 1'b1;
+            hold <= (conv != 2'd0) ? 3'd1 : (hold == 3'd6) ? hold : hold + 1'b1;
+            skip <= cand ? 5'd9 + {2'd0, lfsr[2:0]} : (skip != 5'd0) ? skip - 1'b1 : skip;
             if (cand)
                 lfsr <= {1'b0, lfsr[7:1]} ^ (lfsr[0] ? 8'hB8 : 8'h00);
-            cc <= cand ? 3'd7 : (cc != 3'd0) ? cc - 1'b1 : 3'd0;
+            cc <= cand ? 4'd9 : (cc != 4'd0) ? cc - 1'b1 : 4'd0;
         end
         swp <= clear_i ? 7'd64 : sweeping ? swp - 1'b1 : 7'd0;
         if (clear_i)
@@ -147,7 +196,7 @@ module harmonic #(
     // ---- stage 2 (edge a + 1): table reads; the constant parts of the phase sums: 256
     // (base + neg) (+ R' + 256 where the correction is used) ----------------------------------
     // a0, a1: A[b0], A[b1] as the writes on edges <= a left them (a commit writes on the
-    // arrival edge of sample k + 7, a sweep on the edges after a clear):
+    // arrival edge of sample k + 9, a sweep on the edges after a clear):
     //   OPT_DISTRAM = 0: read on edge a + 1, when the commit of the next sample may write
     //     the same word (the block RAM's result is then undefined): such a read is taken
     //     as the word before the write, which is lha (the candidate's entry; nothing else
@@ -168,7 +217,9 @@ module harmonic #(
         .oct2_i(oct1), .neg_i(neg1), .t_i(t_i), .b0_o(bc1[5:0]), .b1_o(bc1[11:6]),
         .c_o(c1_unused), .bin_o(bin1_unused)
     );
-    reg         v2 = 1'b0, cand2 = 1'b0, blk2 = 1'b0, ok2 = 1'b0, neg2 = 1'b0;
+    reg         v2 = 1'b0, cand2 = 1'b0, blk2 = 1'b0, ok2 = 1'b0, neg2 = 1'b0, tick2 = 1'b0;
+    reg  [1:0]  conv2 = 2'd0;
+    reg  [3:0]  gb2 = 4'd0;
     wire [11:0] bc;                             // {b1, b0} of the sample read
     wire        c2;                             // t reaches its bucket's threshold
     wire [5:0]  bin2;                           // the bin: c2 ? b1 : b0
@@ -249,6 +300,9 @@ module harmonic #(
         v2 <= v1;
         cand2 <= v1 && cand1;
         if (v1) begin
+            tick2 <= tick1;
+            conv2 <= conv1;
+            gb2 <= gb1;
             blk2 <= blk1;
             ok2 <= !blk1 && !clear_i;
             neg2 <= neg1;
@@ -268,7 +322,7 @@ module harmonic #(
     // come after the registers (phase_c_o, pc3), so the phase table's output only meets
     // one 13-bit carry chain and the table's word one 21-bit chain before a register.
     // (lb is the committed word's address until the next candidate's stage 3, at least
-    // eight arrivals after the commit)
+    // one arrival after the commit)
     wire [15:0] rd_q = c2 ? a1 : a0;                     // A[b]
     // ~A (sign-extended) + R' + 256 for both candidates; c selects the sum and u gates it
     // (y, u13, or 0 where the correction is not used; a function evaluated in the stage's
@@ -293,10 +347,15 @@ module harmonic #(
         h_ph = k + {neg, ph};
     endfunction
     reg  [12:0] ya = 13'd0, yb = 13'd0;                 // y applied (phase_c_o), used (pc)
-    reg         v3 = 1'b0, cand3 = 1'b0, lok = 1'b0;
+    reg         v3 = 1'b0, cand3 = 1'b0, lok = 1'b0, tick3 = 1'b0;
+    reg  [1:0]  conv3 = 2'd0;
+    reg  [3:0]  gb3 = 4'd0;
     always @(posedge clk) begin
         valid_o <= v2;
         if (v2) begin
+            tick3 <= tick2;
+            conv3 <= conv2;
+            gb3 <= gb2;
             phase_o <= h_ph(k0, ph_i, neg2);
             ya <= h_ysum(a0, a1, c2, ua2, rq2);
             yb <= h_ysum(a0, a1, c2, ub2, rq2);
@@ -312,28 +371,92 @@ module harmonic #(
     end
     assign phase_c_o = phase_o + ya;
 
-    // ---- stage 4 (edge a + 3): observer -----------------------------------------------------
-    reg  [17:0] p_st = 18'd0;                   // P, u13.5
-    reg  [25:0] v_st = 26'd0;                   // V, s13.13
-    reg  [10:0] c_st = 11'd0;                   // C, u11
-    // (this stage's logic as functions evaluated in its clock enable's branch: simulation
-    // computes it only for a sample)
-    // E = 32 (phase + y) - P (s13.5, wraps): one carry-save step (-P = ~P + 1, the 1 in the
-    // carry's free bit 0), then one carry chain
-    function automatic [17:0] obs_e(input [12:0] ph, input [12:0] y, input [17:0] p);
-        reg [17:0] ex, ey, ez;
+    // ---- stage 4 (edge a + 3): the block's sum ----------------------------------------------
+    // pc = phase + y (the corrected phase); a block's first sample (the one after a tick)
+    // is its base, the others add pc - base (s13, wrapped) to S (s24: 2048 samples of at
+    // most half a period)
+    reg         v4 = 1'b0, cand4 = 1'b0, tick4 = 1'b0, first = 1'b1;
+    reg  [1:0]  conv4 = 2'd0;
+    reg  [3:0]  gb4 = 4'd0;
+    reg  [12:0] base = 13'd0;
+    reg  [23:0] s_sum = 24'd0;
+    // S + (phase + y - base) (a function evaluated in the stage's clock enable's branch)
+    function automatic [23:0] h_sum24(input [23:0] s_in, input [12:0] ph, input [12:0] y,
+                                      input [12:0] b);
+        reg [12:0] dd;
         begin
-            ex = {ph, 5'd0};
-            ey = {y, 5'd0};
-            ez = ~p;
-            obs_e = (ex ^ ey ^ ez) + {(ex[16:0] & ey[16:0]) | (ex[16:0] & ez[16:0]) |
-                                      (ey[16:0] & ez[16:0]), 1'b1};
+            dd = ph + y - b;
+            h_sum24 = s_in + {{11{dd[12]}}, dd};
         end
     endfunction
-    // the observer's step, E >>> 2 or E >>> 7 (the gear), sign-extended to 26 bits
+    always @(posedge clk) begin
+        v4 <= v3;
+        cand4 <= cand3;
+        if (v3) begin
+            tick4 <= tick3;
+            conv4 <= conv3;
+            gb4 <= gb3;
+            first <= tick3;
+            if (first) begin
+                base <= phase_o + yb;
+                s_sum <= 24'd0;
+            end else
+                s_sum <= h_sum24(s_sum, phase_o, yb, base);
+        end
+    end
+
+    // the observer's state (stage 6; V is read by stage 5 too)
+    reg  [17:0] p_st = 18'd0;                   // P, u13.5
+    reg  [25:0] v_st = 26'd0;                   // V, s13.13 units/tick
+    reg  [10:0] c_st = 11'd0;                   // C, u11 (ticks)
+    reg  [19:0] m_st = 20'd0;                   // M, s13.7: running mean of E (ticks)
+    reg  [2:0]  n6 = 3'd0;                      // samples mod 8 (the ring's write index)
+
+    // ---- stage 5 (edge a + 4): the block's mean -------------------------------------------
+    // meas = 32 base + (32 S >>> gear) (u13.5, wraps): the mean phase of the block's
+    // 2**gear samples (the sample itself at gear 0)
+    reg         v5 = 1'b0, cand5 = 1'b0, tick5 = 1'b0;
+    reg  [1:0]  conv5 = 2'd0;
+    reg  [3:0]  gb5 = 4'd0;
+    reg  [17:0] meas5 = 18'd0;
+    // + ((V >>> 1) - (V >>> (gear + 1))) >>> 8: the mean moved to the block's last sample,
+    // (D - 1) / 2 samples later (V is the previous tick's, per block; 0 at gear 0)
+    /* verilator lint_off UNUSEDSIGNAL */
+    function automatic [17:0] h_meas(input [12:0] b, input [23:0] s_in, input [3:0] g,
+                                     input [25:0] v);
+        reg [28:0] sh;
+        reg [25:0] vh, vg, ext;
+        begin
+            sh = $signed({s_in, 5'd0}) >>> g;
+            vh = $signed(v) >>> 1;
+            vg = $signed(vh) >>> g;         // (on its own: an unsigned operand beside it
+            ext = vh - vg;                  //  would make the shift logical)
+            h_meas = {b, 5'd0} + sh[17:0] + ext[25:8];
+        end
+    endfunction
+    /* verilator lint_on UNUSEDSIGNAL */
+    always @(posedge clk) begin
+        v5 <= v4;
+        cand5 <= cand4;
+        if (v4) begin
+            tick5 <= tick4;
+            conv5 <= conv4;
+            gb5 <= gb4;
+            meas5 <= h_meas(base, s_sum, gb4, v_st);
+        end
+    end
+
+    // ---- stage 6 (edge a + 5): observer and running mean of E (on ticks); the gear request
+    // (this stage's logic as functions evaluated in its clock enable's branch: simulation
+    // computes it only for a sample)
+    // the observer's step, round(E / 4) or round(E / 128) (the loop's gear), sign-extended:
+    // E >>> 2 + E[1] or E >>> 7 + E[6] (the rounding bit joins the adders' carry)
     /* verilator lint_off UNUSEDSIGNAL */
     function automatic [15:0] obs_de(input [17:0] e, input [10:0] c);
         obs_de = (c < 11'd256) ? e[17:2] : {{5{e[17]}}, e[17:7]};
+    endfunction
+    function automatic obs_rb(input [17:0] e, input [10:0] c);
+        obs_rb = (c < 11'd256) ? e[1] : e[6];
     endfunction
     function automatic [17:0] obs_de18(input [17:0] e, input [10:0] c);
         reg [15:0] de;
@@ -353,69 +476,130 @@ module harmonic #(
     function automatic obs_lost(input [17:0] e);
         obs_lost = !((e[17:15] == 3'b000) || (e[17:15] == 3'b111));
     endfunction
-    // the learning window: C == 2047 and 16 <= |V| >> 13 < 512 (|V| one's complement)
-    function automatic obs_win(input [10:0] c, input [25:0] v);
+    // |V| one's complement
+    function automatic [25:0] obs_av(input [25:0] v);
+        obs_av = v ^ {26{v[25]}};
+    endfunction
+    // the lag is small: |M| < 2 units (M s13.7)
+    function automatic obs_quiet(input [19:0] m);
+        obs_quiet = (m[19:8] == 12'd0) || ((m[19:8] == 12'hfff) && (m[7:0] != 8'd0));
+    endfunction
+    // the learning window: C == 2047, 16 <= |V| >> 13 < 512, and at gears above 0
+    // |M| < 2 units and |E| < 64 units
+    function automatic obs_win(input [10:0] c, input [25:0] v, input [3:0] g,
+                               input [19:0] m, input [17:0] e);
         reg [25:0] av;
         begin
-            av = v ^ {26{v[25]}};
-            obs_win = (c == 11'd2047) && (av[25:22] == 4'd0) && (av[21:17] != 5'd0);
+            av = obs_av(v);
+            obs_win = (c == 11'd2047) && (av[25:22] == 4'd0) && (av[21:17] != 5'd0)
+                   && ((g == 4'd0) || (obs_quiet(m)
+                                && ((e[17:11] == 7'd0) || (e[17:11] == 7'h7f))));
         end
     endfunction
-    /* verilator lint_on UNUSEDSIGNAL */
-    reg         v4 = 1'b0, cand4 = 1'b0, win4 = 1'b0;
-    reg  [17:0] e4 = 18'd0;
-    always @(posedge clk) begin
-        if (v3) begin
-            p_st <= p_st + v_st[25:8] + obs_de18(obs_e(phase_o, yb, p_st), c_st);
-            v_st <= v_st + obs_de26(obs_e(phase_o, yb, p_st), c_st);
-            c_st <= obs_lost(obs_e(phase_o, yb, p_st)) ? 11'd0
-                  : (c_st == 11'd2047) ? c_st : c_st + 1'b1;
-            win4 <= obs_win(c_st, v_st);
-            e4 <= obs_e(phase_o, yb, p_st);
+    // the gear request as the sample finds the observer: 3 lost (C == 0), 1 up (locked,
+    // |M| < 2 units, |V| < 16 units/tick), 2 down (|V| >= 64 units/tick), else 0
+    function automatic [1:0] obs_req(input [10:0] c, input [19:0] m, input [25:0] v);
+        reg [25:0] av;
+        begin
+            av = obs_av(v);
+            obs_req = (c == 11'd0) ? 2'd3
+                    : ((c == 11'd2047) && obs_quiet(m) && (av[25:17] == 9'd0)) ? 2'd1
+                    : (av[25:19] != 7'd0) ? 2'd2 : 2'd0;
         end
-        v4 <= v3;
-        cand4 <= cand3;
-    end
-
-    // ---- stage 5 (edge a + 4): running mean of E, lock gate ---------------------------------
-    reg  [19:0] m_st = 20'd0;                   // M, s13.7
-    // Y = 4 E - M (s21), a function evaluated in the stage's clock enable's branch
+    endfunction
+    // the prediction's step as converted for the next block: 0 as it is, 1 doubled (the
+    // next mean 1.5 V ahead), 2 halved (0.75 V ahead), 3 zeroed; w >>> 8 (mod 2**18)
+    function automatic [17:0] obs_w8(input [25:0] v, input [1:0] cv);
+        reg [25:0] w;
+        begin
+            case (cv)
+                2'd1: w = v + {v[25], v[25:1]};
+                2'd2: w = v - {{2{v[25]}}, v[25:2]};
+                2'd3: w = 26'd0;
+                default: w = v;
+            endcase
+            obs_w8 = w[25:8];
+        end
+    endfunction
+    // V as converted for the next block
+    function automatic [25:0] obs_vc(input [25:0] v, input [1:0] cv);
+        case (cv)
+            2'd1: obs_vc = {v[24:0], 1'b0};
+            2'd2: obs_vc = {v[25], v[25:1]};
+            2'd3: obs_vc = 26'd0;
+            default: obs_vc = v;
+        endcase
+    endfunction
+    // C: 0 when the lock is lost, else one more (saturating at 2047); at most 1791 after
+    // a gear change (256 ticks of settling before learning or another shift up)
+    function automatic [10:0] obs_c(input [10:0] c, input [17:0] e, input [1:0] cv);
+        obs_c = obs_lost(e) ? 11'd0
+              : ((cv != 2'd0) && (c >= 11'd1791)) ? 11'd1791
+              : (c == 11'd2047) ? c : c + 1'b1;
+    endfunction
+    // Y = 4 E - M (s21)
     function automatic [20:0] h_y(input [17:0] e, input [19:0] m);
         h_y = {e[17], e, 2'd0} - {m[19], m};
     endfunction
-    /* verilator lint_off UNUSEDSIGNAL */
-    function automatic [19:0] h_m(input [17:0] e, input [19:0] m);   // M + Y >>> 10
+    // M + round(Y / 1024): Y >>> 10 + Y[9]; 0 after a gear change (the lag measured
+    // afresh)
+    function automatic [19:0] h_m(input [17:0] e, input [19:0] m, input [1:0] cv);
         reg [20:0] y;
         begin
             y = h_y(e, m);
-            h_m = m + {{9{y[20]}}, y[20:10]};
-        end
-    endfunction
-    function automatic [18:0] h_y5(input [17:0] e, input [19:0] m);  // Y >>> 2
-        reg [20:0] y;
-        begin
-            y = h_y(e, m);
-            h_y5 = y[20:2];
+            h_m = (cv != 2'd0) ? 20'd0 : m + {{9{y[20]}}, y[20:10]} + {19'd0, y[9]};
         end
     endfunction
     /* verilator lint_on UNUSEDSIGNAL */
-    reg         cand5 = 1'b0, win5 = 1'b0, lock5 = 1'b0;
-    reg  [18:0] y5 = 19'd0;                     // Y >>> 2, s19
+    wire [17:0] e6w = meas5 - p_st;             // E, s13.5 (wraps)
+    reg         cand6 = 1'b0, tick6 = 1'b0, win6 = 1'b0, g0_6 = 1'b0, gs6 = 1'b0;
+    reg  [17:0] e6 = 18'd0;
+    reg  [20:0] y6 = 21'd0;
     always @(posedge clk) begin
-        cand5 <= cand4;
-        if (v4) begin
-            m_st <= h_m(e4, m_st);
-            win5 <= win4;
-            lock5 <= (e4[17:13] == 5'b00000) || (e4[17:13] == 5'b11111);
-            y5 <= h_y5(e4, m_st);
+        if (v5) begin
+            ring[n6] <= obs_req(c_st, m_st, v_st);
+            n6 <= n6 + 1'b1;
+        end
+        if (v5 && tick5) begin
+            p_st <= p_st + obs_w8(v_st, conv5) + obs_de18(e6w, c_st)
+                  + {17'd0, obs_rb(e6w, c_st)};
+            v_st <= obs_vc(v_st, conv5) + obs_de26(e6w, c_st) + {25'd0, obs_rb(e6w, c_st)};
+            c_st <= obs_c(c_st, e6w, conv5);
+            m_st <= h_m(e6w, m_st, conv5);
+            win6 <= obs_win(c_st, v_st, gb5, m_st, e6w);
+            e6 <= e6w;
+            y6 <= h_y(e6w, m_st);
+            g0_6 <= (gb5 == 4'd0);
+            gs6 <= (gb5 >= 4'd4);
+        end
+        tick6 <= v5 && tick5;
+        cand6 <= cand5;
+    end
+
+    // ---- stage 7 (edge a + 6): the learning error, lock gate --------------------------------
+    // Y >>> 2 (E minus its mean) at gear 0, E at the others (s19)
+    /* verilator lint_off UNUSEDSIGNAL */
+    function automatic [18:0] h_y5(input [20:0] y, input [17:0] e, input g0);
+        h_y5 = g0 ? y[20:2] : {e[17], e};
+    endfunction
+    /* verilator lint_on UNUSEDSIGNAL */
+    reg         cand7 = 1'b0, win7 = 1'b0, lock7 = 1'b0, gs7 = 1'b0;
+    reg  [18:0] y7 = 19'd0;
+    always @(posedge clk) begin
+        cand7 <= cand6;
+        if (tick6) begin
+            win7 <= win6;
+            lock7 <= (e6[17:13] == 5'b00000) || (e6[17:13] == 5'b11111);
+            y7 <= h_y5(y6, e6, g0_6);
+            gs7 <= gs6;
         end
     end
 
-    // ---- stage 6 (edge a + 5): the update ---------------------------------------------------
-    // the step (X = Y - R >>> 7, s20, clamped to s12) >>> mu: a function evaluated in the
-    // stage's clock enable's branch
+    // ---- stage 8 (edge a + 7): the update ---------------------------------------------------
+    // the step (X = Y - R >>> 7, s20, clamped to s12) >>> (mu + slow): a function
+    // evaluated in the stage's clock enable's branch
     /* verilator lint_off UNUSEDSIGNAL */
-    function automatic [11:0] h_step(input [18:0] y, input [22:0] r, input [1:0] mu);
+    function automatic [11:0] h_step(input [18:0] y, input [22:0] r, input [2:0] mu);
         reg [19:0] x_w;
         reg        x_hi, x_lo;
         reg signed [11:0] xc;
@@ -428,16 +612,17 @@ module harmonic #(
         end
     endfunction
     /* verilator lint_on UNUSEDSIGNAL */
-    reg  [11:0] d6 = 12'd0;
-    reg         g6 = 1'b0, cand6 = 1'b0;
+    reg  [11:0] d8 = 12'd0;
+    reg         g8 = 1'b0, cand8 = 1'b0;
+    reg  [11:0] nup = 12'd0;        // updates made since the last clear, saturating at 2048
     always @(posedge clk) begin
-        if (cand5)
-            d6 <= h_step(y5, r_sum, mu_i);
-        g6 <= cand5 && learn_i && win5 && lock5;
-        cand6 <= cand5;
+        if (cand7)
+            d8 <= h_step(y7, r_sum, {1'b0, mu_i} + {2'd0, gs7} + {2'd0, nup[11]});
+        g8 <= cand7 && learn_i && win7 && lock7;
+        cand8 <= cand7;
     end
 
-    // ---- stage 7 (edge a + 6): new entry, pending until sample k + 7 ------------------------
+    // ---- stage 9 (edge a + 8): new entry, pending until sample k + 9 ------------------------
     // an update that would leave s16 is not made (the entry stays at most one step short
     // of the rail)
     // the new entry A + d (s17) and whether it leaves s16: functions evaluated in the
@@ -465,11 +650,14 @@ module harmonic #(
         if (clear_i) begin
             pw <= 1'b0;
             hp <= 16'd0;
-        end else if (cand6) begin
-            pw <= g6 && lok && !h_ovf(lha, d6);
-            if (g6 && lok && !h_ovf(lha, d6)) begin
-                hp <= h_entry(lha, d6);
-                pd <= d6;
+            nup <= 12'd0;
+        end else if (cand8) begin
+            pw <= g8 && lok && !h_ovf(lha, d8);
+            if (g8 && lok && !h_ovf(lha, d8) && !nup[11])
+                nup <= nup + 1'b1;
+            if (g8 && lok && !h_ovf(lha, d8)) begin
+                hp <= h_entry(lha, d8);
+                pd <= d8;
             end
         end
     end

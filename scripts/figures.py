@@ -47,7 +47,9 @@ def publish(name, command, headline, table_md, results=RESULTS, readme=README):
 def _rows_bench(h):
     return [("Accuracy: RMS error / the physical floor (METHOD.md), "
              f"{h['scenarios']} scenarios", f"{h['ratio_min']:.3f} to {h['ratio_max']:.3f}; "
-             f"{h['slips']} slips; RTL == model on {h['rtl_equal']} of {h['scenarios']}")]
+             f"{h['slips']} slips; RTL == model on {h['rtl_equal']} of {h['scenarios']}"
+             + (f"; constant parameters: at most {h['offline_max']:.3f} x the offline fit's "
+                "RMS" if "offline_max" in h else ""))]
 
 
 def _rows_demo(h):

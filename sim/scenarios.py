@@ -30,6 +30,8 @@ class Scenario:
     events: list = field(default_factory=list)
     port_bits: int = 0              # the core's ADC port (ADC_W) when wider than the
                                     # converter: codes shifted left, MONITOR.code_step set
+    drifts: bool = False            # the signal's parameters change along the record
+                                    # (an offline fit of the whole record cannot follow)
 
     def port(self):
         """(ADC_W, code_step): the core's port width and the converter's code step on it."""
@@ -85,7 +87,7 @@ def suite():
                   phi=siggen.jump(siggen.along(x, 0.08, 0.12), k, 0.05))
     s.append(Scenario("drift_jump", "5 mm/s; A1, A2, m1, m2, phi drift along 1.5 mm; at "
                       "0.15 s m1 +3 % FS, A2 -5 % FS, phi +0.05 rad", x, sig, seed=13,
-                      events=[k]))
+                      events=[k], drifts=True))
 
     x = siggen.reversals(250_000, FS, 20 * UM, 20.0)
     s.append(Scenario("reversals", "back and forth over 40 um at 20 Hz (2.5 mm/s peak, "
@@ -116,6 +118,49 @@ def suite():
                       "0.1 % noise; moves of 0.2 mm / -0.1 mm at 2 mm/s", x,
                       replace(base, A1=0.30, A2=0.27, m1=0.015, m2=-0.01, noise=0.001,
                               adc_bits=10), seed=23, port_bits=12))
+
+    # slow scans with mixed harmonics (the harmonic table learns on decimated, averaged
+    # samples below 16 units/sample: sim/model/harmonic.py), with a reversal
+    mixed = dict(h2=0.005, h3=0.01, h5=0.003)
+    x = siggen.moves(FS, [("dwell", 0.01), _move(0.3 * MM, 0.5 * MM, 0.05 * MM * 1e3)])
+    s.append(Scenario("slow05", "0.5 mm/s scan of 0.3 mm; 2nd 0.5 %, 3rd 1 %, 5th 0.3 % "
+                      "harmonic", x, replace(base, **mixed), seed=31))
+    x = siggen.moves(FS, [("dwell", 0.01), _move(1.0 * MM, 2 * MM, 0.2 * MM * 1e3),
+                          ("dwell", 0.01), _move(-0.6 * MM, 2 * MM, 0.2 * MM * 1e3)])
+    s.append(Scenario("slow2", "2 mm/s scans of 1 mm / -0.6 mm; 2nd 0.2 %, 3rd 2 %, 5th "
+                      "0.5 % harmonic", x, replace(base, h2=0.002, h3=0.02, h5=0.005),
+                      seed=32))
+    x = siggen.moves(FS, [("dwell", 0.01), _move(2 * MM, 5 * MM, 0.5 * MM * 1e3),
+                          ("dwell", 0.01), _move(-1.5 * MM, 5 * MM, 0.5 * MM * 1e3)])
+    s.append(Scenario("slow5", "5 mm/s scans of 2 mm / -1.5 mm; 2nd 1 %, 3rd 0.5 %, 5th "
+                      "1 % harmonic", x, replace(base, h2=0.01, h3=0.005, h5=0.01),
+                      seed=33))
+    # a magnetic ring of 256 signal periods per revolution at 30 rpm (128 periods/s, the
+    # speed of a 0.5 mm/s scan on a 4 um scale), 0.3 revolution and back by 0.1: the
+    # amplitudes and offsets follow the ring's run-out once per revolution
+    per_rev = 256
+    x = siggen.moves(FS, [("dwell", 0.01), _move(0.3 * per_rev * PITCH_NM, 0.5 * MM,
+                                                 0.1 * MM * 1e3),
+                          ("dwell", 0.01), _move(-0.1 * per_rev * PITCH_NM, 0.5 * MM,
+                                                 0.1 * MM * 1e3)])
+    rev = 2 * np.pi * x / (per_rev * PITCH_NM)
+    s.append(Scenario("rotary", "magnetic ring, 256 periods/rev, 30 rpm, 0.3 rev and back "
+                      "0.1 rev; amplitude +-3 % and offsets +-1 % FS once per revolution; "
+                      "2nd 0.3 %, 3rd 1.5 %, 5th 0.5 % harmonic", x,
+                      replace(base, A1=0.60 * (1 + 0.03 * np.sin(rev)),
+                              A2=0.54 * (1 + 0.03 * np.sin(rev + 0.5)),
+                              m1=0.03 + 0.01 * np.cos(rev), m2=-0.02 + 0.01 * np.sin(rev),
+                              h2=0.003, h3=0.015, h5=0.005), seed=34, drifts=True))
+
+    # a magnetic scale as recorded: a 12-bit converter, 1000 samples per period, strong
+    # 3rd and 5th harmonics, constant parameters (the online fit against the offline one)
+    x = siggen.constant_speed(600_000, FS, _speed(1e-3))
+    s.append(Scenario("magnetic12", "magnetic scale: 12-bit ADC, 1000 samples per period, "
+                      "A1 0.45 / A2 0.40, offsets 2 % / -1.5 %, phase 0.05 rad, 2nd 0.5 %, "
+                      "3rd 2 %, 5th 0.8 % harmonic, 0.2 % noise", x,
+                      replace(base, A1=0.45, A2=0.40, m1=0.02, m2=-0.015, phi=0.05,
+                              h2=0.005, h3=0.02, h5=0.008, noise=0.002, adc_bits=12),
+                      seed=35))
 
     # a dwell scores its own rounding error (with noise below a count it is fixed), so one
     # dwell's ratio depends on where it falls in its count cell (0.78..1.08 when the

@@ -3,7 +3,7 @@
 Each channel carries the same periodic waveform f (the readhead sees one grating through
 two windows a quarter period apart), with gain, offset and quadrature error:
 
-    f(t) = cos t + h2 cos 2t + h3 cos 3t
+    f(t) = cos t + h2 cos 2t + h3 cos 3t + h5 cos 5t
     u1 = A1 f(a) + m1,   u2 = A2 f(a - phi - pi/2) + m2,   a = 2 pi x / pitch
 
 With h2 = h3 = 0 this is u2 = A2 sin(a - phi) + m2, the paper's model. A third harmonic h3
@@ -30,8 +30,9 @@ class Signal:
     m1: object = 0.030     # offsets, fraction of full scale
     m2: object = -0.020
     phi: object = 0.08     # quadrature phase error, rad
-    h2: float = 0.0        # 2nd and 3rd harmonic, fraction of the fundamental
+    h2: float = 0.0        # 2nd, 3rd and 5th harmonic, fraction of the fundamental
     h3: float = 0.0
+    h5: float = 0.0
     noise: float = 0.005   # white noise sigma per channel, fraction of the initial A1
     adc_bits: int = 16
     dropout: tuple = ()    # ((first, stop, level), ...): samples [first, stop) have their
@@ -144,10 +145,14 @@ def _waves(a, sig, d=0):
     (d = 1), written with s = a - phi so that without harmonics channel 2 is sin(s)."""
     s = a - sig.phi
     if d == 0:
-        return (np.cos(a) + sig.h2 * np.cos(2 * a) + sig.h3 * np.cos(3 * a),
-                np.sin(s) - sig.h2 * np.cos(2 * s) - sig.h3 * np.sin(3 * s))
-    return (-np.sin(a) - 2 * sig.h2 * np.sin(2 * a) - 3 * sig.h3 * np.sin(3 * a),
-            np.cos(s) + 2 * sig.h2 * np.sin(2 * s) - 3 * sig.h3 * np.cos(3 * s))
+        return (np.cos(a) + sig.h2 * np.cos(2 * a) + sig.h3 * np.cos(3 * a)
+                + sig.h5 * np.cos(5 * a),
+                np.sin(s) - sig.h2 * np.cos(2 * s) - sig.h3 * np.sin(3 * s)
+                + sig.h5 * np.sin(5 * s))
+    return (-np.sin(a) - 2 * sig.h2 * np.sin(2 * a) - 3 * sig.h3 * np.sin(3 * a)
+            - 5 * sig.h5 * np.sin(5 * a),
+            np.cos(s) + 2 * sig.h2 * np.sin(2 * s) - 3 * sig.h3 * np.cos(3 * s)
+            + 5 * sig.h5 * np.cos(5 * s))
 
 
 def _amplitudes(n, sig):

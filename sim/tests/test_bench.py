@@ -38,11 +38,23 @@ def test_bench_fails_a_scenario_over_the_target(tmp_path):
     assert (tmp_path / "accuracy.json").exists()          # the tables are still written
 
 
+def test_bench_fails_a_constant_scenario_behind_the_offline_fit(tmp_path):
+    """constant is within 2 % of the offline fit (its parameters are constant); with the
+    bound at 0.9 it fails, and the table marks it."""
+    p = bench("--no-rtl", "--only", "constant", "--build", str(tmp_path), "--offline", "0.9")
+    assert p.returncode == 1 and "over 0.9x the offline fit's RMS with constant parameters: " \
+        "constant" in p.stderr, p.stderr
+    row = json.loads((tmp_path / "accuracy.json").read_text())["scenarios"][0]
+    assert row["drifts"] is False and 0.9 < row["rtl_over_offline"] <= 1.02
+    assert "**over**" in (tmp_path / "accuracy.md").read_text()
+
+
 def test_bench_rejects_bad_arguments(tmp_path):
     p = bench("--no-rtl", "--only", "nosuch", "--build", str(tmp_path))
     assert p.returncode == 2 and "nosuch" in p.stderr
     p = bench("--interp", "600", "--build", str(tmp_path))
     assert p.returncode == 2 and "--interp must be 1..511" in p.stderr
     for bad in ("0", "-1", "nan"):
-        p = bench("--target", bad, "--build", str(tmp_path))
-        assert p.returncode == 2 and "--target must be a ratio > 0" in p.stderr, bad
+        for opt in ("--target", "--offline"):
+            p = bench(opt, bad, "--build", str(tmp_path))
+            assert p.returncode == 2 and f"{opt} must be a ratio > 0" in p.stderr, (opt, bad)

@@ -118,11 +118,15 @@ def test_harmonic3_correction_is_zero_mean(harmonic3):
 
 
 def test_constant_no_harm():
-    """A harmonic-free recording at 2 mm/s (4 units/sample, below the window): nothing is
-    learned and the counter is exactly the uncorrected one."""
+    """A harmonic-free recording at 2 mm/s (4 units/sample: the observer in gear 2): the
+    table learns noise only; the counter error is not larger than with apply off by more
+    than 0.1 nm."""
     sc, a, r, cfg = _run("constant")
-    assert r["harm"].learned == 0
-    assert np.array_equal(r["count"], _count_off(r, cfg))
+    on = _score(sc, a, r["count"])
+    off = _score(sc, a, _count_off(r, cfg))
+    print(f"constant: apply on {on['rms_nm']:.3f} nm, off {off['rms_nm']:.3f} nm")
+    assert r["harm"].learned > 1000
+    assert on["rms_nm"] < off["rms_nm"] + 0.1
 
 
 def test_harmonic_free_at_learning_speed_no_harm():
@@ -154,10 +158,12 @@ def stream(v, n, h4=13.0, sigma=7.0, seed=0, x0=100.0):
     return (ph.astype(np.int64) % 8192), x
 
 
-def test_no_learning_at_standstill_creep_or_reversals():
+def test_no_learning_at_standstill_from_dither_or_reversals():
     """Learn at 40 units/sample, stop (1 m/s^2 on a 4 um scale: 0.002 units/sample^2),
-    then a long dwell with noise, creep at 0.08 units/sample and slow reversals
-    (|v| <= 10): the table does not change, and it keeps being applied."""
+    then a long dwell with noise, servo dither around a point (amplitudes 100 to 2000
+    units, periods 2000 to 200 000 samples) and sinusoidal reversals (|v| <= 10): the
+    observer shifts through its gears, the table does not change, and it keeps being
+    applied."""
     h = hm.Harmonic()
     v = np.concatenate([np.full(60_000, 40.0), np.linspace(40.0, 0.0, 20_000)])
     ph, x = stream(v, len(v))
@@ -165,16 +171,49 @@ def test_no_learning_at_standstill_creep_or_reversals():
     assert h.learned > 4_000
     a0, r0, n0 = list(h.A), h.R, h.learned
     pos = x[-1]
-    dwell, _ = stream(0.0, 300_000, seed=1, x0=pos)
-    creep, _ = stream(0.08, 200_000, seed=2, x0=pos)
     k = np.arange(200_000)
-    rev, _ = stream(10.0 * np.cos(2 * np.pi * k / 20_000), 200_000, seed=3, x0=pos)
-    for name, s in (("dwell", dwell), ("creep", creep), ("reversals", rev)):
-        out = h.run(s)
+    runs = [("dwell", stream(0.0, 300_000, seed=1, x0=pos)[0]),
+            ("reversals", stream(10.0 * np.cos(2 * np.pi * k / 20_000), len(k), seed=3,
+                                 x0=pos)[0])]
+    for amp, per in ((100, 2000), (500, 20_000), (1000, 200_000), (2000, 20_000)):
+        v = np.diff(amp * np.sin(2 * np.pi * np.arange(len(k) + 1) / per))
+        runs.append((f"dither {amp} units / {per} samples",
+                     stream(v, len(k), seed=per + amp, x0=pos)[0]))
+    gears = set()
+    for name, s in runs:
+        out, tr = h.run(s, trace=True)
+        gears.update(np.unique(tr["g"]).tolist())
         assert h.learned == n0, name
         assert h.A == a0 and h.R == r0, name
         corr = (np.asarray(a0)[s >> 7] - (r0 >> 6)) >> 8
         assert np.array_equal(out, (s - corr) % 8192), name     # still applied
+    assert max(gears) >= 9 and len(gears) > 6
+
+
+@pytest.mark.parametrize("v, periods", [(0.05, 24), (0.4, 24), (3.0, 24), (-9.0, 80)])
+def test_learns_at_slow_speed(v, periods):
+    """At 0.05 to 9 units/sample (0.1 to 4.4 mm/s on a 4 um scale; 160 000 to 900
+    samples per period) the observer takes a gear above 0 and the table learns a
+    4th-harmonic error of 13 units (a 1 % third harmonic): after 24 periods (80 in gear 1,
+    where a period has fewer candidates) it is below 20 % of what it was."""
+    n = int(periods * 8192 / abs(v))
+    ph, x = stream(v, n, seed=5)
+    h = hm.Harmonic()
+    out, tr = h.run(ph, trace=True)
+    gate = tr["gate"].astype(bool)
+    assert tr["g"][gate].min() >= 1 and h.learned > 500
+    tail = slice(n - n // 6, n)
+    xt = x[tail]
+
+    def per_part(p):
+        e = ((p[tail] - xt + 4096) % 8192) - 4096
+        e = e - e.mean()
+        c = np.exp(-1j * 8 * np.pi * xt / 8192)
+        return 2 * abs(np.mean(e * c))              # the 4th harmonic's amplitude
+    before, after = per_part(ph), per_part(out)
+    print(f"v {v}: {h.learned} updates, gears {sorted(set(tr['g'][gate].tolist()))}, "
+          f"4th harmonic {before:.1f} -> {after:.1f} units")
+    assert before > 11 and after < 0.2 * before
 
 
 def test_long_run_no_drift_no_saturation():
@@ -190,7 +229,7 @@ def test_long_run_no_drift_no_saturation():
     spread = (max(h.A) - min(h.A)) / 256
     print(f"long run: {h.learned} updates, table mean {mean_units:.2f} units, spread "
           f"{spread:.1f} units")
-    assert h.learned > 150_000
+    assert h.learned > 120_000                 # one candidate in 10..17 samples
     assert abs(mean_units) < 8
     assert max(abs(v) for v in h.A) < 30000
     assert 24 < spread < 36                     # the +-13-unit harmonic (and noise)

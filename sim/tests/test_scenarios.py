@@ -60,6 +60,27 @@ def test_third_harmonic_gives_a_fourfold_angle_error_of_h3():
     assert np.argmax(spec) == 4
 
 
+@pytest.mark.parametrize("h, err", [(dict(h2=0.01), {1: 0.00707, 3: 0.00707}),
+                                    (dict(h5=0.01), {4: 0.01})])
+def test_second_and_fifth_harmonics_give_their_angle_errors(h, err):
+    """The angle error of the waveform's harmonics (the same waveform in both channels a
+    quarter period apart): a 2nd harmonic h gives h / sqrt(2) rad at once and three times
+    the signal frequency, a 5th (like the 3rd) h rad at four times; the derivative that
+    the floor uses (angle_var) is the waveform's own."""
+    sig = siggen.Signal(A1=0.6, A2=0.6, m1=0, m2=0, phi=0, noise=0.0, **h)
+    a = np.linspace(0, 2 * np.pi, 4096, endpoint=False)
+    u1, u2, _ = siggen.encode(a * 4000.0 / (2 * np.pi), 4000.0, sig)
+    e = np.angle(np.exp(1j * (np.arctan2(u2, u1) - a)))
+    spec = np.abs(np.fft.rfft(e)) * 2 / len(a)
+    top = sorted(np.argsort(spec)[-len(err):].tolist())
+    assert top == sorted(err)
+    assert spec[top] == pytest.approx([err[k] for k in top], rel=0.05)
+    d = 1e-6
+    w0 = np.array(siggen._waves(a, sig))
+    num = (np.array(siggen._waves(a + d, sig)) - w0) / d
+    assert np.allclose(num, siggen._waves(a, sig, 1), atol=1e-5)
+
+
 def test_angle_variance_is_methods_bound():
     sig = siggen.Signal()
     a = np.linspace(0, 2 * np.pi, 1000)
@@ -140,6 +161,12 @@ def test_suite_is_complete_and_reproducible():
     assert by["adc12_fullscale"].sig.adc_bits == 12 and by["adc12_fullscale"].sig.A1 >= 0.9
     assert by["noise2"].sig.noise == 0.02 and by["harmonic3"].sig.h3 == 0.01
     assert by["drift_jump"].events
+    # slow scans with 2nd, 3rd and 5th harmonics (0.2 to 2 %), a rotary scale at low speed
+    for name, mm_s in (("slow05", 0.5), ("slow2", 2), ("slow5", 5), ("rotary", 0.5)):
+        sg = by[name].sig
+        assert np.diff(by[name].x).max() * scenarios.FS / 1e6 == pytest.approx(mm_s, rel=1e-3)
+        assert min(sg.h2, sg.h3, sg.h5) >= 0.002 and max(sg.h2, sg.h3, sg.h5) <= 0.02
+    assert np.ptp(by["rotary"].sig.A1) > 0.01          # run-out over 0.3 revolution
     u1, u2, _ = by["constant"].codes()
     w1, w2, _ = by["constant"].codes()
     assert np.array_equal(u1, w1) and np.array_equal(u2, w2)
