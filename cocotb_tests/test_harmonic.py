@@ -8,7 +8,7 @@ the edge a on which valid_i is high (t + HARM_AT in the core), with oct2_i and n
 t_i (the octant address's scale, from which rtl/hbin.v finds the bin) is presented for
 edge a + BIN_AT (ADDR_AT - HARM_AT: the tables are read) and ph_i
 for edge a + OUT_AT (PHASE_AT - HARM_AT), after which phase_o, phase_c_o and valid_o hold
-the sample. apply_i is sampled on a + APPLY_AT (1), learn_i and mu_i on a + LEARN_AT (5)
+the sample. apply_i is sampled on a + APPLY_AT (1), learn_i and mu_i on a + LEARN_AT (7)
 (the header's numbers: sim.model has no names for them); a clear_i pulse on edge w
 empties the table for the samples arriving on edges >= w and blocks (no correction, no
 learning) those arriving on w .. w + SWEEP (harmonic.sweep_flags). oct2_i, neg_i, t_i
@@ -25,7 +25,7 @@ phase_o equals the model's fine phase (Lut.phase) and phase_c_o the output of
 sim.model.harmonic.Harmonic.run, for every sample; valid_o is high after exactly the
 edges a + OUT_AT; the model learns (more than one update per 40 samples).
 
-  directed  one stream of some 29 000 samples, the same on both simulators (DIRECTED,
+  directed  one stream of some 33 000 samples, the same on both simulators (DIRECTED,
             directed_stim), with the 4th-harmonic error beyond the table's range:
             - the learning window: |V| held above it (540 units/sample: nothing is
               learned), just inside its upper edge (511.97: every candidate lands in one
@@ -58,12 +58,18 @@ edges a + OUT_AT; the model learns (more than one update per 40 samples).
             table (ph beyond 1024: phases past the octant's border), random gaps up to
             70 clocks with bursts back to back, random register changes and clears.
   b2b       the same with the exact table and strobes back to back (a few gaps).
+  slow      slow motion (0.01 to 24 units/sample, standstill, dither, reversals, gentle
+            accelerations to gear 0, jumps) with strobes back to back: the observer's
+            gears, up and down and back to 0 on a lost lock, and learning in them
+            (400 000 samples on Verilator; test_slow_stream_exercises_gears).
 
 test_directed_sensitivity (no simulator): every placed event moved by one edge, and
 each model constant of MUTATIONS changed (window edges 16 and 512 by one unit/sample,
 the gear switch at C = 256 by one, the gears' gains, learning from C = 2047, the lock
 and lost thresholds, the sweep length, the commit delay, the candidates, the mean, the
-anchor, the entry and update limits), changes the directed stream's expected output.
+anchor, the entry and update limits, the gear shifts, the lag gates, the slow gears'
+and the annealed step), changes the expected output of the directed stream or of a
+random one.
 
 Core (test_core_harmonic): finequad_core (TABLE_EXACT=1) against sim.model.finequad_core.run, a
 stage at 40 units/sample with a 1 % third harmonic, strobes back to back, then random
@@ -86,8 +92,6 @@ import bisect
 import copy
 import functools
 import random
-
-import os
 
 import numpy as np
 import pytest
@@ -114,7 +118,7 @@ LEARN_AT = 7                                  # learn_i, mu_i
 # table kind of each block stream; samples of the random streams per simulator (the
 # directed stream is the same everywhere)
 PATTERNS = {"directed": "exact", "gaps": "paper", "b2b": "exact", "slow": "exact"}
-SAMPLES = {"icarus": {"gaps": 6000, "b2b": 10000, "slow": 12000},
+SAMPLES = {"icarus": {"gaps": 6000, "b2b": 10000, "slow": 20000},
            "verilator": {"gaps": 40000, "b2b": 60000, "slow": 400000}}
 
 
@@ -126,22 +130,22 @@ def test_harmonic(sim, pattern, distram):
     exact = int(PATTERNS[pattern] == "exact")
     fqtb.run_block(sim, "harmonic", fqtb.sources("harmonic", "hbin"), "test_harmonic",
                    parameters=dict(TABLE_EXACT=exact, OPT_DISTRAM=distram),
-                   extra_env=dict(PATTERN=pattern, SAMPLES=n, **({"HDEBUG": os.environ["HDEBUG"]} if os.environ.get("HDEBUG") else {})), testcase="harmonic_stream")
+                   extra_env=dict(PATTERN=pattern, SAMPLES=n), testcase="harmonic_stream")
 
 
 def test_slow_stream_exercises_gears():
     """The slow stream (the RTL runs it on Verilator) takes the observer through its
-    gears: every kind of gear change (up, down, back to 0 on a lost lock), gears up to 5,
-    and learning in two gears above 0 with and without the larger step (the other streams
-    learn in gear 0; the accuracy suite's creep scenarios take the core's RTL to gears 8
-    and 11)."""
+    gears: every kind of gear change (up, down, back to 0 on a lost lock), gears up to 4,
+    and learning in gears above 0 with and without the halved step (the other streams
+    learn in gear 0; make bench-accuracy's creep scenarios take the core's RTL to gears 8
+    and 11, sim/tests/test_rtlsim.py's slow scan to gear 5)."""
     st = stimulus("slow", SAMPLES["verilator"]["slow"])
     _, tr, _ = run_model(st, trace=True)
     conv = np.bincount(tr["conv"], minlength=4)
-    learned = np.bincount(tr["g"][tr["gate"].astype(bool)], minlength=hm.GMAX + 1)
+    learned = np.bincount(tr["gb"][tr["gate"].astype(bool)], minlength=hm.GMAX + 1)
     assert conv[1] >= 5 and conv[2] >= 1 and conv[3] >= 1, conv
-    assert tr["g"].max() >= 5
-    assert (learned[1:] > 500).sum() >= 2, learned
+    assert tr["g"].max() >= 4
+    assert learned[1:hm.GSLOW].max() > 500 and learned[hm.GSLOW:].max() > 500, learned
 
 
 # Model constants changed one at a time: the directed stream's expected output must change
@@ -149,10 +153,10 @@ def test_slow_stream_exercises_gears():
 MUTATIONS = [
     ("VMIN", 15), ("VMIN", 17), ("VMAX", 511), ("VMAX", 513),       # learning window
     ("VMAX", 1024),
-    ("GEARS", ((255, 2, 10), (None, 7, 15))),                         # gear switch at C = 256
-    ("GEARS", ((257, 2, 10), (None, 7, 15))),
-    ("GEARS", ((256, 3, 11), (None, 7, 15))),                         # the gears' gains
-    ("GEARS", ((256, 2, 10), (None, 6, 14))),
+    ("GAINS", ((255, 2, 10), (None, 7, 15))),                         # gear switch at C = 256
+    ("GAINS", ((257, 2, 10), (None, 7, 15))),
+    ("GAINS", ((256, 3, 11), (None, 7, 15))),                         # the gears' gains
+    ("GAINS", ((256, 2, 10), (None, 6, 14))),
     ("C_MAX", 2046),                                                  # learning from C = 2047
     ("ELOCK", 248), ("ELOCK", 264),                                   # lock gate |E| < 256
     ("ELOST", 992), ("ELOST", 1056),                                  # lock lost |E| >= 1024
@@ -408,7 +412,7 @@ DIRECTED = [
     ("over", 3200, -540.0, "b2b"),
     ("upper_step", 1, -511.97, "b2b"),    # velocity step: lock lost, the wide gear again
     # pull-in, lock, learning: just inside the window every candidate lands in one of 16
-    # bins (8..15 samples of 512 units), whose entries reach the s16 limits
+    # bins (10..17 samples of 512 units), whose entries reach the s16 limits
     ("upper", 9000, -511.97, "b2b"),
     ("up_ramp", 1200, -515.0, "b2b"),     # |V| through 512, the window's upper edge
     ("up_back", 1200, -506.0, "b2b"),     # (+ pad samples: see _lock_pad)
@@ -615,7 +619,7 @@ def slow_phases(n, rng):
     p1, p4 = rng.uniform(0, 6.3), rng.uniform(0, 6.3)
     x, v = rng.uniform(0, 8192), 1.5
     # standstill, then cruises that the observer follows in gears 4 and 3
-    vel = np.concatenate([np.zeros(20000), np.full(100000, 1.5), np.linspace(1.5, 3.0, 20000),
+    vel = np.concatenate([np.zeros(2000), np.full(100000, 1.5), np.linspace(1.5, 3.0, 20000),
                           np.full(80000, 3.0)])
     v = 3.0
     xs = x + np.cumsum(vel)
@@ -708,7 +712,7 @@ def random_stim(pattern, n, seed):
 def stimulus(pattern, n):
     if pattern == "directed":
         return directed_stim()
-    return random_stim(pattern, n, {"gaps": 11, "b2b": 12, "slow": 18}[pattern])
+    return random_stim(pattern, n, {"gaps": 11, "b2b": 12, "slow": 37}[pattern])
 
 
 # ---- cocotb side -----------------------------------------------------------------------------
@@ -784,17 +788,8 @@ async def harmonic_stream(dut):
     cocotb.start_soon(_watch(dut.valid_o, vlog))
     got = [None] * n
     junk = random.Random(len(edges))
-    import os
-    dbg = {e + 5: k for k, e in enumerate(edges)} if os.environ.get("HDEBUG") else {}
-    if dbg:
-        slots = sorted(set(slots) | set(dbg))
-    dlog = []
     for s in slots:
         await bench.goto(s)
-        k = dbg.get(s)
-        if k is not None:
-            dlog.append((k, int(dut.v_st.value), int(dut.c_st.value), int(dut.m_st.value),
-                         int(dut.p_st.value), int(dut.gear.value)))
         k = reads.get(s)
         if k is not None:
             got[k] = (fqtb.uval(dut.phase_o), fqtb.uval(dut.phase_c_o))
@@ -814,8 +809,6 @@ async def harmonic_stream(dut):
         pin["clear_i"] = int(nxt in clear_set)
     await bench.goto(bench.edge + 4)
 
-    if dbg:
-        np.save(os.environ["HDEBUG"], np.array(dlog, dtype=np.int64))
     want = list(zip(f["phase"], exp.tolist()))
     bad = [k for k in range(n) if got[k] != want[k]]
     if bad:

@@ -20,7 +20,8 @@
 //   in gears g = 0..GEARS: a tick ends a block of 2**g samples (every sample in gear 0);
 //   the tick's decision (stage 1) reads the request the observer left for the sample six
 //   arrivals before (a ring of 8 by arrival): up (locked, |M| < 2, |V| < 16 units/tick),
-//   down (|V| >= 64), back to 0 (lost), unless the gear changed within six arrivals.
+//   down (|V| >= 64), back to 0 (lost), only if that sample arrived after the last gear
+//   change (seven arrivals or more since it).
 //     meas = 32 base + (32 S >>> g) + ((V >>> 1) - (V >>> (g + 1))) >>> 8   the block's
 //            mean at its last sample; base its first pc, S the sum of pc - base (s24)
 //     E = wrap18(meas - P);  P += (W >>> 8) + round(E / 2^KA);  V = V' + round(E / 2^KA)
@@ -28,13 +29,14 @@
 //     change converts V' = 2V, V/2 or 0 and W = 1.5V, 0.75V or 0 (else V' = W = V);
 //     KA = 2 while C < 256, else 7; C (u11, saturating at 2047) counts the ticks since
 //     |E| >= 1024 units, at most 1791 after a gear change
-//   Y = E * 4 - M;  M += round(Y / 1024), 0 after a gear change   M: running mean of E
+//   Y = E * 4096 - M;  M += round(Y / 1024), 0 after a gear change   M: running mean
+//   of E, s13.17 (fine enough for the |M| < 2 units gate: a dead band of 2^-8 units)
 //   learning candidates: the first tick after 10..17 samples (after a candidate,
 //   9 + lfsr[2:0] samples are skipped; 8-bit Galois LFSR 0xB8, seed 0xE1, stepped per
 //   candidate). A candidate k learns when learn_i, C == 2047, 16 <= |V| >> 13 < 512
 //   (|V| one's complement; C, V, M before this tick's update), -256 <= E >> 5 < 256, in
 //   gears above 0 |M| < 2 units and |E| < 64 units, and no clear since it arrived:
-//     x = sat12(X - (R >>> 7))                   X = Y >>> 2 (E minus its mean) in gear
+//     x = sat12(X - (R >>> 7))                   X = Y >>> 12 (E minus its mean) in gear
 //                                                 0, E above; minus 4 mean(A); 1/32 units
 //     H = A[b] + (x >>> (mu_i + s + n))            H in 1/256 units: LMS step
 //                                                 2^-(3 + mu_i + s + n), s = 1 in gears
@@ -142,7 +144,7 @@ module harmonic #(
     // arrivals before (ring, by arrival mod 8), unless the gear changed within them
     reg  [3:0]  gear = 4'd0;        // the gear of the block being collected
     reg  [10:0] tcnt = 11'd0;       // arrivals until the next tick
-    reg  [2:0]  hold = 3'd6;        // arrivals since the last gear change (saturating)
+    reg  [2:0]  hold = 3'd7;        // arrivals since the last gear change (saturating)
     reg  [2:0]  n1 = 3'd0;          // arrivals mod 8
     reg  [1:0]  ring [0:7];         // the observer's gear request by sample (stage 6)
     integer     ri;
@@ -151,9 +153,14 @@ module harmonic #(
             ring[ri] = 2'd0;
     wire        tick = (tcnt == 11'd0);
     wire [2:0]  n1r = n1 + 3'd2;                         // arrival - 6, mod 8
-    wire [1:0]  req = (hold == 3'd6) ? ring[n1r] : 2'd0;
+    wire [1:0]  req = (hold == 3'd7) ? ring[n1r] : 2'd0;   // a request made after it
     wire        g_rst = (req == 2'd3) && (gear != 4'd0);
     localparam [3:0] GMAX = GEARS[3:0];
+    generate
+        if (GEARS < 0 || GEARS > 11) begin : g_bad
+            harmonic_GEARS_must_be_0_to_11 u_bad ();     // an elaboration error
+        end
+    endgenerate
     wire        g_up = (req == 2'd1) && (gear < GMAX);
     wire        g_dn = (req == 2'd2) && (gear != 4'd0);
     wire [1:0]  conv = !tick ? 2'd0 : g_rst ? 2'd3 : g_up ? 2'd1 : g_dn ? 2'd2 : 2'd0;
@@ -180,7 +187,7 @@ module harmonic #(
                 tcnt <= ~(11'h7ff << g_new);
             end else
                 tcnt <= tcnt - 1'b1;
-            hold <= (conv != 2'd0) ? 3'd1 : (hold == 3'd6) ? hold : hold + 1'b1;
+            hold <= (conv != 2'd0) ? 3'd1 : (hold == 3'd7) ? hold : hold + 1'b1;
             skip <= cand ? 5'd9 + {2'd0, lfsr[2:0]} : (skip != 5'd0) ? skip - 1'b1 : skip;
             if (cand)
                 lfsr <= {1'b0, lfsr[7:1]} ^ (lfsr[0] ? 8'hB8 : 8'h00);
@@ -409,7 +416,7 @@ module harmonic #(
     reg  [17:0] p_st = 18'd0;                   // P, u13.5
     reg  [25:0] v_st = 26'd0;                   // V, s13.13 units/tick
     reg  [10:0] c_st = 11'd0;                   // C, u11 (ticks)
-    reg  [19:0] m_st = 20'd0;                   // M, s13.7: running mean of E (ticks)
+    reg  [29:0] m_st = 30'd0;                   // M, s13.17: running mean of E (ticks)
     reg  [2:0]  n6 = 3'd0;                      // samples mod 8 (the ring's write index)
 
     // ---- stage 5 (edge a + 4): the block's mean -------------------------------------------
@@ -480,14 +487,14 @@ module harmonic #(
     function automatic [25:0] obs_av(input [25:0] v);
         obs_av = v ^ {26{v[25]}};
     endfunction
-    // the lag is small: |M| < 2 units (M s13.7)
-    function automatic obs_quiet(input [19:0] m);
-        obs_quiet = (m[19:8] == 12'd0) || ((m[19:8] == 12'hfff) && (m[7:0] != 8'd0));
+    // the lag is small: |M| < 2 units (M s13.17)
+    function automatic obs_quiet(input [29:0] m);
+        obs_quiet = (m[29:18] == 12'd0) || ((m[29:18] == 12'hfff) && (m[17:0] != 18'd0));
     endfunction
     // the learning window: C == 2047, 16 <= |V| >> 13 < 512, and at gears above 0
     // |M| < 2 units and |E| < 64 units
     function automatic obs_win(input [10:0] c, input [25:0] v, input [3:0] g,
-                               input [19:0] m, input [17:0] e);
+                               input [29:0] m, input [17:0] e);
         reg [25:0] av;
         begin
             av = obs_av(v);
@@ -498,7 +505,7 @@ module harmonic #(
     endfunction
     // the gear request as the sample finds the observer: 3 lost (C == 0), 1 up (locked,
     // |M| < 2 units, |V| < 16 units/tick), 2 down (|V| >= 64 units/tick), else 0
-    function automatic [1:0] obs_req(input [10:0] c, input [19:0] m, input [25:0] v);
+    function automatic [1:0] obs_req(input [10:0] c, input [29:0] m, input [25:0] v);
         reg [25:0] av;
         begin
             av = obs_av(v);
@@ -537,24 +544,24 @@ module harmonic #(
               : ((cv != 2'd0) && (c >= 11'd1791)) ? 11'd1791
               : (c == 11'd2047) ? c : c + 1'b1;
     endfunction
-    // Y = 4 E - M (s21)
-    function automatic [20:0] h_y(input [17:0] e, input [19:0] m);
-        h_y = {e[17], e, 2'd0} - {m[19], m};
+    // Y = 4096 E - M (s31)
+    function automatic [30:0] h_y(input [17:0] e, input [29:0] m);
+        h_y = {e[17], e, 12'd0} - {m[29], m};
     endfunction
     // M + round(Y / 1024): Y >>> 10 + Y[9]; 0 after a gear change (the lag measured
     // afresh)
-    function automatic [19:0] h_m(input [17:0] e, input [19:0] m, input [1:0] cv);
-        reg [20:0] y;
+    function automatic [29:0] h_m(input [17:0] e, input [29:0] m, input [1:0] cv);
+        reg [30:0] y;
         begin
             y = h_y(e, m);
-            h_m = (cv != 2'd0) ? 20'd0 : m + {{9{y[20]}}, y[20:10]} + {19'd0, y[9]};
+            h_m = (cv != 2'd0) ? 30'd0 : m + {{9{y[30]}}, y[30:10]} + {29'd0, y[9]};
         end
     endfunction
     /* verilator lint_on UNUSEDSIGNAL */
     wire [17:0] e6w = meas5 - p_st;             // E, s13.5 (wraps)
     reg         cand6 = 1'b0, tick6 = 1'b0, win6 = 1'b0, g0_6 = 1'b0, gs6 = 1'b0;
     reg  [17:0] e6 = 18'd0;
-    reg  [20:0] y6 = 21'd0;
+    reg  [30:0] y6 = 31'd0;
     always @(posedge clk) begin
         if (v5) begin
             ring[n6] <= obs_req(c_st, m_st, v_st);
@@ -577,10 +584,10 @@ module harmonic #(
     end
 
     // ---- stage 7 (edge a + 6): the learning error, lock gate --------------------------------
-    // Y >>> 2 (E minus its mean) at gear 0, E at the others (s19)
+    // Y >>> 12 (E minus its mean) at gear 0, E at the others (s19)
     /* verilator lint_off UNUSEDSIGNAL */
-    function automatic [18:0] h_y5(input [20:0] y, input [17:0] e, input g0);
-        h_y5 = g0 ? y[20:2] : {e[17], e};
+    function automatic [18:0] h_y5(input [30:0] y, input [17:0] e, input g0);
+        h_y5 = g0 ? y[30:12] : {e[17], e};
     endfunction
     /* verilator lint_on UNUSEDSIGNAL */
     reg         cand7 = 1'b0, win7 = 1'b0, lock7 = 1'b0, gs7 = 1'b0;

@@ -135,8 +135,8 @@ def suite():
     s.append(Scenario("slow5", "5 mm/s scans of 2 mm / -1.5 mm; 2nd 1 %, 3rd 0.5 %, 5th "
                       "1 % harmonic", x, replace(base, h2=0.01, h3=0.005, h5=0.01),
                       seed=33))
-    # a magnetic ring of 256 signal periods per revolution at 30 rpm (128 periods/s, the
-    # speed of a 0.5 mm/s scan on a 4 um scale), 0.3 revolution and back by 0.1: the
+    # a magnetic ring of 256 signal periods per revolution at 29.3 rpm (125 periods/s,
+    # the speed of a 0.5 mm/s scan on a 4 um scale), 0.3 revolution and back by 0.1: the
     # amplitudes and offsets follow the ring's run-out once per revolution
     per_rev = 256
     x = siggen.moves(FS, [("dwell", 0.01), _move(0.3 * per_rev * PITCH_NM, 0.5 * MM,
@@ -144,7 +144,7 @@ def suite():
                           ("dwell", 0.01), _move(-0.1 * per_rev * PITCH_NM, 0.5 * MM,
                                                  0.1 * MM * 1e3)])
     rev = 2 * np.pi * x / (per_rev * PITCH_NM)
-    s.append(Scenario("rotary", "magnetic ring, 256 periods/rev, 30 rpm, 0.3 rev and back "
+    s.append(Scenario("rotary", "magnetic ring, 256 periods/rev, 29.3 rpm, 0.3 rev and back "
                       "0.1 rev; amplitude +-3 % and offsets +-1 % FS once per revolution; "
                       "2nd 0.3 %, 3rd 1.5 %, 5th 0.5 % harmonic", x,
                       replace(base, A1=0.60 * (1 + 0.03 * np.sin(rev)),
@@ -152,8 +152,8 @@ def suite():
                               m1=0.03 + 0.01 * np.cos(rev), m2=-0.02 + 0.01 * np.sin(rev),
                               h2=0.003, h3=0.015, h5=0.005), seed=34, drifts=True))
 
-    # a magnetic scale as recorded: a 12-bit converter, 1000 samples per period, strong
-    # 3rd and 5th harmonics, constant parameters (the online fit against the offline one)
+    # a magnetic scale like recorded ones: a 12-bit converter, 1000 samples per period,
+    # strong 3rd and 5th harmonics, constant parameters (the online fit against the offline one)
     x = siggen.constant_speed(600_000, FS, _speed(1e-3))
     s.append(Scenario("magnetic12", "magnetic scale: 12-bit ADC, 1000 samples per period, "
                       "A1 0.45 / A2 0.40, offsets 2 % / -1.5 %, phase 0.05 rad, 2nd 0.5 %, "

@@ -6,7 +6,7 @@ two windows a quarter period apart), with gain, offset and quadrature error:
     f(t) = cos t + h2 cos 2t + h3 cos 3t + h5 cos 5t
     u1 = A1 f(a) + m1,   u2 = A2 f(a - phi - pi/2) + m2,   a = 2 pi x / pitch
 
-With h2 = h3 = 0 this is u2 = A2 sin(a - phi) + m2, the paper's model. A third harmonic h3
+With h2 = h3 = h5 = 0 this is u2 = A2 sin(a - phi) + m2, the paper's model. A third harmonic h3
 gives an angle error of about h3 rad at four times the signal frequency, which no ellipse
 correction removes (METHOD.md, weaknesses). Then white Gaussian noise (sigma = noise x the
 initial A1, the same on both channels), signal dropout, and quantisation to signed ADC

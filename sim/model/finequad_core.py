@@ -96,7 +96,7 @@ class Config:
                              # HARM_AT see an empty table; those strobed on w + 1 - HARM_AT
                              # .. w + 65 - HARM_AT are not corrected (the RAM is swept)
     # (harm_apply/learn/mu may also be per-sample arrays: the values the RTL samples on
-    # edges t_k + HARM_AT + 1 (apply) and t_k + HARM_AT + 5 (learn, mu); a register
+    # edges t_k + HARM_AT + 1 (apply) and t_k + HARM_AT + 7 (learn, mu); a register
     # written on edge w is sampled on the edges after w)
     ab_sep: int = _S["ab_sep"].reset
     ab_src: int = _S["ab_src"].reset

@@ -14,9 +14,9 @@ it can be slower than the error at any speed (below). Every sample k, in order:
   gear    k is a tick if 2**g samples have arrived since the last one (every sample in
           gear 0). On a tick the gear may change by the observer's request as sample
           k - 6 found it (up: locked, |M| < 2 units and |V| < 16 units/tick; down:
-          |V| >= 64 units/tick; back to 0: the lock is lost), unless the gear changed
-          within the last 6 samples. (The RTL's observer is six edges behind the
-          arrival: the request is read from a ring of the last samples'.)
+          |V| >= 64 units/tick; back to 0: the lock is lost), if k - 6 arrived after the
+          last gear change. (The RTL's observer is five edges behind the arrival: the
+          request is read from a ring of the last samples'.)
   corr    corr = (A[b] - (R >> 6)) >> 8   (s10 units; round(A[b] - mean(A)), half up);
           0 for samples arriving while the RAM is swept after a clear (blocked[k]).
           pc = (phase - corr) mod 8192;  phase_c = pc if apply else phase. The correction
@@ -40,9 +40,11 @@ it can be slower than the error at any speed (below). Every sample k, in order:
           C < 256: KA = 2 (P gain 1/4, V gain 2^-10, pull-in: speeds to ~1000 units/tick
           are acquired within ~3000 ticks), else KA = 7 (P gain 2^-7, V gain 2^-15:
           natural frequency 2^-7.5 rad/tick, damping 0.71). The steps are rounded (half
-          up), so E has no mean at constant speed. The prediction uses the velocity
+          up), so E has no mean at constant speed (with noise: without any, the fine step's
+          dead band leaves up to 2 units). The prediction uses the velocity
           before this tick's update, which keeps the RTL's recurrence two adders deep.
-  mean    Y = E * 4 - M;  M = M + round(Y / 1024)   running mean of E (s13.7, 1024 ticks):
+  mean    Y = E * 4096 - M;  M = M + round(Y / 1024)   running mean of E (s13.17, 1024
+          ticks; fine enough that its rounding leaves a dead band of 2^-8 units only):
           the observer's lag under acceleration, which is not a function of the phase;
           0 after a gear change (the lag measured afresh in the new gear).
   learn   candidates: the first tick after 10..17 samples (after a candidate,
@@ -51,7 +53,7 @@ it can be slower than the error at any speed (below). Every sample k, in order:
           C == 2047, VMIN <= |V| >> 13 < VMAX (|V| = V or ~V, one's complement; C, V and
           M before this tick's update), -256 <= E >> 5 < 256, and in gears above 0 also
           |M| < 2 units and |E| < 64 units:
-              x = sat12(X - (R >> 7))      X = E - M (Y >> 2) in gear 0, E above; 1/32
+              x = sat12(X - (R >> 7))      X = E - M (Y >> 12) in gear 0, E above; 1/32
               H = A[b] + (x >> (mu - 3 + s + n))   in 1/256 units: LMS step
                                    2^-(mu + s + n), mu 3..6, s = 1 in gears >= 4, n = 1
                                    once 2048 updates were made since a clear (else 0)
@@ -63,8 +65,9 @@ it can be slower than the error at any speed (below). Every sample k, in order:
 
 Why the step halves after 2048 updates: the LMS's misadjustment (the table's own noise)
 is proportional to its step; a table that has converged refines with half of it, and a
-clear (HARM.harm_clear) starts fast again. Measured on the accuracy suite: the harmonic-
-free and the noisy scenarios gain up to 0.3 % of the floor, adc8_slow 1.7 %.
+clear (HARM.harm_clear) starts fast again. On the accuracy suite this lowers the error
+of the harmonic-free and the noisy scenarios, and most of adc8_slow's, by what the
+learning adds there (make bench-accuracy against the same design without it).
 
 Why one candidate in 10..17 samples: the correction of sample k must not depend on the
 strobe pattern, and at one sample per clock the update of sample k - 1 cannot reach it
@@ -112,7 +115,7 @@ learned from). The observer and M keep running.
 
 Formats: A, H s8.8 phase units (+-128 units = +-0.1 rad; 1/256 unit = 1.9 pm on a 4 um
 scale); R s23; corr s10 units; E, P, meas s13.5; S s24 units; V s13.13 units per tick;
-M s13.7.
+M s13.17.
 """
 import numpy as np
 
@@ -126,12 +129,13 @@ SKIP_MIN = 9       # candidates: the first tick after 10..17 samples (after a ca
                    # 9 + (lfsr & 7) samples are skipped)
 LFSR_SEED = 0xE1   # 8-bit Galois LFSR, x^8 + x^6 + x^5 + x^4 + 1
 PF = 5             # fraction bits of P and E (phase units)
-VF = 13            # fraction bits of V (units/sample)
-GEARS = ((256, 2, 10), (None, 7, 15))  # (C below, KA, KB): P gain 2^-KA, V gain 2^-KB
-C_MAX = 2047       # samples in track before learning (u11, saturating)
+VF = 13            # fraction bits of V (units/tick)
+GAINS = ((256, 2, 10), (None, 7, 15))  # (C below, KA, KB): P gain 2^-KA, V gain 2^-KB
+C_MAX = 2047       # ticks in track before learning (u11, saturating)
 ELOST = 1024       # |E| >= ELOST units: the observer lost track (C = 0)
-KM = 10            # running mean of E over 2^KM samples
-MF = 2             # extra fraction bits of M
+KM = 10            # running mean of E over 2^KM ticks
+MF = 12            # extra fraction bits of M (its step is rounded: a dead band of
+                   # 2^(KM - 1 - MF - PF) units)
 ANCHOR = BINS_LOG2 - 2   # x -= R >> ANCHOR: the table's mean times 4
 VMIN = 16          # learning speed window, units per tick: VMIN <= |V| < VMAX
 VMAX = 512
@@ -139,13 +143,13 @@ GMAX = 11          # gears 0..11: the observer sees one sample in 2**g (a tick)
 VUP = 16           # |V| < VUP units/tick (locked): one gear up (half the tick rate)
 VDOWN = 64         # |V| >= VDOWN units/tick: one gear down
 GDELAY = 6         # a tick's gear decision uses the observer's state as the sample
-                   # GDELAY before it found it; a change is followed by GDELAY samples
-                   # without one
+                   # GDELAY before it found it, if that sample arrived after the last
+                   # change
 SETTLE = 256      # a gear change: C back to at most C_MAX - SETTLE (settling ticks)
 MQ = 2 << (PF + MF)   # gears >= 1 learn (and shift up) only while |M| < 2 units
 EQUIET = 64        # gears >= 1 learn only while |E| < EQUIET units
 ANNEAL = 2048      # after this many updates (since a clear) the step is halved
-GSLOW = 4          # gears >= GSLOW (every tick a candidate) learn with mu + 2
+GSLOW = 4          # gears >= GSLOW (nearly every tick a candidate) learn with mu + 1
 ELOCK = 256        # learning only while |E| < ELOCK units
 H_W = 16           # table entry s8.8
 D_W = 12           # update clamp s12
@@ -198,7 +202,7 @@ class Harmonic:
         self.pend = None             # (bin, new, old) of the last candidate, or None
         self.g = 0                   # gear: the observer updates on one sample in 2**g
         self.t = 0                   # samples until the next tick (tick when 0)
-        self.hold = GDELAY           # samples since the last gear change (saturating)
+        self.hold = GDELAY + 1       # samples since the last gear change (saturating)
         self.flags = [0] * GDELAY    # the observer's gear request after the last samples
         self.gb = 0                  # the gear of the current block (its 2**gb samples)
         self.base = 0                # the block's first corrected phase
@@ -232,14 +236,14 @@ class Harmonic:
         tr = None
         if trace:
             tr = {k: [0] * n for k in ("corr", "E", "V", "M", "C", "cand", "gate", "d",
-                                       "h", "R", "g", "tick", "conv", "P")}
+                                       "h", "R", "g", "tick", "conv", "P", "gb")}
         A, R, P, V, M, C = self.A, self.R, self.P, self.V, self.M, self.C
         skip, lfsr, cc, pend = self.skip, self.lfsr, self.cc, self.pend
         g, t, hold, flags = self.g, self.t, self.hold, list(self.flags)
         gb, base, S, first = self.gb, self.base, self.S, self.first
         learned = self.learned
         nup = self.nup
-        (c0, ka0, kb0), (_, ka1, kb1) = GEARS
+        (c0, ka0, kb0), (_, ka1, kb1) = GAINS
         assert ka0 == kb0 - (VF - PF) and ka1 == kb1 - (VF - PF)   # dV = dP = E >> KA
         vsh = VF - PF
         pmask = (1 << P_W) - 1
@@ -266,7 +270,7 @@ class Harmonic:
             tick = t == 0
             conv = 0                     # the observer's V on this tick: 0 as it is,
             if tick:                     # 1 doubled, 2 halved, 3 zeroed
-                req = flags[0] if hold >= GDELAY else 0
+                req = flags[0] if hold > GDELAY else 0
                 if req == 3 and g:
                     g, conv = 0, 3
                 elif req == 1 and g < self.gears:
@@ -278,7 +282,7 @@ class Harmonic:
                 t = (1 << g) - 1
             else:
                 t -= 1
-            hold = hold + 1 if hold < GDELAY else GDELAY
+            hold = hold + 1 if hold <= GDELAY else GDELAY + 1
             cand = skip == 0 and tick
             if cand:
                 skip = SKIP_MIN + (lfsr & 7)
@@ -312,6 +316,7 @@ class Harmonic:
             gate = False
             dlt = hn = 0
             y = 0
+            gw = gb
             if tick:
                 win = (C == C_MAX and vlo <= av < vhi
                        and (gb == 0 or -MQ < M < MQ and -(EQUIET << PF) <= e < EQUIET << PF))
@@ -365,6 +370,7 @@ class Harmonic:
                 tr["h"][i] = hn
                 tr["R"][i] = R
                 tr["g"][i] = g
+                tr["gb"][i] = gw if tick else gb
                 tr["tick"][i] = tick
                 tr["conv"][i] = conv
                 tr["P"][i] = P

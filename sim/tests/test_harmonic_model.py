@@ -190,9 +190,21 @@ def test_no_learning_at_standstill_from_dither_or_reversals():
     assert max(gears) >= 9 and len(gears) > 6
 
 
+def test_gears_zero_learns_only_from_16_units_per_sample():
+    """Harmonic(gears=0) (rtl/harmonic.v GEARS = 0): the observer stays at the sample
+    rate, so at 8 units/sample nothing is learned, and at 20 it is."""
+    for v, learns in ((8.0, False), (20.0, True)):
+        ph, _ = stream(v, 60_000, seed=7)
+        h = hm.Harmonic(gears=0)
+        _, tr = h.run(ph, trace=True)
+        assert not tr["g"].any() and (h.learned > 1000) == learns, v
+    with pytest.raises(ValueError, match="gears must be 0..11"):
+        hm.Harmonic(gears=12)
+
+
 @pytest.mark.parametrize("v, periods", [(0.05, 24), (0.4, 24), (3.0, 24), (-9.0, 80)])
 def test_learns_at_slow_speed(v, periods):
-    """At 0.05 to 9 units/sample (0.1 to 4.4 mm/s on a 4 um scale; 160 000 to 900
+    """At 0.05 to 9 units/sample (0.024 to 4.4 mm/s on a 4 um scale; 160 000 to 900
     samples per period) the observer takes a gear above 0 and the table learns a
     4th-harmonic error of 13 units (a 1 % third harmonic): after 24 periods (80 in gear 1,
     where a period has fewer candidates) it is below 20 % of what it was."""
@@ -201,7 +213,7 @@ def test_learns_at_slow_speed(v, periods):
     h = hm.Harmonic()
     out, tr = h.run(ph, trace=True)
     gate = tr["gate"].astype(bool)
-    assert tr["g"][gate].min() >= 1 and h.learned > 500
+    assert tr["gb"][gate].min() >= 1 and h.learned > 500
     tail = slice(n - n // 6, n)
     xt = x[tail]
 
@@ -211,7 +223,7 @@ def test_learns_at_slow_speed(v, periods):
         c = np.exp(-1j * 8 * np.pi * xt / 8192)
         return 2 * abs(np.mean(e * c))              # the 4th harmonic's amplitude
     before, after = per_part(ph), per_part(out)
-    print(f"v {v}: {h.learned} updates, gears {sorted(set(tr['g'][gate].tolist()))}, "
+    print(f"v {v}: {h.learned} updates, gears {sorted(set(tr['gb'][gate].tolist()))}, "
           f"4th harmonic {before:.1f} -> {after:.1f} units")
     assert before > 11 and after < 0.2 * before
 

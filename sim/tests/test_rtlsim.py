@@ -306,6 +306,24 @@ def test_make_vcdcompare_end_to_end(tmp_path):
     assert "vcdcompare: OK:" in p.stdout and "warning" not in p.stderr, p.stdout + p.stderr
 
 
+def test_slow_scan_through_the_harmonic_gears_equals_model(tmp_path):
+    """A slow scan with a 2 % third harmonic (2 units/sample, then a reversal at 0.5):
+    the harmonic block's observer shifts up through its gears (to gear 5 at the end),
+    learns on the way and stops at the reversal; the RTL's outputs equal the model's."""
+    v = np.concatenate([np.zeros(10_000), np.linspace(0, 2.0, 20_000), np.full(90_000, 2.0),
+                        np.linspace(2.0, -0.5, 20_000), np.full(100_000, -0.5)])
+    x = np.cumsum(v) * 4000.0 / 8192
+    sig = siggen.Signal(h3=0.02)
+    u1, u2, _ = siggen.encode(x, 4000.0, sig, seed=6)
+    r = core.run(u1, u2, core.Config(), trace=True)
+    h = r["harm"]
+    assert h.learned > 300 and h.g >= 4
+    write_codes(tmp_path / "in.csv", u1, u2)
+    rtl = _make(tmp_path, "rtlsim", {})
+    model = _make(tmp_path, "model", {})
+    assert (rtl == model).all(), f"RTL differs from the model in {int((rtl != model).any(axis=1).sum())} rows"
+
+
 def test_coarse_adc_scan_equals_model(tmp_path):
     """An 8-bit converter on the 16-bit port (codes shifted left by 8), a slow scan with a
     reversal: with --code-step 8 the RTL's outputs equal the model's, and the model raises

@@ -162,11 +162,14 @@ def test_suite_is_complete_and_reproducible():
     assert by["noise2"].sig.noise == 0.02 and by["harmonic3"].sig.h3 == 0.01
     assert by["drift_jump"].events
     # slow scans with 2nd, 3rd and 5th harmonics (0.2 to 2 %), a rotary scale at low speed
-    for name, mm_s in (("slow05", 0.5), ("slow2", 2), ("slow5", 5), ("rotary", 0.5)):
+    for name, mm_s in (("slow05", 0.5), ("slow2", 2), ("slow5", 5), ("rotary", 0.5),
+                       ("magnetic12", 4.0)):
         sg = by[name].sig
         assert np.diff(by[name].x).max() * scenarios.FS / 1e6 == pytest.approx(mm_s, rel=1e-3)
         assert min(sg.h2, sg.h3, sg.h5) >= 0.002 and max(sg.h2, sg.h3, sg.h5) <= 0.02
     assert np.ptp(by["rotary"].sig.A1) > 0.01          # run-out over 0.3 revolution
+    assert by["magnetic12"].sig.adc_bits == 12 and not by["magnetic12"].drifts
+    assert by["rotary"].drifts and by["drift_jump"].drifts
     u1, u2, _ = by["constant"].codes()
     w1, w2, _ = by["constant"].codes()
     assert np.array_equal(u1, w1) and np.array_equal(u2, w2)
