@@ -68,7 +68,8 @@
 //   a + 2  phase_o, phase_c_o, valid_o (ph_i is the phase table's output, valid after
 //          a + 1); a candidate's A[b] captured
 //   a + 3  the block's base and sum
-//   a + 4  the block's mean (meas)
+//   a + 4  the block's mean (meas; its move to the block's last sample, ext, is formed
+//          from V after the last tick and joins E)
 //   a + 5  observer on ticks: E, P, V, C, M; the gear request (every sample)
 //   a + 6  the learning error
 //   a + 7  update (learn_i and mu_i sampled on this edge)
@@ -426,19 +427,12 @@ module harmonic #(
     reg  [1:0]  conv5 = 2'd0;
     reg  [3:0]  gb5 = 4'd0;
     reg  [17:0] meas5 = 18'd0;
-    // + ((V >>> 1) - (V >>> (gear + 1))) >>> 8: the mean moved to the block's last sample,
-    // (D - 1) / 2 samples later (V is the previous tick's, per block; 0 at gear 0)
     /* verilator lint_off UNUSEDSIGNAL */
-    function automatic [17:0] h_meas(input [12:0] b, input [23:0] s_in, input [3:0] g,
-                                     input [25:0] v);
+    function automatic [17:0] h_meas(input [12:0] b, input [23:0] s_in, input [3:0] g);
         reg [28:0] sh;
-        reg [25:0] vh, vg, ext;
         begin
             sh = $signed({s_in, 5'd0}) >>> g;
-            vh = $signed(v) >>> 1;
-            vg = $signed(vh) >>> g;         // (on its own: an unsigned operand beside it
-            ext = vh - vg;                  //  would make the shift logical)
-            h_meas = {b, 5'd0} + sh[17:0] + ext[25:8];
+            h_meas = {b, 5'd0} + sh[17:0];
         end
     endfunction
     /* verilator lint_on UNUSEDSIGNAL */
@@ -449,7 +443,7 @@ module harmonic #(
             tick5 <= tick4;
             conv5 <= conv4;
             gb5 <= gb4;
-            meas5 <= h_meas(base, s_sum, gb4, v_st);
+            meas5 <= h_meas(base, s_sum, gb4);
         end
     end
 
@@ -558,7 +552,38 @@ module harmonic #(
         end
     endfunction
     /* verilator lint_on UNUSEDSIGNAL */
-    wire [17:0] e6w = meas5 - p_st;             // E, s13.5 (wraps)
+    // ext = ((V >>> 1) - (V >>> (g + 1))) >>> 8 moves the block's mean to its last sample,
+    // (D - 1) / 2 samples later (0 in gear 0): formed from the registers V and the gear of
+    // the next block after every tick, so it is ready one edge before the next tick's
+    // observer when that tick ends a block above gear 0 (two or more samples later)
+    reg  [3:0]  g_nxt = 4'd0;                   // the gear of the block after the last tick
+    reg  [17:0] ext_q = 18'd0;
+    /* verilator lint_off UNUSEDSIGNAL */
+    function automatic [17:0] h_ext(input [25:0] v, input [3:0] g);
+        reg [25:0] vh, vg, ext;
+        begin
+            vh = $signed(v) >>> 1;
+            vg = $signed(vh) >>> g;         // (on its own: an unsigned operand beside it
+            ext = vh - vg;                  //  would make the shift logical)
+            h_ext = ext[25:8];
+        end
+    endfunction
+    /* verilator lint_on UNUSEDSIGNAL */
+    always @(posedge clk)
+        ext_q <= h_ext(v_st, g_nxt);
+    // E = meas + ext - P (s13.5, wraps): one carry-save step (-P = ~P + 1, the 1 in the
+    // carry's free bit 0), then one carry chain
+    function automatic [17:0] obs_e(input [17:0] m, input [17:0] x, input [17:0] p);
+        reg [17:0] ez;
+        begin
+            ez = ~p;
+            obs_e = (m ^ x ^ ez) + {(m[16:0] & x[16:0]) | (m[16:0] & ez[16:0]) |
+                                    (x[16:0] & ez[16:0]), 1'b1};
+        end
+    endfunction
+    // (ext is used only above gear 0: a tick right after a shift down to gear 0 comes
+    // before ext is formed for it)
+    wire [17:0] e6w = obs_e(meas5, ext_q & {18{gb5 != 4'd0}}, p_st);
     reg         cand6 = 1'b0, tick6 = 1'b0, win6 = 1'b0, g0_6 = 1'b0, gs6 = 1'b0;
     reg  [17:0] e6 = 18'd0;
     reg  [30:0] y6 = 31'd0;
@@ -573,6 +598,8 @@ module harmonic #(
             v_st <= obs_vc(v_st, conv5) + obs_de26(e6w, c_st) + {25'd0, obs_rb(e6w, c_st)};
             c_st <= obs_c(c_st, e6w, conv5);
             m_st <= h_m(e6w, m_st, conv5);
+            g_nxt <= (conv5 == 2'd3) ? 4'd0 : (conv5 == 2'd1) ? gb5 + 1'b1
+                   : (conv5 == 2'd2) ? gb5 - 1'b1 : gb5;
             win6 <= obs_win(c_st, v_st, gb5, m_st, e6w);
             e6 <= e6w;
             y6 <= h_y(e6w, m_st);
