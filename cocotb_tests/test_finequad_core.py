@@ -21,7 +21,7 @@ Scenarios (one simulator process each, from power-up):
              at least 12 clocks apart with a backlog bound of 6 counts (backlog during
              the bursts, overflow: fault bit 6), jump floor 60
   paper      TABLE_EXACT=0 (the paper's table), n = 7, strobes every 24 clocks, edge
-             mode (CTRL.count_mode), the Eq. 12 pulses on the A/B pins, harmonic step 2^-6
+             mode (CTRL.count_mode), the Eq. 12 pulses on the A/B pins, harmonic step 2^-6 (gear 0)
   reset_req  reset requests written to CTRL.cov_reset (see below), TABLE_EXACT=1, jump
              detector off
   highspeed  calibration at 0.02 fs, the signal frequency ramped to 0.4 fs, held, ramped

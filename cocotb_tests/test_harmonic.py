@@ -117,26 +117,58 @@ LEARN_AT = 7                                  # learn_i, mu_i
 
 # table kind of each block stream; samples of the random streams per simulator (the
 # directed stream is the same everywhere)
-PATTERNS = {"directed": "exact", "gaps": "paper", "b2b": "exact", "slow": "exact"}
+PATTERNS = {"directed": "exact", "gaps": "paper", "b2b": "exact", "slow": "exact",
+            "long": "exact"}
 SAMPLES = {"icarus": {"gaps": 6000, "b2b": 10000, "slow": 20000},
-           "verilator": {"gaps": 40000, "b2b": 60000, "slow": 400000}}
+           "verilator": {"gaps": 40000, "b2b": 60000, "slow": 400000, "long": 340000}}
+# (the long stream, no clears, takes the step through all its halvings: Verilator only)
+RUNS = [(s, p) for s in fqtb.SIMULATORS for p in PATTERNS
+        if p == "directed" or p in SAMPLES[s]]
 
 
 @pytest.mark.parametrize("distram", [0, 1], ids=["BRAM", "DISTRAM"])
-@pytest.mark.parametrize("pattern", list(PATTERNS))
-@pytest.mark.parametrize("sim", fqtb.SIMULATORS)
+@pytest.mark.parametrize("sim, pattern", RUNS)
 def test_harmonic(sim, pattern, distram):
     n = SAMPLES[sim].get(pattern, 0)
     exact = int(PATTERNS[pattern] == "exact")
     fqtb.run_block(sim, "harmonic", fqtb.sources("harmonic", "hbin"), "test_harmonic",
-                   parameters=dict(TABLE_EXACT=exact, OPT_DISTRAM=distram),
+                   parameters=dict(TABLE_EXACT=exact, OPT_DISTRAM=distram,
+                                   SHOW=show_of(pattern)),
                    extra_env=dict(PATTERN=pattern, SAMPLES=n), testcase="harmonic_stream")
+
+
+def show_of(pattern):
+    """rtl/harmonic.v SHOW of a stream: the b2b and long streams use the default (sig:
+    the table shown once significant, and hidden again); the directed, gaps and slow
+    streams show every table, so that the correction and what is learned are seen at
+    once (the directed stream's events are placed on that; on Icarus the gaps and slow
+    streams are too short for a table to become significant)."""
+    return hm.SIG_ON if pattern in ("b2b", "long") else 0
+
+
+def test_sig_switches():
+    """The streams the RTL runs with SHOW = 2**15 take sig both ways: the b2b stream
+    (on both simulators) shows the table once significant and hides it again, by a
+    clear and by a table that shrinks (the hysteresis); the long one shows it."""
+    for sim in fqtb.SIMULATORS:
+        st = stimulus("b2b", SAMPLES[sim]["b2b"])
+        assert st.show == hm.SIG_ON
+        _, tr, _ = run_model(st, trace=True)
+        clear = model_inputs(st.edges, st.ctrl, st.clears)[3]
+        sw = np.diff(tr["sig"].astype(np.int64))
+        on, off = np.nonzero(sw == 1)[0] + 1, np.nonzero(sw == -1)[0] + 1
+        print(f"b2b on {sim}: sig on at {on.tolist()}, off at {off.tolist()}")
+        assert len(on) >= 1 and len(off) >= 1
+        if sim == "verilator":
+            assert len(on) >= 2 and any(not clear[k] for k in off), off
+    _, tr, _ = run_model(stimulus("long", SAMPLES["verilator"]["long"]), trace=True)
+    assert tr["sig"].any()
 
 
 def test_slow_stream_exercises_gears():
     """The slow stream (the RTL runs it on Verilator) takes the observer through its
     gears: every kind of gear change (up, down, back to 0 on a lost lock), gears up to 4,
-    and learning in gears above 0 with and without the halved step (the other streams
+    and learning in gears above 0 with and without the step halved again (the other streams
     learn in gear 0; make bench-accuracy's creep scenarios take the core's RTL to gears 8
     and 11, sim/tests/test_rtlsim.py's slow scan to gear 5)."""
     st = stimulus("slow", SAMPLES["verilator"]["slow"])
@@ -169,7 +201,8 @@ MUTATIONS = [
     ("GDELAY", 5), ("GDELAY", 7), ("SETTLE", 255), ("SETTLE", 257),
     ("MQ", (2 << 7) - 1), ("MQ", (2 << 7) + 1),                       # |M| < 2 units
     ("EQUIET", 32), ("EQUIET", 128), ("GSLOW", 3), ("GSLOW", 5),      # learning in gears
-    ("ANNEAL", 1024), ("ANNEAL", 2049),                               # the step halves
+    ("ANNEAL", 1024), ("ANNEAL", 2049), ("ANNEALS", 2), ("ANNEALS", 4),  # the step halves
+    ("SIG_LAG", 2), ("SIG_LAG", 4), ("SIG_HYST", 0), ("SIG_HYST", 2),  # sig
 ]
 
 
@@ -183,14 +216,15 @@ def test_directed_sensitivity(monkeypatch):
     same = []
     for name, k, items, shifts, end in st.events:
         # (the difference is in the samples before `end`: the model runs up to there)
-        pre = Stim(st.edges[:end], {key: v[:end] for key, v in st.f.items()}, {}, [])
+        pre = Stim(st.edges[:end], {key: v[:end] for key, v in st.f.items()}, {}, [],
+                   show=st.show)
         for sh in shifts:
             ctrl, clears = moved(st.ctrl, st.clears, items, sh)
             if np.array_equal(run_model(pre, ctrl, clears)[0], out[:end]):
                 same.append(f"{name} (sample {k}) moved by {sh:+d} edge")
     # (a constant the directed stream cannot tell must change the output of one of the
     # random streams, which the RTL runs too)
-    others = [stimulus(p, SAMPLES["verilator"][p]) for p in ("b2b", "slow")]
+    others = [stimulus(p, SAMPLES["verilator"][p]) for p in ("b2b", "slow", "long")]
     outs = [run_model(o)[0] for o in others]
     for name, val in MUTATIONS:
         with monkeypatch.context() as m:
@@ -227,7 +261,8 @@ class Stim:
     {edge: (apply, learn, mu)} (the value from that edge on), clear edges, and the placed
     events (name, sample, items, shifts, end) of a directed stream (Planner.place)."""
 
-    def __init__(self, edges, f, ctrl, clears, events=()):
+    def __init__(self, edges, f, ctrl, clears, events=(), show=hm.SIG_ON):
+        self.show = show             # rtl/harmonic.v SHOW
         self.edges = np.asarray(edges, dtype=np.int64)
         self.f = f
         self.ctrl = dict(ctrl)
@@ -254,7 +289,7 @@ def run_model(st, ctrl=None, clears=None, trace=False):
     Harmonic)."""
     apply, learn, mu, clear, blocked = model_inputs(
         st.edges, st.ctrl if ctrl is None else ctrl, st.clears if clears is None else clears)
-    h = hm.Harmonic()
+    h = hm.Harmonic(show=st.show)
     r = h.run(st.f["phase"], apply=apply, learn=learn, mu=mu, clear=clear, blocked=blocked,
               trace=trace)
     return (*r, h) if trace else (r, h)
@@ -287,7 +322,7 @@ class Planner:
     sample that no event still to come can change, so a placement costs a few thousand
     samples of the model."""
 
-    def __init__(self, edges, phase, ctrl0, score=None):
+    def __init__(self, edges, phase, ctrl0, score=None, show=hm.SIG_ON):
         self.a = np.asarray(edges, dtype=np.int64)
         self.phase = np.asarray(phase, dtype=np.int64)
         self.n = len(self.a)
@@ -295,7 +330,7 @@ class Planner:
         self.clears = []
         self.events = []
         self.score = score or (lambda out: out)
-        self.h = hm.Harmonic()
+        self.h = hm.Harmonic(show=show)   # rtl/harmonic.v SHOW
         self.pos = 0             # self.h has seen samples [0, pos)
         self.floor = 0           # the next event's edges must be >= this
 
@@ -469,7 +504,7 @@ def _lock_pad():
     would change its update: MUTATIONS)."""
     _, f, first = directed_front(0)
     p0 = first["pad"]
-    h0 = hm.Harmonic()
+    h0 = hm.Harmonic(show=0)
     h0.run(f["phase"][:p0], learn=1, mu=3)
     for pad in range(200):
         _, f, first = directed_front(pad)
@@ -488,7 +523,7 @@ def _lock_pad():
 def directed_stim():
     """The directed stream with its events (see the module text)."""
     edges, f, S = directed_front(_lock_pad())
-    P = Planner(edges, f["phase"], (1, 1, 3))
+    P = Planner(edges, f["phase"], (1, 1, 3), show=0)
     A, L, M = 0, 1, 2
     # apply: one-edge pulses and steps at samples whose correction is not 0, while the
     # lock returns (nothing is learned: the table is the one learned near -512)
@@ -549,7 +584,7 @@ def directed_stim():
                       commit), ("the commit + 1", lambda k: commit(k, 1))):
         k = P.place(f"clear on {name} of a candidate (random gaps)", k, hi, P.clear(off),
                     pre=_learns, shifts=(), reach=90)
-    return Stim(edges, f, P.ctrl, P.clears, P.events)
+    return Stim(edges, f, P.ctrl, P.clears, P.events, show=show_of("directed"))
 
 
 def phases(n, rng):
@@ -671,9 +706,10 @@ def slow_phases(n, rng):
 
 
 def random_stim(pattern, n, seed):
-    """A seeded random stream: strobes back to back with a few gaps (b2b, slow) or random
-    gaps with bursts back to back (gaps); random control changes and clears (rarer in the
-    slow stream, whose gears take thousands of samples)."""
+    """A seeded random stream: strobes back to back with a few gaps (b2b, slow, long) or
+    random gaps with bursts back to back (gaps); random control changes and clears (rarer
+    in the slow stream, whose gears take thousands of samples; the long stream has none
+    and always learns)."""
     rng = random.Random(seed)
     x = slow_phases(n, rng) if pattern == "slow" else phases(n, rng)
     kind = PATTERNS[pattern]
@@ -683,7 +719,7 @@ def random_stim(pattern, n, seed):
     burst = 0
     for _ in range(n):
         edges.append(e)
-        if pattern in ("b2b", "slow"):
+        if pattern in ("b2b", "slow", "long"):
             gap = 1 if rng.random() < 0.97 else rng.randint(2, 12)
         elif burst:
             burst -= 1
@@ -702,17 +738,19 @@ def random_stim(pattern, n, seed):
         w = rng.randint(1, last)
         ctrl[w] = (int(rng.random() < 0.8), int(rng.random() < 0.85),
                    rng.choice([3, 3, 4, 4, 4, 5, 6]))
+    if pattern == "long":
+        ctrl = {w: (a, 1, m) for w, (a, _, m) in ctrl.items()}
     clears = set()
-    for _ in range(max(4, n // (2000 * sparse))):
+    for _ in range(0 if pattern == "long" else max(4, n // (2000 * sparse))):
         k = rng.randrange(8, n)
         clears.add(edges[k] + rng.choice([-2, -1, 0, 0, 1, 1, 2, 3, 4, 5, 6, 7]))
-    return Stim(edges, f, ctrl, clears)
+    return Stim(edges, f, ctrl, clears, show=show_of(pattern))
 
 
 def stimulus(pattern, n):
     if pattern == "directed":
         return directed_stim()
-    return random_stim(pattern, n, {"gaps": 11, "b2b": 12, "slow": 37}[pattern])
+    return random_stim(pattern, n, {"gaps": 11, "b2b": 12, "slow": 37, "long": 41}[pattern])
 
 
 # ---- cocotb side -----------------------------------------------------------------------------
@@ -824,6 +862,7 @@ async def harmonic_stream(dut):
     assert high == want_v, f"valid_o high after other edges: {sorted(high ^ want_v)[:8]}"
     nc = int(np.sum(exp != st.f["phase"]))
     log.info("%s: %d samples equal (%d corrected), %d updates", pattern, n, nc, h.learned)
+    assert nc > 0, "no sample corrected: the correction is not seen"
 
 
 # ==== the block in the core: finequad_core against sim.model.finequad_core.run ========================

@@ -176,7 +176,7 @@ module finequad_core #(
     reg                              r_count_mode = FQ_CTRL_COUNT_MODE_RESET;  // 0 phase, 1 edge
     reg                              r_harm_apply = FQ_HARM_HARM_APPLY_RESET;
     reg                              r_harm_learn = FQ_HARM_HARM_LEARN_RESET;
-    reg [FQ_HARM_HARM_MU_W-1:0]      r_harm_mu = FQ_HARM_HARM_MU_RESET;  // step 2^-(3 + mu)
+    reg [FQ_HARM_HARM_MU_W-1:0]      r_harm_mu = FQ_HARM_HARM_MU_RESET;  // 2^-(3 + mu), gear 0
     reg                              r_harm_clear = 1'b0;                // a pulse
     reg [FQ_ABGEN_AB_SEP_W-1:0]      r_ab_sep = FQ_ABGEN_AB_SEP_RESET;   // clocks per edge
     reg                              r_ab_src = FQ_ABGEN_AB_SRC_RESET;   // 1: Eq. 12 pulses

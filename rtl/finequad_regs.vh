@@ -264,7 +264,7 @@ localparam integer FQ_UPDATES_UPDATES_W = 32;
 // HARM (RW, byte 0x48): Harmonic compensation
 localparam [5:0] FQ_HARM = 6'h12;
 localparam [31:0] FQ_HARM_WMASK = 32'h00000133;
-localparam [31:0] FQ_HARM_RESET = 32'h00000013;
+localparam [31:0] FQ_HARM_RESET = 32'h00000003;
 localparam integer FQ_HARM_HARM_APPLY_LSB = 0;
 localparam integer FQ_HARM_HARM_APPLY_MSB = 0;
 localparam integer FQ_HARM_HARM_APPLY_W = 1;
@@ -280,7 +280,7 @@ localparam [31:0] FQ_HARM_HARM_LEARN_HI = 32'h1;
 localparam integer FQ_HARM_HARM_MU_LSB = 4;
 localparam integer FQ_HARM_HARM_MU_MSB = 5;
 localparam integer FQ_HARM_HARM_MU_W = 2;
-localparam [1:0] FQ_HARM_HARM_MU_RESET = 2'h1;
+localparam [1:0] FQ_HARM_HARM_MU_RESET = 2'h0;
 localparam [31:0] FQ_HARM_HARM_MU_LO = 32'h0;
 localparam [31:0] FQ_HARM_HARM_MU_HI = 32'h3;
 localparam integer FQ_HARM_HARM_CLEAR_LSB = 8;

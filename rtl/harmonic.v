@@ -12,7 +12,8 @@
 //   corr    = (A[b] - (R >>> 6)) >>> 8          s10 units, round(A[b] - mean(A)); 0 for
 //                                               samples arriving during a clear
 //   phase_o   = phase                            (u13: the estimator's and the bins' phase)
-//   phase_c_o = apply ? phase - corr : phase     (u13, wraps: the counter's phase)
+//   phase_c_o = apply && sig ? phase - corr : phase   (u13, wraps: the counter's phase;
+//                                               sig: the table is significant, below)
 //   corr is not formed on its own: phase - corr = phase + ((~A + R' + 256) >> 8) (mod
 //   2**13) with R' = R >>> 6; y = (~A + R' + 256) >> 8 (or 0) is registered with the
 //   phase, and phase_c_o is their sum after the register (stage 3 below).
@@ -39,13 +40,18 @@
 //     x = sat12(X - (R >>> 7))                   X = Y >>> 12 (E minus its mean) in gear
 //                                                 0, E above; minus 4 mean(A); 1/32 units
 //     H = A[b] + (x >>> (mu_i + s + n))            H in 1/256 units: LMS step
-//                                                 2^-(3 + mu_i + s + n), s = 1 in gears
-//                                                 >= 4, n = 1 after 2048 updates since a
-//                                                 clear; not made if H would leave s16
+//                                                 2^-(3 + mu_i + s + n), s = 0 in gear 0,
+//                                                 1 in gears 1..3, 2 from gear 4; n = 1,
+//                                                 2, 3 from 2048, 4096, 8192 updates
+//                                                 since a clear; not made if H would
+//                                                 leave s16
 //   and H is written to A[b] (and R updated) when sample k + 9 arrives: the correction
 //   of sample j sees the updates of the candidates <= j - 9, whatever the strobe pattern.
 //   Candidates are 10 or more samples apart, so at most one update is in flight and the
 //   learning view is the table itself.
+//   sig = (N - |R + 8192|) > (sig ? 2**14 : 2**15), N = sum(|A|) (|x| = x ^ sign), with N
+//   and R as after the commits of the samples <= k - 3: the table is shown once its mean
+//   deviation exceeds 2 units (a table learned from noise alone stays below).
 //
 // The bin is found from the octant address's scale t_i (rtl/octant.v t_o) before the
 // phase table is read (rtl/hbin.v): its two candidates b0, b1 need only t's bucket, so
@@ -76,11 +82,11 @@
 //   a + 8  new entry H (pending until sample k + 9 arrives)
 // Every stage's registers take a sample only with its valid bit (a clock enable; between
 // samples they hold the last one's values).
-// clear_i high on edge w: R = -8192, a pending update is dropped and so are those of
-// candidates that arrived before w; the RAM is swept to zero on edges w + 1 .. w + 64;
-// samples arriving on edges w .. w + 64 are not corrected and not learned from. The
-// observer and M keep running. No reset input: rst of the core leaves the table as it
-// is (like the estimator's theta); the registers return to learning and applying.
+// clear_i high on edge w: R = -8192, N = 0, sig = 0, a pending update is dropped and
+// those of candidates that arrived before w; the RAM is swept to zero on edges w + 1 ..
+// w + 64; samples arriving on edges w .. w + 64 are not corrected and not learned from.
+// The observer and M keep running. No reset input: rst of the core leaves the table as
+// it is (like the estimator's theta); the registers return to learning and applying.
 module harmonic #(
     // the thresholds of the bins (rtl/tables/hbin.vh): 1 exact table, 0 the paper's
     parameter [0:0] TABLE_EXACT = 1'b1,
@@ -91,7 +97,10 @@ module harmonic #(
     parameter [0:0] OPT_DISTRAM = 1'b0,
     // the observer's gears 0..GEARS: in gear g it sees the mean of blocks of 2**g samples
     // (GEARS = 0: every sample; the table then learns from 16 units/sample up); 0..11
-    parameter integer GEARS = 11
+    parameter integer GEARS = 11,
+    // sig: the table is shown once N - |R + 8192| > SHOW and hidden again at SHOW / 2 or
+    // below (2**15: a mean deviation of 2 units); 0: always shown (block tests)
+    parameter integer SHOW = 32768
 ) (
     input  wire        clk,
     input  wire        valid_i,     // the sample's arrival (edge a)
@@ -101,7 +110,7 @@ module harmonic #(
     input  wire [11:0] ph_i,        // u12 PH[j], ~PH[j] for neg (rtl/lut.v), after a + 1
     input  wire        apply_i,     // apply the correction to phase_c_o
     input  wire        learn_i,     // update the table
-    input  wire [1:0]  mu_i,        // LMS step 2^-mu, mu = 3 + mu_i
+    input  wire [1:0]  mu_i,        // LMS step 2^-mu in gear 0, mu = 3 + mu_i (header)
     input  wire        clear_i,     // one-clock pulse: empty the table
     output reg         valid_o = 1'b0,
     output reg  [12:0] phase_o = 13'd0,     // u13 uncorrected fine phase (edge a + 2)
@@ -109,6 +118,26 @@ module harmonic #(
                                             // sum of two registers)
 );
     localparam [22:0] R0 = -23'sd8192;
+    localparam signed [21:0] SIG_ON = $signed(SHOW[21:0]);
+    localparam signed [21:0] SIG_OFF = $signed(SHOW[22:1]);
+    generate
+        if (SHOW < 0 || SHOW >= (1 << 21)) begin : g_bad_show
+            harmonic_SHOW_must_be_0_to_2097151 u_bad ();  // an elaboration error
+        end
+    endgenerate
+    // |a| (one's complement) of an entry, and of R + 8192 = sum(A) (|sum A| < 2**21)
+    function automatic [20:0] h_mag(input [15:0] a);
+        h_mag = {5'd0, a ^ {16{a[15]}}};
+    endfunction
+    /* verilator lint_off UNUSEDSIGNAL */
+    function automatic [20:0] h_smag(input [22:0] r);
+        reg [22:0] sa;
+        begin
+            sa = r + 23'd8192;
+            h_smag = sa[20:0] ^ {21{sa[22]}};
+        end
+    endfunction
+    /* verilator lint_on UNUSEDSIGNAL */
     // ---- table RAM -------------------------------------------------------------------------
     // Two copies written alike, one per candidate's read (b0 from mem0, b1 from mem1): two
     // block RAMs, or distributed RAM. (One memory with two read ports whose outputs are
@@ -140,6 +169,15 @@ module harmonic #(
     reg  [5:0]  lb = 6'd0;          // candidate's bin
     reg  [15:0] lha = 16'd0;        // candidate's A[b] (the entry before the update)
     reg  signed [22:0] r_sum = R0;  // R, updated with the commits and clears
+    // sig: the table is shown (phase_c_o) while N - |R + 8192| > SHOW (SHOW / 2 once
+    // shown); N = sum(|A|); |.| one's complement (x ^ sign). Formed in three registers clocked by
+    // the arrivals: sig on the arrival of sample k sees N and R as after the commits of
+    // the samples <= k - 3.
+    reg  [20:0] n_sum = 21'd0;      // N (u21: 64 entries of at most 32767)
+    reg  [20:0] n_q = 21'd0;        // N, |R + 8192| on the last arrival
+    reg  [20:0] s_q = 21'd0;
+    reg  signed [21:0] d_q = 22'sd0;    // N - |R + 8192| on the arrival before
+    reg         sig = 1'b0;
     // gears: the tick schedule (the observer's samples), the gear of the next block; a
     // tick's decision reads the request the observer (stage 6) wrote for the sample 6
     // arrivals before (ring, by arrival mod 8), unless the gear changed within them
@@ -199,6 +237,22 @@ module harmonic #(
             r_sum <= R0;
         else if (commit)
             r_sum <= r_sum + {{11{pd[11]}}, pd};
+        if (clear_i) begin
+            n_sum <= 21'd0;
+            n_q <= 21'd0;
+            s_q <= 21'd0;
+            d_q <= 22'sd0;
+            sig <= 1'b0;
+        end else begin
+            if (commit)
+                n_sum <= n_sum + h_mag(hp) - h_mag(lha);
+            if (valid_i) begin
+                n_q <= n_sum;
+                s_q <= h_smag(r_sum);
+                d_q <= $signed({1'b0, n_q}) - $signed({1'b0, s_q});
+                sig <= d_q > (sig ? SIG_OFF : SIG_ON);
+            end
+        end
     end
 
     // ---- stage 2 (edge a + 1): table reads; the constant parts of the phase sums: 256
@@ -300,7 +354,7 @@ module harmonic #(
     endfunction
     /* verilator lint_on UNUSEDSIGNAL */
     wire        ublk = !blk1;                          // the correction is used (pc)
-    wire        uapl = ublk && apply_i;                // and applied (phase_c_o)
+    wire        uapl = ublk && apply_i && (sig || SHOW == 0);   // and applied (phase_c_o)
     reg         ub2 = 1'b0, ua2 = 1'b0;
     reg  [12:0] k0 = 13'd0;
     reg  [20:0] rq2 = 21'd0;
@@ -617,7 +671,7 @@ module harmonic #(
         h_y5 = g0 ? y[30:12] : {e[17], e};
     endfunction
     /* verilator lint_on UNUSEDSIGNAL */
-    reg         cand7 = 1'b0, win7 = 1'b0, lock7 = 1'b0, gs7 = 1'b0;
+    reg         cand7 = 1'b0, win7 = 1'b0, lock7 = 1'b0, gs7 = 1'b0, g0_7 = 1'b0;
     reg  [18:0] y7 = 19'd0;
     always @(posedge clk) begin
         cand7 <= cand6;
@@ -626,14 +680,15 @@ module harmonic #(
             lock7 <= (e6[17:13] == 5'b00000) || (e6[17:13] == 5'b11111);
             y7 <= h_y5(y6, e6, g0_6);
             gs7 <= gs6;
+            g0_7 <= g0_6;
         end
     end
 
     // ---- stage 8 (edge a + 7): the update ---------------------------------------------------
-    // the step (X = Y - R >>> 7, s20, clamped to s12) >>> (mu + slow): a function
-    // evaluated in the stage's clock enable's branch
+    // the step (X = Y - R >>> 7, s20, clamped to s12) >>> (mu_i + gshift + anneal): a
+    // function evaluated in the stage's clock enable's branch
     /* verilator lint_off UNUSEDSIGNAL */
-    function automatic [11:0] h_step(input [18:0] y, input [22:0] r, input [2:0] mu);
+    function automatic [11:0] h_step(input [18:0] y, input [22:0] r, input [3:0] mu);
         reg [19:0] x_w;
         reg        x_hi, x_lo;
         reg signed [11:0] xc;
@@ -648,10 +703,14 @@ module harmonic #(
     /* verilator lint_on UNUSEDSIGNAL */
     reg  [11:0] d8 = 12'd0;
     reg         g8 = 1'b0, cand8 = 1'b0;
-    reg  [11:0] nup = 12'd0;        // updates made since the last clear, saturating at 2048
+    reg  [13:0] nup = 14'd0;        // updates made since the last clear, saturating at 8192
+    // the step's halvings: 1, 2, 3 from 2048, 4096, 8192 updates; by gear: 0 in gear 0,
+    // 1 in gears 1..3, 2 from gear 4
+    wire [1:0]  anneal = nup[13] ? 2'd3 : nup[12] ? 2'd2 : nup[11] ? 2'd1 : 2'd0;
+    wire [1:0]  gshift = gs7 ? 2'd2 : g0_7 ? 2'd0 : 2'd1;
     always @(posedge clk) begin
         if (cand7)
-            d8 <= h_step(y7, r_sum, {1'b0, mu_i} + {2'd0, gs7} + {2'd0, nup[11]});
+            d8 <= h_step(y7, r_sum, {2'd0, mu_i} + {2'd0, gshift} + {2'd0, anneal});
         g8 <= cand7 && learn_i && win7 && lock7;
         cand8 <= cand7;
     end
@@ -684,10 +743,10 @@ module harmonic #(
         if (clear_i) begin
             pw <= 1'b0;
             hp <= 16'd0;
-            nup <= 12'd0;
+            nup <= 14'd0;
         end else if (cand8) begin
             pw <= g8 && lok && !h_ovf(lha, d8);
-            if (g8 && lok && !h_ovf(lha, d8) && !nup[11])
+            if (g8 && lok && !h_ovf(lha, d8) && !nup[13])
                 nup <= nup + 1'b1;
             if (g8 && lok && !h_ovf(lha, d8)) begin
                 hp <= h_entry(lha, d8);

@@ -196,7 +196,7 @@ extern "C" {
 #define FINEQUAD__HARM__HARM_MU_bm 0x30
 #define FINEQUAD__HARM__HARM_MU_bp 4
 #define FINEQUAD__HARM__HARM_MU_bw 2
-#define FINEQUAD__HARM__HARM_MU_reset 0x1
+#define FINEQUAD__HARM__HARM_MU_reset 0x0
 #define FINEQUAD__HARM__HARM_CLEAR_bm 0x100
 #define FINEQUAD__HARM__HARM_CLEAR_bp 8
 #define FINEQUAD__HARM__HARM_CLEAR_bw 1

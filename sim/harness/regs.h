@@ -27,7 +27,7 @@ static const FqSetting FQ_SETTINGS[] = {
     {"c2", "C2", 0x10, 0, 32, -32768L, 32767L, 8192L},
     {"harm_apply", "HARM", 0x12, 0, 1, 0L, 1L, 1L},
     {"harm_learn", "HARM", 0x12, 1, 1, 0L, 1L, 1L},
-    {"harm_mu", "HARM", 0x12, 4, 2, 0L, 3L, 1L},
+    {"harm_mu", "HARM", 0x12, 4, 2, 0L, 3L, 0L},
     {"jump_min", "JUMP", 0x13, 0, 11, 0L, 2047L, 41L},
     {"jump_off", "JUMP", 0x13, 15, 1, 0L, 1L, 0L},
     {"ab_sep", "ABGEN", 0x15, 0, 8, 1L, 255L, 24L},

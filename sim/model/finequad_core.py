@@ -90,7 +90,7 @@ class Config:
                              # (CTRL.cov_reset; pending when the sample arrives)
     harm_apply: int = _S["harm_apply"].reset
     harm_learn: int = _S["harm_learn"].reset
-    harm_mu: int = _S["harm_mu"].reset   # the LMS step is 2^-(3 + harm_mu)
+    harm_mu: int = _S["harm_mu"].reset   # the LMS step is 2^-(3 + harm_mu) in gear 0
     harm_clears: list = field(default_factory=list)   # edges w of HARM writes with
                              # harm_clear: the samples strobed on edges t_k >= w + 1 -
                              # HARM_AT see an empty table; those strobed on w + 1 - HARM_AT

@@ -3,14 +3,18 @@ error (harmonic distortion of the encoder signals, which no ellipse correction r
 
 The block sits between the fine phase (lut phase_o, u13, 8192 units per period) and the
 counter. A table A of 64 entries (s8.8 phase units, bin b = phase[12:7], 128 units each)
-is applied to every sample and learned online, by LMS, from the error of a tracking
-observer while the stage moves smoothly. The observer runs in gears g = 0..11: in gear g
+is learned online, by LMS, from the error of a tracking observer while the stage moves
+smoothly, and applied to every sample once it is significant (sig, below). The observer runs in gears g = 0..11: in gear g
 it sees the mean phase of blocks of D = 2**g samples (a tick ends each block), so that
 it can be slower than the error at any speed (below). Every sample k, in order:
 
-  clear   (clear[k]) A = 0, R = -8192, a pending update is dropped.
+  clear   (clear[k]) A = 0, R = -8192, N = 0, sig = 0, a pending update is dropped.
+  sig     sig = (N - |R + 8192|) > (2**14 if sig else 2**15), N and R as after the
+          commits of the samples <= k - 3 (|x| here: x or ~x, one's complement): whether
+          the table is significant (shown, below).
   commit  on the 9th sample after a learning candidate j, j's update is written:
-          A[b_j] = H_j and R += H_j - A_old (R = sum(A) - 8192).
+          A[b_j] = H_j, R += H_j - A_old (R = sum(A) - 8192) and N += |H_j| - |A_old|
+          (N = sum(|A|), one's complement).
   gear    k is a tick if 2**g samples have arrived since the last one (every sample in
           gear 0). On a tick the gear may change by the observer's request as sample
           k - 6 found it (up: locked, |M| < 2 units and |V| < 16 units/tick; down:
@@ -19,10 +23,11 @@ it can be slower than the error at any speed (below). Every sample k, in order:
           request is read from a ring of the last samples'.)
   corr    corr = (A[b] - (R >> 6)) >> 8   (s10 units; round(A[b] - mean(A)), half up);
           0 for samples arriving while the RAM is swept after a clear (blocked[k]).
-          pc = (phase - corr) mod 8192;  phase_c = pc if apply else phase. The correction
-          is zero-mean over the table: it moves no position on average, and a learned
-          constant cannot drift the count. The observer and the learning always use pc,
-          so the table keeps learning while the correction is not shown.
+          pc = (phase - corr) mod 8192;  phase_c = pc if apply and sig else phase (with
+          show = 0, rtl/harmonic.v SHOW, sig is taken as 1: every table is shown). The
+          correction is zero-mean over the table: it moves no position on average, and a
+          learned constant cannot drift the count. The observer and the learning always
+          use pc, so the table keeps learning while the correction is not shown.
   block   the block's first sample is its base; S sums pc - base (wrapped, s24) over the
           block; on the tick the block's mean, moved to the tick (its last sample), is
               meas = 32 base + (32 S >> g) + ((V >> 1) - (V >> (g + 1))) >> 8    u13.5
@@ -55,19 +60,47 @@ it can be slower than the error at any speed (below). Every sample k, in order:
           |M| < 2 units and |E| < 64 units:
               x = sat12(X - (R >> 7))      X = E - M (Y >> 12) in gear 0, E above; 1/32
               H = A[b] + (x >> (mu - 3 + s + n))   in 1/256 units: LMS step
-                                   2^-(mu + s + n), mu 3..6, s = 1 in gears >= 4, n = 1
-                                   once 2048 updates were made since a clear (else 0)
+                                   2^-(mu + s + n), mu 3..6, s = 0 in gear 0, 1 in gears
+                                   1..3, 2 from gear 4, n the number of 2048, 4096 and
+                                   8192 that the updates made since a clear have
+                                   reached (0..3)
           and H is committed 9 samples later (not made if H would leave s16).
           The term in R anchors the table's common mode, which the correction ignores:
           without it rounding would random-walk the table into its limits, and what is
           left of the observer's lag after accelerations (M follows it with a delay) would
           shift it; with the gain 4 the shift is a quarter of the mean lag while learning.
 
-Why the step halves after 2048 updates: the LMS's misadjustment (the table's own noise)
-is proportional to its step; a table that has converged refines with half of it, and a
-clear (HARM.harm_clear) starts fast again. On the accuracy suite this lowers the error
-of the harmonic-free and the noisy scenarios, and most of adc8_slow's, by what the
-learning adds there (make bench-accuracy against the same design without it).
+Why the step halves at 2048, 4096 and 8192 updates: the LMS's misadjustment (the
+table's own noise) is proportional to its step. With 64 bins, 2048 updates are 32 per
+bin, where the step 2^-5 (the default mu 3 in gears 1..3, n = 1) is the running mean's
+1/32; halving it each time the count doubles keeps the step at the running mean's until
+2^-7, the mean of a bin's last ~128 updates, which then keeps following slow changes. A
+clear (HARM.harm_clear) starts fast again.
+
+Why gear 0 learns with twice the step of gears 1..3: gear 0 is where fast moves learn,
+and there the harmonic error is left whole until the table is significant (below), so
+the first millimetres of a move weigh: harmonic3 (1 % third harmonic, 10 mm/s) is at
+1.011 x the floor with 2^-3 and 1.0145 with 2^-4 (model, make bench-accuracy's
+scoring). In gears 1..3 (2 to 7 mm/s at 1 MS/s) a larger step lets a noisy table reach
+the significance: noise2's (2 % noise at 2 mm/s) did with the doubled step in every gear.
+
+Why sig (the table is shown only once it is significant): a table learned from signals
+without harmonics holds only its own noise, and adding that to the count costs accuracy
+(0.2 to 0.6 % of the floor on the harmonic-free scenarios of the accuracy suite at 2 to
+5 mm/s, where learning runs in gears 1 and 2 and the observer's error is correlated over
+many bins). The noise is smooth across neighbouring bins there (lag-1 correlation up to
+0.9), so a smoothness test does not tell it from a harmonic; its size does: on the
+accuracy suite the tables learned from noise keep (N - |R + 8192|) / (64 * 256), a bound
+of their mean absolute deviation, at most 1.7 units (noise2, 2 % noise, early on;
+s_curve 1.3, standstill 1.0, 0.6 or less elsewhere), the ones learned from the
+scenarios' mixes of 2nd, 3rd and 5th harmonics (0.2 to 2 % each) reach 7 to 13 units.
+The table is shown from 2 units (2**15) and hidden again at 1 unit or below (a
+hysteresis: the switch does not chatter). A periodic error whose mean deviation stays
+under 2 units (about 1 nm RMS on a 4 um scale: a harmonic of about 0.25 % of the
+fundamental) is then not corrected. The statistic uses the mean |R + 8192| as a bound
+for the common mode (the correction ignores it), and one's complement magnitudes (an XOR
+in the RTL). It lags by three samples, so that the RTL forms it in three registers
+clocked by the arrivals.
 
 Why one candidate in 10..17 samples: the correction of sample k must not depend on the
 strobe pattern, and at one sample per clock the update of sample k - 1 cannot reach it
@@ -77,8 +110,8 @@ committed on the arrival of the 9th sample after it, whatever the clock gaps, an
 learning view is the table itself (no forwarding network, one block RAM). The dither
 keeps the candidates from locking onto a few phases at speeds where 10 samples are a
 whole fraction of a period. In gears >= 4 (16 samples per tick) nearly every tick is a
-candidate, and the step is halved: those ticks are averages of 16 or more samples, and
-there are many per period.
+candidate, and the step is halved again: those ticks are averages of 16 or more samples,
+and there are many per period.
 
 Why the speed window (VMIN = 16, VMAX = 512 units per tick) and the gears: the LMS sees
 E, the observer's error, i.e. the periodic error through the loop's sensitivity function
@@ -148,8 +181,14 @@ GDELAY = 6         # a tick's gear decision uses the observer's state as the sam
 SETTLE = 256      # a gear change: C back to at most C_MAX - SETTLE (settling ticks)
 MQ = 2 << (PF + MF)   # gears >= 1 learn (and shift up) only while |M| < 2 units
 EQUIET = 64        # gears >= 1 learn only while |E| < EQUIET units
-ANNEAL = 2048      # after this many updates (since a clear) the step is halved
-GSLOW = 4          # gears >= GSLOW (nearly every tick a candidate) learn with mu + 1
+ANNEAL = 2048      # the step halves at ANNEAL, 2 ANNEAL and 4 ANNEAL updates since a
+                   # clear (ANNEALS halvings)
+ANNEALS = 3
+SIG_ON = 1 << 15   # the table is shown once sum|A| - |sum A| exceeds SIG_ON (2 units mean)
+SIG_HYST = 1       # and hidden again when it falls to SIG_ON >> SIG_HYST or below
+SIG_LAG = 3        # sig uses the table as after the commits of the samples <= k - SIG_LAG
+GSLOW = 4          # the step's shift s: 0 in gear 0, 1 below GSLOW, 2 from GSLOW (nearly
+                   # every tick a candidate)
 ELOCK = 256        # learning only while |E| < ELOCK units
 H_W = 16           # table entry s8.8
 D_W = 12           # update clamp s12
@@ -186,10 +225,13 @@ class Harmonic:
     """State of the block; `run` processes a stream of samples and keeps the state, so a
     recording can be fed in pieces (register changes between pieces)."""
 
-    def __init__(self, gears=GMAX):
+    def __init__(self, gears=GMAX, show=SIG_ON):
         if not 0 <= gears <= GMAX:
             raise ValueError(f"gears must be 0..{GMAX}")
+        if not 0 <= show < 1 << 21:
+            raise ValueError("show must be 0..2**21 - 1")
         self.gears = gears
+        self.show = show             # rtl/harmonic.v SHOW: sig's threshold, 0 always shown
         self.A = [0] * BINS          # the table (RAM)
         self.R = -8192               # sum of A - 8192
         self.P = 0
@@ -210,7 +252,11 @@ class Harmonic:
         self.first = True            # the next sample starts a block
         self.k = 0                   # samples seen
         self.learned = 0             # updates computed (for tests; the RTL counts them)
-        self.nup = 0                 # updates since the last clear (saturating at ANNEAL)
+        self.nup = 0                 # updates since the last clear (saturating at
+                                     # ANNEAL << (ANNEALS - 1))
+        self.N = 0                   # sum(|A|), one's complement magnitudes
+        self.sig = False             # the table is significant: shown
+        self.stat = [0] * (SIG_LAG - 1)   # N - |R + 8192| after the last samples
 
     def run(self, phase, apply=1, learn=1, mu=MU_DEFAULT, clear=None, blocked=None,
             trace=False):
@@ -236,13 +282,17 @@ class Harmonic:
         tr = None
         if trace:
             tr = {k: [0] * n for k in ("corr", "E", "V", "M", "C", "cand", "gate", "d",
-                                       "h", "R", "g", "tick", "conv", "P", "gb")}
+                                       "h", "R", "g", "tick", "conv", "P", "gb", "sig",
+                                       "N")}
         A, R, P, V, M, C = self.A, self.R, self.P, self.V, self.M, self.C
         skip, lfsr, cc, pend = self.skip, self.lfsr, self.cc, self.pend
         g, t, hold, flags = self.g, self.t, self.hold, list(self.flags)
         gb, base, S, first = self.gb, self.base, self.S, self.first
         learned = self.learned
         nup = self.nup
+        N, sig, stat = self.N, self.sig, list(self.stat)
+        nsat = ANNEAL << (ANNEALS - 1)
+        show = self.show
         (c0, ka0, kb0), (_, ka1, kb1) = GAINS
         assert ka0 == kb0 - (VF - PF) and ka1 == kb1 - (VF - PF)   # dV = dP = E >> KA
         vsh = VF - PF
@@ -260,12 +310,21 @@ class Harmonic:
                 nup = 0
                 A = [0] * BINS
                 R = -8192
+                N = 0
+                sig = False
+                stat = [0] * (SIG_LAG - 1)
                 pend = None
+            # whether the table is shown (the commits of samples <= k - 3)
+            sr = R + 8192
+            stat.append(N - (sr if sr >= 0 else ~sr))
+            st = stat.pop(0)
+            sig = st > (show >> SIG_HYST if sig else show)
             # commit the last candidate's update on the arrival of the 9th sample after it
             if cc == 1 and pend is not None:
                 eb, ev, eo = pend
                 A[eb] = ev
                 R += ev - eo
+                N += (ev if ev >= 0 else ~ev) - (eo if eo >= 0 else ~eo)
             # the tick schedule and the gear (on the sample's arrival)
             tick = t == 0
             conv = 0                     # the observer's V on this tick: 0 as it is,
@@ -348,16 +407,17 @@ class Harmonic:
                 if not blk[i] and lrn[i] and win and elo <= e < ehi:
                     x = ((y >> MF) if gw == 0 else e) - (R >> (ANCHOR + 8 - PF))
                     x = dmax if x > dmax else dmin if x < dmin else x
-                    dlt = x >> (mus[i] - (8 - PF) + (1 if gw >= GSLOW else 0)
-                                + (1 if nup >= ANNEAL else 0))
+                    gsh = 0 if gw == 0 else 1 if gw < GSLOW else 2
+                    dlt = x >> (mus[i] - (8 - PF) + gsh
+                                + sum(nup >= ANNEAL << s for s in range(ANNEALS)))
                     hf = A[b]
                     hn = hf + dlt
                     if hmin <= hn <= hmax:       # an update that would leave s16 is not made
                         pend = (b, hn, hf)
                         gate = True
                         learned += 1
-                        nup = min(nup + 1, ANNEAL)
-            out[i] = pc if apl[i] else p
+                        nup = min(nup + 1, nsat)
+            out[i] = pc if apl[i] and (sig or not show) else p
             if trace:
                 tr["corr"][i] = corr
                 tr["E"][i] = e
@@ -374,6 +434,8 @@ class Harmonic:
                 tr["tick"][i] = tick
                 tr["conv"][i] = conv
                 tr["P"][i] = P
+                tr["sig"][i] = sig
+                tr["N"][i] = N
         self.A, self.R, self.P, self.V, self.M, self.C = A, R, P, V, M, C
         self.skip, self.lfsr, self.cc, self.pend = skip, lfsr, cc, pend
         self.g, self.t, self.hold, self.flags = g, t, hold, flags
@@ -381,6 +443,7 @@ class Harmonic:
         self.k += n
         self.learned = learned
         self.nup = nup
+        self.N, self.sig, self.stat = N, sig, stat
         res = np.asarray(out, dtype=np.int64)
         if trace:
             return res, {k: np.asarray(v, dtype=np.int64) for k, v in tr.items()}

@@ -124,13 +124,13 @@ REGS = {
         'updates': Field('updates', 'UPDATES', 0, 32, None, True, False, False, False, False, 0, 4294967295, 'u32',
             'RLS updates since rst (wraps).'),
     }, 'Estimator updates', ''),
-    'HARM': Reg('HARM', 0x12, 0x48, True, True, 0x00000133, 0x00000033, 0x00000013, ('OPT_TUNABLE', 'OPT_HARMONIC'), {
+    'HARM': Reg('HARM', 0x12, 0x48, True, True, 0x00000133, 0x00000033, 0x00000003, ('OPT_TUNABLE', 'OPT_HARMONIC'), {
         'harm_apply': Field('harm_apply', 'HARM', 0, 1, 1, True, True, False, False, False, 0, 1, '',
-            "Apply the learned correction to the counter's phase."),
+            "Apply the learned correction to the counter's phase, once the table is significant (its mean deviation above 2 phase units, 1/4096 of a period)."),
         'harm_learn': Field('harm_learn', 'HARM', 1, 1, 1, True, True, False, False, False, 0, 1, '',
             'Learn the harmonic table (speed-gated).'),
-        'harm_mu': Field('harm_mu', 'HARM', 4, 2, 1, True, True, False, False, False, 0, 3, 'u2',
-            'LMS step 2^-(3 + harm_mu).'),
+        'harm_mu': Field('harm_mu', 'HARM', 4, 2, 0, True, True, False, False, False, 0, 3, 'u2',
+            'LMS step 2^-(3 + harm_mu) in gear 0 (fast moves), halved in gears 1..3 and quartered from gear 4, halved again at 2048, 4096 and 8192 updates since a clear.'),
         'harm_clear': Field('harm_clear', 'HARM', 8, 1, 0, False, True, True, False, False, 0, 1, '',
             '1: clear the table (a 64-clock sweep).'),
     }, 'Harmonic compensation', 'Reads 0 with OPT_HARMONIC = 0.'),

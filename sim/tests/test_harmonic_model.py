@@ -247,6 +247,45 @@ def test_long_run_no_drift_no_saturation():
     assert 24 < spread < 36                     # the +-13-unit harmonic (and noise)
 
 
+@pytest.mark.parametrize("v", [4.0, 40.0, -150.0])
+def test_table_of_noise_hidden(v):
+    """No harmonic, noise 7 units (0.5 % of the signal): the table learns (its own noise)
+    in gears 2 and 0, but it never becomes significant, so phase_c is the raw phase (the
+    count is exactly what it would be without the block)."""
+    ph, _ = stream(v, 300_000, h4=0.0, seed=9)
+    h = hm.Harmonic()
+    out, tr = h.run(ph, trace=True)
+    st = h.N - abs(h.R + 8192)
+    print(f"v {v}: {h.learned} updates, N - |S| = {st} ({st / 64 / 256:.2f} units)")
+    assert h.learned > 10_000
+    assert not tr["sig"].any() and np.array_equal(out, ph)
+
+
+def test_table_shown_once_significant_hidden_below_half():
+    """A 13-unit 4th-harmonic error at 40 units/sample: the table is shown once it is
+    significant (within 10 000 samples of the start: 2047 to lock) and corrects the error; when the error
+    goes away the table decays and is hidden again only once N - |R + 8192| has fallen
+    to half of the threshold (the hysteresis)."""
+    n1, n2 = 60_000, 400_000
+    ph1, _ = stream(40.0, n1, seed=3)
+    ph2, _ = stream(40.0, n2, h4=0.0, seed=4, x0=100.0 + 40.0 * n1)
+    h = hm.Harmonic()
+    out1, tr1 = h.run(ph1, trace=True)
+    on = int(np.argmax(tr1["sig"]))
+    assert tr1["sig"][-1] and 0 < on < 10_000, on
+    assert np.array_equal(out1[:on], ph1[:on]) and not np.array_equal(out1[on:], ph1[on:])
+    _, tr2 = h.run(ph2, trace=True)
+    st = tr2["N"] - np.abs(tr2["R"] + 8192)          # N - |R + 8192| after each sample
+    sig = tr2["sig"].astype(bool)
+    off = int(np.argmin(sig))                          # the first hidden sample
+    print(f"shown from sample {on}; hidden after {off} samples of no error, at "
+          f"N - |S| = {st[off - 3]} (sig sees the samples <= k - 3)")
+    half = hm.SIG_ON >> hm.SIG_HYST
+    assert 10_000 < off and sig[:off].all() and not sig[off:].any()
+    assert st[off - 3] <= half < st[off - 4]
+    assert (st[:off - 3] <= hm.SIG_ON).sum() > 1000      # shown below the threshold
+
+
 def test_learning_off_and_clear():
     h = hm.Harmonic()
     ph, _ = stream(40.0, 30_000)
@@ -300,7 +339,7 @@ def test_sweep_flags():
     clear, blocked = hm.sweep_flags(arr, [100])
     assert clear.tolist() == [0, 0, 1, 0, 0, 0, 0, 0]
     assert blocked.tolist() == [0, 0, 1, 1, 1, 1, 0, 0]
-    h = hm.Harmonic()
+    h = hm.Harmonic(show=0)          # (every table shown: sig has its own tests)
     h.A[3] = 5000
     h.R = 5000 - 8192
     ph = np.full(len(arr), 3 << 7, np.int64)

@@ -163,7 +163,7 @@ def test_model_defaults_are_the_reset_values():
 
 
 def test_word_helpers():
-    assert regs.word("HARM", harm_mu=3) == regs.REGS["HARM"].reset | 0x20
+    assert regs.word("HARM", harm_mu=3) == regs.REGS["HARM"].reset | 0x30
     assert regs.value("M1", "m1", 0xFFFF8000) == -32768
     assert regs.illegal("INTERP", 512) is not None
     assert regs.illegal("INTERP", 0) == "INTERP.interp = 0: outside 1..511"
