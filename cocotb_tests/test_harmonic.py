@@ -504,7 +504,7 @@ def _lock_pad():
     would change its update: MUTATIONS)."""
     _, f, first = directed_front(0)
     p0 = first["pad"]
-    h0 = hm.Harmonic(show=0)
+    h0 = hm.Harmonic(show=show_of("directed"))
     h0.run(f["phase"][:p0], learn=1, mu=3)
     for pad in range(200):
         _, f, first = directed_front(pad)
@@ -523,7 +523,7 @@ def _lock_pad():
 def directed_stim():
     """The directed stream with its events (see the module text)."""
     edges, f, S = directed_front(_lock_pad())
-    P = Planner(edges, f["phase"], (1, 1, 3), show=0)
+    P = Planner(edges, f["phase"], (1, 1, 3), show=show_of("directed"))
     A, L, M = 0, 1, 2
     # apply: one-edge pulses and steps at samples whose correction is not 0, while the
     # lock returns (nothing is learned: the table is the one learned near -512)

@@ -4,9 +4,10 @@ error (harmonic distortion of the encoder signals, which no ellipse correction r
 The block sits between the fine phase (lut phase_o, u13, 8192 units per period) and the
 counter. A table A of 64 entries (s8.8 phase units, bin b = phase[12:7], 128 units each)
 is learned online, by LMS, from the error of a tracking observer while the stage moves
-smoothly, and applied to every sample once it is significant (sig, below). The observer runs in gears g = 0..11: in gear g
-it sees the mean phase of blocks of D = 2**g samples (a tick ends each block), so that
-it can be slower than the error at any speed (below). Every sample k, in order:
+smoothly, and applied to every sample once it is significant (sig, below). The observer
+runs in gears g = 0..11: in gear g it sees the mean phase of blocks of D = 2**g samples
+(a tick ends each block), so that it can be slower than the error at any speed (below).
+Every sample k, in order:
 
   clear   (clear[k]) A = 0, R = -8192, N = 0, sig = 0, a pending update is dropped.
   sig     sig = (N - |R + 8192|) > (2**14 if sig else 2**15), N and R as after the
