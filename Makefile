@@ -7,7 +7,8 @@ IN      ?= $(BUILD)/demo/in.csv
 OUT     ?= $(BUILD)/out.csv
 # settings (register fields, rtl/regs/finequad.rdl) for rtlsim, model and vcdcompare:
 # INTERP, COUNT_MODE, AB_SEP, AB_SRC, AB_BOUND, and any other as SETTINGS="--eps 1000
-# --gate 32 ..." (the harness's and the model's --<field> options); empty: the reset value
+# --gate 32 ..." (the harness's and the model's --<field> options, and --home: homing armed
+# from the start); empty: the reset value. IN: a CSV 'u1,u2' or 'u1,u2,ref' (sim/README.md)
 INTERP  ?=
 COUNT_MODE ?=
 AB_SEP  ?=
@@ -168,18 +169,20 @@ RTLSIM_VFLAGS = --cc --exe --build -O3 -Wno-fatal -j 2 -Irtl -Irtl/tables \
 # RTLSIM_SKIP_NEGEDGE: the fast harness clears the clock's trigger state instead of
 # evaluating the falling edge (harness.cpp), defined only if every event control of the
 # core is @(posedge clk) or @(*): then nothing can happen on a falling edge.
-$(HARNESS): $(RTL) sim/harness/harness.cpp sim/harness/input.h sim/harness/regs.h $(RTL_INC) | deps
+$(HARNESS): $(RTL) sim/harness/harness.cpp sim/harness/input.h sim/harness/regs.h \
+    rtl/regs/finequad_regs.h $(RTL_INC) | deps
 	@mkdir -p $(HDIR)
 	$(VERILATOR) $(RTLSIM_VFLAGS) \
 	    $$(grep -ohE '@[[:space:]]*\([^)]*\)' $(RTL) | tr -d ' \t' | \
 	       grep -qvxE '@\((posedgeclk|\*)\)' || echo -CFLAGS -DRTLSIM_SKIP_NEGEDGE) \
 	    --Mdir $(HDIR) $(RTL) sim/harness/harness.cpp >/dev/null
 
-$(HARNESS_VCD): $(RTL) sim/harness/harness.cpp sim/harness/input.h sim/harness/regs.h $(RTL_INC) | deps
+$(HARNESS_VCD): $(RTL) sim/harness/harness.cpp sim/harness/input.h sim/harness/regs.h \
+    rtl/regs/finequad_regs.h $(RTL_INC) | deps
 	@mkdir -p $(HDIR)_vcd
 	$(VERILATOR) $(RTLSIM_VFLAGS) --trace --Mdir $(HDIR)_vcd $(RTL) sim/harness/harness.cpp >/dev/null
 
-rtlsim: $(if $(VCD),$(HARNESS_VCD),$(HARNESS)) ## run the RTL (Verilator): IN=in.csv OUT=out.csv [PROFILE=build] [knobs: TABLE_EXACT=0|1 ADC_W=12..16 ENGINE_LANES=1|2 OPT_DISTRAM OPT_PHASE_4K OPT_PULSE_ADDR OPT_HARMONIC OPT_NTH_DSP OPT_TUNABLE OPT_MONITOR OPT_JUMP=0|1; make profiles] [DIV=clocks/sample] [settings: INTERP=n COUNT_MODE=0|1 AB_SEP=s AB_SRC=0|1 AB_BOUND=b SETTINGS="--<field> N ..."] [VCD=x.vcd]
+rtlsim: $(if $(VCD),$(HARNESS_VCD),$(HARNESS)) ## run the RTL (Verilator): IN=in.csv (u1,u2[,ref]) OUT=out.csv [PROFILE=build] [knobs: TABLE_EXACT=0|1 ADC_W=12..16 ENGINE_LANES=1|2 OPT_DISTRAM OPT_PHASE_4K OPT_PULSE_ADDR OPT_HARMONIC OPT_NTH_DSP OPT_TUNABLE OPT_MONITOR OPT_JUMP=0|1; make profiles] [DIV=clocks/sample] [settings: INTERP=n COUNT_MODE=0|1 AB_SEP=s AB_SRC=0|1 AB_BOUND=b SETTINGS="--<field> N ... [--home]"] [VCD=x.vcd]
 	$(if $(VCD),$(HARNESS_VCD),$(HARNESS)) --in $(IN) --out $(OUT) --div $(DIV) $(SET_ARGS) \
 	    $(if $(VCD),--vcd $(VCD))
 

@@ -310,6 +310,27 @@ class ClockedBench:
     async def step(self, n=1):
         await self.goto(self.edge + n)
 
+    async def reg_read(self, addr):
+        """Read a word through the core's registered read port (reg_re with reg_addr for
+        one edge, reg_rdata after it), from the next edge on."""
+        dut = self.dut
+        await self.goto(self.edge + 1)
+        dut.reg_addr.value = addr
+        dut.reg_re.value = 1
+        await self.goto(self.edge + 1)
+        dut.reg_re.value = 0
+        return uval(dut.reg_rdata)
+
+    async def reg_write(self, addr, data):
+        """Write a word through the core's register port (reg_we for one edge)."""
+        dut = self.dut
+        await self.goto(self.edge + 1)
+        dut.reg_we.value = 1
+        dut.reg_addr.value = addr
+        dut.reg_wdata.value = data
+        await self.goto(self.edge + 1)
+        dut.reg_we.value = 0
+
     async def settle(self):
         """Let combinational logic settle after writes (stays well before the next edge)."""
         from cocotb.triggers import Timer

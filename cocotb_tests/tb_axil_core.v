@@ -49,17 +49,19 @@ module tb_axil_core #(
         .reg_we(reg_we), .reg_re(reg_re), .reg_addr(reg_addr), .reg_wdata(reg_wdata),
         .reg_rdata(reg_rdata), .reg_err(reg_err)
     );
-    wire        m_valid, m_a, m_b;
-    wire [31:0] m_count;
+    wire        m_valid, m_a, m_b, m_z, m_homed, m_pos_valid;
+    wire [31:0] m_count, m_ref_count;
     wire [10:0] m_fault;
     wire [65:0] eng_cmd;                 // 0: the core's engine is inside
     finequad_core #(.TABLE_DIR(TABLE_DIR), .ADC_W(12)) u_core (
-        .clk(clk), .rst(rst), .s_valid(1'b0), .s_u1(12'd0), .s_u2(12'd0),
+        .clk(clk), .rst(rst), .s_valid(1'b0), .s_u1(12'd0), .s_u2(12'd0), .s_ref(1'b0),
         .reg_we(reg_we), .reg_re(reg_re), .reg_addr(reg_addr), .reg_wdata(reg_wdata),
         .reg_rdata(reg_rdata), .reg_err(reg_err),
         .m_valid(m_valid), .m_count(m_count), .m_fault(m_fault), .m_a(m_a), .m_b(m_b),
+        .m_z(m_z), .m_ref_count(m_ref_count), .m_homed(m_homed), .m_pos_valid(m_pos_valid),
         .tdm_ok_i(1'b1), .eng_cmd_o(eng_cmd), .eng_rsp_i(115'd0)   // the engine inside
     );
-    wire unused = &{1'b0, m_valid, m_count, m_fault, m_a, m_b, eng_cmd, 1'b0};
+    wire unused = &{1'b0, m_valid, m_count, m_fault, m_a, m_b, eng_cmd,
+                    m_z, m_ref_count, m_homed, m_pos_valid, 1'b0};
 endmodule
 `resetall

@@ -13,7 +13,7 @@ except on a write edge): the value read after each sample's output edge must equ
 the model's A/B follower (backlog_at()).
 
 Scenarios (one simulator process each, from power-up):
-  uniform    strobes every 36 clocks from edge 16 (the harness timing), TABLE_EXACT=1,
+  uniform    strobes every 36 clocks from edge 32 (the harness timing), TABLE_EXACT=1,
              the other registers at their defaults (the harness's configuration)
   gaps       random idle gaps between strobes (1 .. 60 clocks, bursts back to back),
              small signals (input gain 2), rail spikes (clip, gain and correction
@@ -100,8 +100,8 @@ UP5K_LEAN = {k: v for k, v in fqtb.builds().core_overrides("up5k").items()
 
 
 OUT_LATENCY = core_model.LATENCY   # sim/model/finequad_core.py: the RTL's pipeline timing
-T_FIRST = 16                # first strobe edge (sim/harness/harness.cpp)
-T_FIRST_LOAD = 32           # with a LOAD before it (more register writes)
+T_FIRST = 32                # first strobe edge (sim/harness/harness.cpp)
+T_FIRST_LOAD = 48           # with a LOAD before it (more register writes)
 BACKLOG = regs.AB_BACKLOG   # read every sample during the run
 
 # samples per simulator: Icarus simulates this core at some 10k clocks/s, Verilator with
@@ -218,15 +218,17 @@ def load_edge(cfg):
 def backlog_at(count, t, reads, cfg):
     """The A/B backlog register (AB_BACKLOG, registered from rtl/abgen.v's backlog_o) as read
     back after each edge of `reads` (increasing), from the model (sim/model/abgen.py,
-    the Follower that sim/model/finequad_core.py runs on m_count): reg_rdata after edge r holds
-    backlog_o after edge r - 1, the saturated distance of edge r - 2. m_count takes sample
-    k's count on t_k + LATENCY, the target of edges t_k + LATENCY + 1 on."""
+    the Follower that sim/model/finequad_core.py runs on the count before the homing
+    offset, `count`): reg_rdata after edge r holds backlog_o after edge r - 1, the
+    saturated distance of edge r - 2. The pins' target takes sample k's count on
+    t_k + AB_AT - 1, the target of edges t_k + AB_AT on."""
     from sim.model import abgen
     from sim.model.fixed import sat
     fol = abgen.Follower(cfg.ab_sep, cfg.ab_bound, cfg.COUNT_W)
     # (last edge run, kind, index, edge) in edge order: set(y) runs the edges before y,
     # sample(q) the edges up to q; on a tie (q = y - 1) either order gives the same state
-    ev = [(int(e) + OUT_LATENCY, 1, k, int(e) + OUT_LATENCY + 1) for k, e in enumerate(t)]
+    ev = [(int(e) + core_model.AB_AT - 1, 1, k, int(e) + core_model.AB_AT)
+          for k, e in enumerate(t)]
     ev += [(int(r) - 2, 0, i, int(r) - 2) for i, r in enumerate(reads)]
     out = [0] * len(reads)
     for _, is_set, i, edge in sorted(ev):
@@ -600,6 +602,7 @@ async def core_run(dut):
     dut.s_valid.value = 0
     dut.s_u1.value = 0
     dut.s_u2.value = 0
+    dut.s_ref.value = 0
     dut.reg_we.value = 0
     dut.reg_re.value = 0
     dut.reg_addr.value = 0
@@ -660,7 +663,7 @@ async def core_run(dut):
                              "\n".join(lines))
     # the backlog register after each output edge (not where a write took the address)
     rd_edges = [int(e) + OUT_LATENCY for e in t]
-    exp_bl = np.array(backlog_at(res["count"][:n], t, rd_edges, cfg), dtype=np.int64)
+    exp_bl = np.array(backlog_at(res["count_raw"][:n], t, rd_edges, cfg), dtype=np.int64)
     seen = np.array([e not in reg_writes for e in rd_edges])
     diff = np.nonzero(seen & (got_bl != exp_bl))[0]
     if len(diff):
@@ -691,21 +694,7 @@ async def core_run(dut):
     dut.reg_re.value = 0
     await bench.goto(t_ph + 2)
 
-    async def rd(addr):
-        await bench.goto(bench.edge + 1)
-        dut.reg_addr.value = addr
-        dut.reg_re.value = 1
-        await bench.goto(bench.edge + 1)
-        dut.reg_re.value = 0
-        return fqtb.uval(dut.reg_rdata)
-
-    async def wr(addr, data):
-        await bench.goto(bench.edge + 1)
-        dut.reg_we.value = 1
-        dut.reg_addr.value = addr
-        dut.reg_wdata.value = data
-        await bench.goto(bench.edge + 1)
-        dut.reg_we.value = 0
+    rd, wr = bench.reg_read, bench.reg_write
 
     def u32(v):
         return int(v) & 0xFFFFFFFF
@@ -753,7 +742,7 @@ async def core_run(dut):
             f"{scenario}: the jump detector would not fire on this signal"
     bl_got = await rd(BACKLOG)
     check(f"AB_BACKLOG (after edge {bench.edge})", bl_got,
-          backlog_at(res["count"][:n], t, [bench.edge], cfg)[0])
+          backlog_at(res["count_raw"][:n], t, [bench.edge], cfg)[0])
     for f in ("m1", "m2", "c1", "c12", "c2"):
         check(f.upper(), await rd(regs.REGS[f.upper()].index), u32(res[f][ph]))
     # (cleared on sample kf's edge, which ORs kf's word in)
@@ -776,7 +765,7 @@ async def core_run(dut):
     # ---- the A/B pins, edge by edge (paced outputs only) ------------------------------------
     if not cfg.ab_src:
         # let the pins pay any backlog left (one count per ab_sep clocks), then decode
-        left = abs(backlog_at(res["count"][:n], t, [bench.edge], cfg)[0])
+        left = abs(backlog_at(res["count_raw"][:n], t, [bench.edge], cfg)[0])
         await bench.goto(bench.edge + left * max(cfg.ab_sep, 1) + 4)
         check_ab_pins(ab_log, ab_init, bench, cfg, int(res["count"][n - 1]), scenario)
 

@@ -19,6 +19,8 @@ after the run, per axis, the registers ID, COUNT, UPDATES, STATUS (uncal, hold, 
 engine's sticky saturation bit of that axis), FAULT_STICKY, GAIN, M1..C2 must equal the
 model's (the final bundle and update count from a phantom sample strobed, in the model
 only, after every program has ended, with a reset request so that it starts no update).
+The reference inputs s_ref stay 0 (no reference marks here): every axis's m_z, m_homed
+and m_pos_valid must stay 0.
 
 Cases: two axes (40 000 samples each; `other`: the same axis 0 with axis 1 on another
 recording, pacing and settings: axis 0's results must be the same as in the first run,
@@ -217,9 +219,10 @@ async def multi_run(dut):
     u1v, u2v = [0] * axes, [0] * axes
     got = np.zeros((axes, n, 5), dtype=np.int64)  # m_valid, count, a, b, fault
     bench = fqtb.ClockedBench(dut)
-    for sig in (dut.rst, dut.s_valid, dut.s_u1, dut.s_u2, dut.reg_we, dut.reg_re,
+    for sig in (dut.rst, dut.s_valid, dut.s_u1, dut.s_u2, dut.s_ref, dut.reg_we, dut.reg_re,
                 dut.reg_axis, dut.reg_addr, dut.reg_wdata):
         sig.value = 0
+    ref_seen = 0                                  # m_z | m_homed | m_pos_valid, per axis
     await bench.start()
     for s in slots:
         await bench.goto(s)
@@ -228,6 +231,8 @@ async def multi_run(dut):
             cnt = fqtb.uval(dut.m_count)
             fa = fqtb.uval(dut.m_fault)
             ma, mb = fqtb.uval(dut.m_a), fqtb.uval(dut.m_b)
+            ref_seen |= (fqtb.uval(dut.m_z) | fqtb.uval(dut.m_homed)
+                         | fqtb.uval(dut.m_pos_valid))
             for i, k in reads[s]:
                 v = (cnt >> (32 * i)) & 0xFFFFFFFF
                 got[i, k] = ((mv >> i) & 1, v - (1 << 32) if v >> 31 else v, (ma >> i) & 1,
@@ -261,6 +266,8 @@ async def multi_run(dut):
                        f"{int(stim[i][2][k])}): rtl (valid,count,a,b,fault)="
                        f"{tuple(int(x) for x in got[i, k])}, model {tuple(int(x) for x in exp[k])}")
     assert not bad, f"{case}:\n" + "\n".join(bad)
+    assert ref_seen == 0, (f"{case}: Z, homed or pos_valid rose without a reference input "
+                           f"(axes {ref_seen:#x})")
 
     # ---- registers after the run, per axis ----------------------------------------------------
     dut.s_valid.value = 0

@@ -38,7 +38,9 @@ runs as on the board.
                35.714 MHz / 310 = 115 207 baud): ID = sim.model.finequad_core.ID, COUNT = the
                model's final count, the bundle G, M1, M2, C1, C12, C2 = the model's bundle
                in use, UPDATES = the model's update count, STATUS calibrated; INTERP
-               written and read back; a word above ADDR_TOP answers SLVERR.
+               written and read back; a word above ADDR_TOP answers SLVERR;
+             - the reference input ref_in is held low: the Z pin never rises, REF_STATUS
+               and REF_COUNT read 0 and the position-valid LED (led[4]) stays off.
 """
 import numpy as np
 
@@ -141,6 +143,7 @@ async def system(dut):
     dut.ftdi_txd.value = 1
     dut.adc_sdata1.value = 0
     dut.adc_sdata2.value = 0
+    dut.ref_in.value = 0                         # no reference mark
     Clock(dut.clk_25mhz, CLK_PS, unit="ps").start(start_high=False)
     t_edge0 = CLK_PS // 2                        # first rising edge (clock starts low)
     adc = PmodAD1Fast(dut.adc_cs_n, dut.adc_sclk, dut.adc_sdata1, dut.adc_sdata2,
@@ -183,6 +186,15 @@ async def system(dut):
                            int(dut.u_sys.reg_addr.value), int(dut.u_sys.reg_wdata.value)))
     cocotb.start_soon(watch_writes())
 
+    # Z pin: never high without a reference input
+    z_rises = []
+
+    async def watch_z():
+        while True:
+            await RisingEdge(dut.quad_z)
+            z_rises.append(get_sim_time(unit="ns"))
+    cocotb.start_soon(watch_z())
+
     # run the recording with a covariance reset requested over the UART during the move
     # (CTRL.cov_reset, counter mode 0 kept), then until the A/B pins have caught up
     t_req = (n_pre + 1200) * PERIOD
@@ -204,6 +216,8 @@ async def system(dut):
         bundle.append(v - (1 << 32) if v >> 31 else v)
     updates = await link.read(4 * regs.UPDATES)
     status = await link.read(4 * regs.STATUS)
+    ref_status = await link.read(4 * regs.REF_STATUS)
+    ref_count = await link.read(4 * regs.REF_COUNT)
     k = len(counts)                              # before INTERP changes the count scale
     decoded = dec.pos
     await link.write(4 * regs.INTERP, 123)
@@ -261,3 +275,6 @@ async def system(dut):
     assert updates == res["n_updates"], (updates, res["n_updates"])
     assert regs.value("STATUS", "uncal", status) == 0, "not calibrated"
     assert interp == 123 and slverr
+    assert not z_rises, f"Z rose without a reference input at {z_rises[:3]} ns"
+    assert ref_status == 0 and ref_count == 0, (hex(ref_status), ref_count)
+    assert int(dut.led.value) >> 4 & 1 == 0, "the position-valid LED is on"

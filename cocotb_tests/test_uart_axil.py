@@ -182,7 +182,7 @@ def test_fqhost(monkeypatch):
     # a read's line names the register read: word 0 reads STATUS, signed ones as signed
     assert fqhost.show(0x00, 5).split() == ["status", "0x00", "0x00000005", "5"]
     assert fqhost.show(0x08, 0xffffffff).split() == ["count", "0x08", "0xffffffff", "-1"]
-    assert fqhost.show(0x1e, 7).split() == ["0x1e", "0x1e", "0x00000007", "7"]
+    assert fqhost.show(0x23, 7).split() == ["0x23", "0x23", "0x00000007", "7"]
 
 
 def test_fqhost_cli(monkeypatch, capsys):

@@ -237,11 +237,11 @@ def test_vcdref_timing_and_names(tmp_path):
     tm = vcdref.rtl_timing()
     P, L = vcdref.PERIOD_PS, tm["LATENCY"]
     rise = [t for t, x in v[f"{SCOPE}.m_valid"].tv if x == "1"]
-    assert rise == [(16 + 5 * k + L) * P for k in range(n)]
+    assert rise == [(vcdref.T0 + 5 * k + L) * P for k in range(n)]
     # div=5: one-cycle windows with gaps; phase_o is x in the gaps
     ph = v[f"{SCOPE}.{vcdref.HARM}.phase_o[12:0]"].tv
     assert ph[0] == (0, "x")
-    t_ph = 16 + tm["PHASE_AT"]
+    t_ph = vcdref.T0 + tm["PHASE_AT"]
     assert ph[1] == (t_ph * P, format(int(res["phase"][0]), "b"))
     assert ph[2] == ((t_ph + 1) * P, "x")
     rc, out, err = run(path, path)
@@ -253,4 +253,4 @@ def test_vcdref_timing_and_names(tmp_path):
     rc, out, _ = run(path2, path, "--period-ps", P)
     assert rc == 1
     assert out.splitlines()[0].endswith(
-        f"first divergence at t={(16 + L) * P} ps (edge {16 + L}) in {SCOPE}.m_valid")
+        f"first divergence at t={(vcdref.T0 + L) * P} ps (edge {vcdref.T0 + L}) in {SCOPE}.m_valid")

@@ -22,8 +22,13 @@
 // rst (sync): pos = 0, A = B = 1, cnt = 255 (first step allowed on the next edge), backlog
 // 0, flags 0. The core resets the position counter (target) to 0 together with this block.
 // Latency 1: target_i on edge e can move pos_o after edge e.
+// Z (z_o, registered with a_o, b_o): z_o <= z_en_i && (pos after the edge == z_at_i), with
+// z_en_i, z_at_i as they stand before the edge: high exactly while the pins show the
+// count z_at_i (rtl/refmark.v arms it at the reference), so a decoder sees Z in one A/B
+// state, one count wide, in both directions; 0 after rst.
 // Cost: one COUNT_W subtract (d), one COUNT_W add of +-1 (pos), a 16-bit compare
-// carry chain (ovf), an 8-bit saturating timer and 8-bit compare. No multipliers.
+// carry chain (ovf), an 8-bit saturating timer and 8-bit compare; for Z one COUNT_W
+// subtract (z_at - pos, beside d) and three equality trees. No multipliers.
 module abgen #(
     parameter COUNT_W = 32,                // >= 17
     // 1: sep_i, bound_i are registers; 0: constants (rtl/finequad_core.v OPT_TUNABLE = 0):
@@ -40,7 +45,10 @@ module abgen #(
     output reg  signed [COUNT_W-1:0] pos_o,        // s(COUNT_W).0 counts, 0 after rst
     output reg  signed [15:0]        backlog_o,    // s16.0 counts, sat(target - pos)
     output reg                       ovf_o,        // |target - pos| > bound (registered)
-    output reg                       ovf_sticky_o  // ovf seen since rst
+    output reg                       ovf_sticky_o, // ovf seen since rst
+    input  wire                      z_en_i,       // Z armed (rtl/refmark.v)
+    input  wire signed [COUNT_W-1:0] z_at_i,       // s(COUNT_W).0 the count Z marks
+    output reg                       z_o           // Z: the pins at z_at_i, armed
 );
 `include "geu.vh"                          // geu(a, b): a >= b, unsigned, bit by bit
     // d = target - pos, s(COUNT_W).0 modular; whether it is zero comes from an equality
@@ -77,6 +85,13 @@ module abgen #(
                                 : neg_q ? geu({16'd0, m[15:0]}, {16'd0, bound_q})
                                         : geu({16'd0, m[15:0]}, {15'd0, bnd1}));
 
+    // Z: the position after this edge is pos + sign(d) on a step, else pos; e = z_at - pos
+    // beside d, so the choice waits only for d's sign (as pos_n does)
+    wire [COUNT_W-1:0] ze = z_at_i - pos_o;
+    wire               z_n = z_en_i && (step ? (neg ? (ze == {COUNT_W{1'b1}})
+                                                    : (ze == {{(COUNT_W-1){1'b0}}, 1'b1}))
+                                             : (ze == {COUNT_W{1'b0}}));
+
     // backlog: d saturated to s16
     wire        fits = (m[COUNT_W-1:15] == {(COUNT_W-15){1'b0}});
     wire [15:0] bl_n = fits ? d_q[15:0] : {neg_q, {15{~neg_q}}};
@@ -95,6 +110,7 @@ module abgen #(
         backlog_o    <= bl_n;
         ovf_o        <= ovf_n;
         ovf_sticky_o <= ovf_sticky_o | ovf_n;
+        z_o          <= z_n;
         if (rst) begin
             pos_o        <= {COUNT_W{1'b0}};
             a_o          <= 1'b1;
@@ -104,12 +120,13 @@ module abgen #(
             backlog_o    <= 16'sd0;
             ovf_o        <= 1'b0;
             ovf_sticky_o <= 1'b0;
+            z_o          <= 1'b0;
         end
     end
 
     initial begin
         a_o = 1'b1; b_o = 1'b1; pos_o = {COUNT_W{1'b0}}; backlog_o = 16'sd0;
-        ovf_o = 1'b0; ovf_sticky_o = 1'b0;
+        ovf_o = 1'b0; ovf_sticky_o = 1'b0; z_o = 1'b0;
     end
 
 `ifdef FORMAL
@@ -124,7 +141,11 @@ module abgen #(
     //  P5 no pacing lost: target != pos and max(sep, 1) clocks passed -> pos moved.
     //  P6 ovf_o == |target - pos| > bound on the edge before; backlog_o == sat16(target -
     //     pos) of that edge; ovf_sticky_o == previous sticky | ovf_o.
-    //  P7 after rst: pos 0, A = B = 1, flags 0.
+    //  P7 after rst: pos 0, A = B = 1, flags 0, Z 0.
+    //  Z1 Z only at the count it marks, armed: z_o -> z_en_i and pos_o == z_at_i as they
+    //     stood before the edge. So Z is never wider than one count and never outside
+    //     that count's A/B state (P2: the quadrant is pos mod 4).
+    //  Z2 Z whenever the pins stand at that count, armed (it is never missed).
     reg                      f_past_valid = 1'b0;
     reg                      f_rst = 1'b0;
     reg signed [COUNT_W-1:0] f_target = 0, f_pos = 0;
@@ -135,6 +156,8 @@ module abgen #(
     reg                      f_rst2 = 1'b1;               // rst two edges back (or start)
     reg [COUNT_W:0]          f_absd2 = 0;                 // |d| and bound of the edge before
     reg [15:0]               f_bound2 = 16'd0;
+    reg                      f_zen = 1'b0;
+    reg signed [COUNT_W-1:0] f_zat = 0;
     reg signed [15:0]        f_sat_d2 = 16'sd0;
     always @(posedge clk) begin
         f_past_valid <= 1'b1;
@@ -151,6 +174,8 @@ module abgen #(
         f_a      <= a_o;
         f_b      <= b_o;
         f_sticky <= ovf_sticky_o;
+        f_zen    <= z_en_i;
+        f_zat    <= z_at_i;
     end
     wire                     f_achg = (a_o != f_a), f_bchg = (b_o != f_b);
     wire                     f_edge = f_achg || f_bchg;
@@ -187,10 +212,11 @@ module abgen #(
                 assert (backlog_o == f_sat_d2);
             end
             assert (ovf_sticky_o == (f_sticky | ovf_o));
+            assert (z_o == (f_zen && pos_o == f_zat));                           // Z1, Z2
         end
         if (f_past_valid && f_rst)
             assert (pos_o == 0 && a_o && b_o && !ovf_o && !ovf_sticky_o
-                    && backlog_o == 0 && d_q == 0);                              // P7
+                    && backlog_o == 0 && d_q == 0 && !z_o);                      // P7
         // the registered distance is the one of the edge before (induction invariant)
         if (f_past_valid && !f_rst)
             assert (d_q == f_d);
@@ -207,6 +233,8 @@ module abgen #(
             cover (f_edge && f_sep_e == 8'd5 && f_gap == 8'd5 && f_absd > 3);
             cover (f_sticky && !ovf_o && f_d != 0);
             cover (f_edge && f_dpos == -1 && f_target > f_pos + 2);
+            cover (z_o && f_edge && f_dpos == -1);      // Z entered from above
+            cover (z_o && f_edge && f_dpos == 1);       // and from below
         end
     end
 `endif

@@ -57,7 +57,8 @@ module counter #(
     output reg  signed [COUNT_W-1:0] count_o,    // s(COUNT_W), wraps
     output reg                       ovs_o,      // overspeed (with valid_o)
     output reg                       ill_o,      // an illegal A/B step (pulse, edge p + 1)
-    output reg  [15:0]               ill_count_o // u16 illegal A/B steps since rst, wraps
+    output reg  [15:0]               ill_count_o, // u16 illegal A/B steps since rst, wraps
+    output reg                       held_o      // with valid_o: a held sample, phase mode
 );
 `include "geu.vh"                          // geu(a, b): a >= b, unsigned, bit by bit
     // ---- e + 1: wrap, B ------------------------------------------------------------------
@@ -135,16 +136,19 @@ module counter #(
     always @(posedge clk) begin
         valid_o <= v1;
         ovs_o <= v1 && ovs1;
+        held_o <= v1 && hold1 && !mode_i;
         if (v1 && (mode_i || !hold1))
             count_o <= mode_i ? e_acc : b_acc + q;
         if (rst) begin
             valid_o <= 1'b0;
             ovs_o <= 1'b0;
+            held_o <= 1'b0;
             count_o <= 0;
         end
     end
     initial begin
         valid_o = 1'b0; count_o = 0; ovs_o = 1'b0; ill_o = 1'b0; ill_count_o = 16'd0;
+        held_o = 1'b0;
     end
     wire unused = &{1'b0, prod_i[10:0], 1'b0};
 `ifdef FORMAL

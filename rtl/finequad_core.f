@@ -14,3 +14,4 @@ rtl/hbin.v
 rtl/phase.v
 rtl/monitor.v
 rtl/abgen.v
+rtl/refmark.v

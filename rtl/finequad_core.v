@@ -13,8 +13,9 @@
 //                                  | pn -> sines (Table 1) -> pulse (Eq. 12) -> edge mode
 //
 // Latency: a sample strobed on edge t (s_valid high before it) appears on m_valid,
-// m_count, m_fault after edge t + LATENCY (8); the paced A/B outputs follow the count one
-// edge later (t + 9). Stages: t correct (offsets), t+1 products, t+2 magnitudes, t+3
+// m_count, m_fault after edge t + LATENCY (8); the paced A/B outputs and Z follow the
+// count two edges later (t + 10); m_ref_count, m_homed, m_pos_valid take the sample on
+// t + 10 (rtl/refmark.v). Stages: t correct (offsets), t+1 products, t+2 magnitudes, t+3
 // reciprocal, t+4 ratio, t+5 address and bin (block RAM reads), t+6 fine phase, t+7
 // n * phase and the period count, t+8 count; Eq. 12 sines t+8, pulses t+9, the edge-mode
 // count E t+10 (in edge mode m_count of a sample holds E as of its own output edge: the
@@ -26,6 +27,11 @@
 // hold the counter (the sample's phase is not trusted); 0, 7, 9, 10 and a short bit 8
 // keep the sample from the estimator. With OPT_MONITOR = 0 bits 7..10 stay 0 and
 // nothing holds the counter; clipped samples are still kept from the estimator.
+// Reference marks (rtl/refmark.v): s_ref is the reference input of the sample (a
+// comparator's output, sampled with s_u1/s_u2); m_z is Z, high while the paced A/B pins
+// show the reference count (0 when the pins show the Eq. 12 pulses, AB_SRC = 1). Homing
+// adds an offset to the counter's count: m_count = count + off (the pins keep the count
+// without it).
 // Register port: reg_we writes reg_wdata to reg_addr on the edge, unless reg_err (a
 // combinational verdict on reg_we, reg_addr, reg_wdata) refuses it: a register that takes
 // no writes (read-only, unmapped, constant in this build), a bit no field holds, a field
@@ -96,6 +102,7 @@ module finequad_core #(
     input  wire                      s_valid,
     input  wire signed [ADC_W-1:0]   s_u1,
     input  wire signed [ADC_W-1:0]   s_u2,
+    input  wire                      s_ref,      // the reference input (rtl/refmark.v)
     // register port
     input  wire                      reg_we,
     input  wire                      reg_re,
@@ -110,6 +117,11 @@ module finequad_core #(
     // A/B outputs (paced quadrature following m_count, or the Eq. 12 pulses)
     output wire                      m_a,
     output wire                      m_b,
+    // reference marks (rtl/refmark.v; REF_COUNT, REF_STATUS.homed, REF_STATUS.pos_valid)
+    output wire                      m_z,
+    output wire signed [COUNT_W-1:0] m_ref_count,
+    output wire                      m_homed,
+    output wire                      m_pos_valid,
     // shared RLS engine (OPT_EXT_ENGINE = 1; formats: rtl/estimator.v eng_cmd_o, eng_rsp_i)
     input  wire                      tdm_ok_i,
     output wire [65:0]               eng_cmd_o,
@@ -195,6 +207,13 @@ module finequad_core #(
     reg        req_cov_reset = 1'b0;            // CTRL.cov_reset (a pulse)
     reg        req_load = 1'b0;                 // CTRL.load (a pulse)
     reg        req_capture = 1'b0;              // CTRL.capture (a pulse)
+    reg [FQ_REF_REF_Q_W-1:0]    r_ref_q = FQ_REF_REF_Q_RESET;        // counts, 0 .. 4n - 1
+    reg [FQ_REF_REF_FILT_W-1:0] r_ref_filt = FQ_REF_REF_FILT_RESET;  // samples
+    reg [31:0]                  r_home = FQ_HOME_HOME_COUNT_RESET;   // s32
+    reg        req_home = 1'b0;                 // REF.home (a pulse)
+    // the count loses its scale (a pulse): a write that changes INTERP, or edge mode
+    reg        req_inval = 1'b0;
+    reg [1:0]  r_ref_sticky = 2'b00;            // REF_STICKY {lost, latched}, write 1 to clear
     // the write the core takes: reg_we unless refused (rtl/regs/finequad.rdl, fq_write_ok)
     wire wr_take = reg_we && `FQ_WRITE_OK(reg_addr, reg_wdata);
     assign reg_err = reg_we && !wr_take;
@@ -203,6 +222,8 @@ module finequad_core #(
         req_load <= 1'b0;
         req_capture <= 1'b0;
         r_harm_clear <= 1'b0;
+        req_home <= 1'b0;
+        req_inval <= 1'b0;
         if (wr_take) begin
             case (reg_addr)
                 FQ_CTRL: begin
@@ -210,8 +231,19 @@ module finequad_core #(
                     req_load <= reg_wdata[FQ_CTRL_LOAD_LSB];
                     req_capture <= reg_wdata[FQ_CTRL_CAPTURE_LSB];
                     r_count_mode <= reg_wdata[FQ_CTRL_COUNT_MODE_LSB];
+                    req_inval <= reg_wdata[FQ_CTRL_COUNT_MODE_LSB];
                 end
-                FQ_INTERP: r_interp <= reg_wdata[FQ_INTERP_INTERP_MSB:FQ_INTERP_INTERP_LSB];
+                FQ_INTERP: begin
+                    r_interp <= reg_wdata[FQ_INTERP_INTERP_MSB:FQ_INTERP_INTERP_LSB];
+                    req_inval <= (reg_wdata[FQ_INTERP_INTERP_MSB:FQ_INTERP_INTERP_LSB] !=
+                                  r_interp);
+                end
+                FQ_REF: begin
+                    r_ref_q <= reg_wdata[FQ_REF_REF_Q_MSB:FQ_REF_REF_Q_LSB];
+                    r_ref_filt <= reg_wdata[FQ_REF_REF_FILT_MSB:FQ_REF_REF_FILT_LSB];
+                    req_home <= reg_wdata[FQ_REF_HOME_LSB];
+                end
+                FQ_HOME: r_home <= reg_wdata[FQ_HOME_HOME_COUNT_MSB:FQ_HOME_HOME_COUNT_LSB];
                 FQ_GAIN: st_gain <= reg_wdata[FQ_GAIN_GAIN_MSB:FQ_GAIN_GAIN_LSB];
                 FQ_M1: st_m1 <= reg_wdata[FQ_M1_M1_LSB + 15:FQ_M1_M1_LSB];
                 FQ_M2: st_m2 <= reg_wdata[FQ_M2_M2_LSB + 15:FQ_M2_M2_LSB];
@@ -268,6 +300,10 @@ module finequad_core #(
         r_fault_sticky <= (r_fault_sticky & ~((wr_take && reg_addr == FQ_FAULT_STICKY) ?
                                               reg_wdata[FQ_FAULT_W-1:0] : {FQ_FAULT_W{1'b0}}))
                           | (m_valid ? m_fault : {FQ_FAULT_W{1'b0}});
+        r_ref_sticky <= (r_ref_sticky & ~((wr_take && reg_addr == FQ_REF_STICKY) ?
+                                          {reg_wdata[FQ_REF_STICKY_LOST_LSB],
+                                           reg_wdata[FQ_REF_STICKY_LATCHED_LSB]} : 2'b00))
+                        | {rm_lost, rm_latch};
         if (rst) begin
             r_interp <= FQ_INTERP_INTERP_RESET;
             r_eps <= FQ_EPS_EPS_RESET;
@@ -280,6 +316,12 @@ module finequad_core #(
             r_jump_off <= FQ_JUMP_JUMP_OFF_RESET;
             r_jump_min <= FQ_JUMP_JUMP_MIN_RESET;
             r_fault_sticky <= 0;
+            r_ref_sticky <= 2'b00;
+            r_ref_q <= FQ_REF_REF_Q_RESET;
+            r_ref_filt <= FQ_REF_REF_FILT_RESET;
+            r_home <= FQ_HOME_HOME_COUNT_RESET;
+            req_home <= 1'b0;
+            req_inval <= 1'b0;
             req_cov_reset <= 1'b0;
             req_load <= 1'b0;
             req_capture <= 1'b0;
@@ -394,26 +436,46 @@ module finequad_core #(
         .eps_i(r_eps), .valid_o(p_valid), .a_o(p_a), .b_o(p_b)
     );
     // ---- t+7 .. t+8: counter -----------------------------------------------------------------------
-    wire k_ovs, k_ill;
+    wire k_ovs, k_ill, k_held;
+    wire signed [COUNT_W-1:0] k_count;          // the count before the homing offset
     wire [15:0] k_ill_count;
     counter #(.COUNT_W(COUNT_W)) u_counter (
         .clk(clk), .rst(rst), .valid_i(h_valid), .hold_i(mon_hold), .phase_i(h_phase_c),
         .prod_i(n_prod),
         .n_i(r_interp), .mode_i(r_count_mode), .pv_i(p_valid), .a_i(p_a), .b_i(p_b),
-        .valid_o(m_valid), .count_o(m_count), .ovs_o(k_ovs), .ill_o(k_ill),
-        .ill_count_o(k_ill_count)
+        .valid_o(m_valid), .count_o(k_count), .ovs_o(k_ovs), .ill_o(k_ill),
+        .ill_count_o(k_ill_count), .held_o(k_held)
     );
-    // ---- t+9: paced A/B ----------------------------------------------------------------------------
-    wire g_a, g_b, g_ovf, g_sticky;
+    // ---- t+9 .. t+10: reference marks ----------------------------------------------------------
+    wire rm_z_en, rm_win, rm_homed, rm_pos_valid, rm_home_armed, rm_latch, rm_lost;
+    wire signed [COUNT_W-1:0] rm_target, rm_z_at, rm_off, rm_ref_count;
     wire signed [COUNT_W-1:0] g_pos;
+    wire fl_ref;                                 // the sample's s_ref on t + 8
+    refmark #(.COUNT_W(COUNT_W)) u_refmark (
+        .clk(clk), .rst(rst), .nv_i(n_valid), .q_i(n_prod[21:11]), .n_i(r_interp),
+        .ref_q_i(r_ref_q), .filt_i(r_ref_filt), .mode_i(r_count_mode),
+        .cv_i(m_valid), .count_i(k_count), .held_i(k_held), .ovs_i(k_ovs), .ref_i(fl_ref),
+        .pos_i(g_pos), .target_o(rm_target), .z_en_o(rm_z_en), .z_at_o(rm_z_at),
+        .home_arm_i(req_home), .home_i(r_home[COUNT_W-1:0]), .inval_i(req_inval),
+        .off_o(rm_off), .ref_count_o(rm_ref_count), .win_o(rm_win), .homed_o(rm_homed),
+        .pos_valid_o(rm_pos_valid), .home_armed_o(rm_home_armed), .latch_o(rm_latch),
+        .lost_o(rm_lost)
+    );
+    assign m_count = k_count + rm_off;
+    assign m_ref_count = rm_ref_count;
+    assign m_homed = rm_homed;
+    assign m_pos_valid = rm_pos_valid;
+    // ---- t+10: paced A/B and Z (the count before the homing offset, one edge later) ----------
+    wire g_a, g_b, g_ovf, g_sticky, g_z;
     wire signed [15:0] g_backlog;
     abgen #(.COUNT_W(COUNT_W), .OPT_TUNABLE(OPT_TUNABLE)) u_abgen (
-        .clk(clk), .rst(rst), .target_i(m_count), .sep_i(r_ab_sep), .bound_i(r_ab_bound),
+        .clk(clk), .rst(rst), .target_i(rm_target), .sep_i(r_ab_sep), .bound_i(r_ab_bound),
         .a_o(g_a), .b_o(g_b), .pos_o(g_pos), .backlog_o(g_backlog), .ovf_o(g_ovf),
-        .ovf_sticky_o(g_sticky)
+        .ovf_sticky_o(g_sticky), .z_en_i(rm_z_en), .z_at_i(rm_z_at), .z_o(g_z)
     );
     assign m_a = r_ab_src ? p_a : g_a;
     assign m_b = r_ab_src ? p_b : g_b;
+    assign m_z = !r_ab_src && g_z;
 
     // ---- estimator: every sample on arrival (t), its fine phase PHASE_AT = 6 edges after (t+6) -----
     estimator #(.TABLE_DIR(TABLE_DIR), .G_INIT(G_INIT), .PH_DELAY(PHASE_AT),
@@ -443,10 +505,11 @@ module finequad_core #(
     // edge t + CORR_AT) at index CORR_AT of its delay line (index k: registered k + 1
     // edges after edge t), which is registered on the same edge as rsat.
     reg [LATENCY-1:0] csat_d = 0;
-    reg uncal0 = 1'b1, hold0 = 1'b0;
+    reg uncal0 = 1'b1, hold0 = 1'b0, ref0 = 1'b0;
     always @(posedge clk) begin
         uncal0 <= b_uncal;
         hold0  <= b_hold;
+        ref0   <= s_ref;
         csat_d <= {csat_d[LATENCY-2:CORR_AT], csat_d[CORR_AT-1] | c_rsat,
                    csat_d[CORR_AT-2:0], c_dsat};
     end
@@ -455,15 +518,15 @@ module finequad_core #(
     // words written on every edge at fl_wp (3 bits) and read at fl_wp + 1, so the word
     // written on edge t + 1 is read on edge t + LATENCY, into the RAM's output register;
     // OPT_DISTRAM = 1 (ECP5): flip-flops.
-    wire [3:0] fl_in = {c_clip, c_nsat, uncal0, hold0};
-    wire [3:0] fl_out;                           // {clip, nsat, uncal, hold}
+    wire [4:0] fl_in = {ref0, c_clip, c_nsat, uncal0, hold0};
+    wire [4:0] fl_out;                           // {ref, clip, nsat, uncal, hold}
     generate
         if (OPT_DISTRAM) begin : g_flag_ff
-            reg [3:0] fl_d [0:LATENCY-1];
+            reg [4:0] fl_d [0:LATENCY-1];
             integer k;
             initial
                 for (k = 0; k < LATENCY; k = k + 1)
-                    fl_d[k] = 4'd0;
+                    fl_d[k] = 5'd0;
             always @(posedge clk) begin
                 fl_d[0] <= fl_in;
                 for (k = 1; k < LATENCY; k = k + 1)
@@ -471,14 +534,14 @@ module finequad_core #(
             end
             assign fl_out = fl_d[LATENCY-1];
         end else begin : g_flag_ram
-            (* ram_style = "block" *) reg [3:0] fl_mem [0:LATENCY-1];
+            (* ram_style = "block" *) reg [4:0] fl_mem [0:LATENCY-1];
             reg [2:0] fl_wp = 3'd0;
             wire [2:0] fl_rp = fl_wp + 3'd1;     // (3 bits: wraps)
-            reg [3:0] fl_q = 4'd0;
+            reg [4:0] fl_q = 5'd0;
             integer k;
             initial
                 for (k = 0; k < LATENCY; k = k + 1)
-                    fl_mem[k] = 4'd0;
+                    fl_mem[k] = 5'd0;
             always @(posedge clk) begin
                 fl_mem[fl_wp] <= fl_in;
                 fl_q <= fl_mem[fl_rp];
@@ -493,6 +556,7 @@ module finequad_core #(
         mon_q <= {mon_glitch, mon_stuck, mon_over, mon_loss};
     // the fault word: its bits where FAULT_STICKY has them; csat: the offset removal (t)
     // or the correction's products (t + 2) saturated
+    assign fl_ref = fl_out[4];
     assign m_fault[FQ_FAULT_STICKY_CLIP_LSB] = fl_out[3];
     assign m_fault[FQ_FAULT_STICKY_NSAT_LSB] = fl_out[2];
     assign m_fault[FQ_FAULT_STICKY_CSAT_LSB] = csat_d[LATENCY-1];
@@ -554,12 +618,19 @@ module finequad_core #(
                 FQ_CAPTURE: reg_rdata <= `FQ_RD_CAPTURE({{(32-COUNT_W+1){r_capture[COUNT_W-1]}},
                                                         r_capture[COUNT_W-2:0]});
                 FQ_TRAVEL: reg_rdata <= `FQ_RD_TRAVEL(mon_travel);
+                FQ_REF: reg_rdata <= `FQ_RD_REF(r_ref_q, r_ref_filt);
+                FQ_HOME: reg_rdata <= `FQ_RD_HOME(r_home);
+                FQ_REF_COUNT: reg_rdata <= `FQ_RD_REF_COUNT({{(32-COUNT_W+1){rm_ref_count[COUNT_W-1]}},
+                                                            rm_ref_count[COUNT_W-2:0]});
+                FQ_REF_STATUS: reg_rdata <= `FQ_RD_REF_STATUS(rm_win, rm_homed, rm_pos_valid,
+                                                             rm_home_armed);
+                FQ_REF_STICKY: reg_rdata <= `FQ_RD_REF_STICKY(r_ref_sticky[0], r_ref_sticky[1]);
                 FQ_ID: reg_rdata <= ID;
                 default: reg_rdata <= 32'd0;
             endcase
         end
     end
     initial reg_rdata = 32'd0;
-    wire unused = &{1'b0, reg_wdata[31:16], l_pn, n_valid, k_ill, g_pos, g_ovf, 1'b0};
+    wire unused = &{1'b0, reg_wdata[31:16], l_pn, k_ill, g_ovf, r_home, 1'b0};
 endmodule
 `resetall

@@ -6,9 +6,10 @@
 // per axis). Bit-true model: each axis is sim/model/finequad_core.py's Core with Config.tdm =
 // (AXES, i, TDM_L, TDM_W) on its own samples.
 //
-//   s_valid[i], s_u1/s_u2 (axis i) -> finequad_core i -> m_valid[i], m_count, m_fault, m_a/m_b
-//                                       | eng_cmd_o      ^ eng_rsp_i (done only for axis own)
-//                                       v                |
+//   s_valid[i], s_u1/s_u2, s_ref[i] (axis i)
+//     -> finequad_core i -> m_valid[i], m_count, m_fault, m_a/m_b/m_z, m_homed, m_pos_valid
+//        | eng_cmd_o      ^ eng_rsp_i (done only for axis own)
+//        v                |
 //   window counter (wl, wi) -> tdm_ok_i[i] ;  own -> mux -> rls_engine (AXES register files)
 //
 // Time division: the engines's programs of the axes never overlap, and an axis's results
@@ -34,7 +35,11 @@
 // read last). reg_err: the write is refused (the axis's core refuses it, or reg_axis >=
 // AXES: nothing written); reads of reg_axis >= AXES return 0.
 // Latency and formats per axis as rtl/finequad_core.v (m_count s(COUNT_W), m_fault 11
-// bits, a sample strobed on edge t out after edge t + 8).
+// bits, a sample strobed on edge t out after edge t + 8; A/B and Z on t + 10).
+// Reference marks per axis (rtl/refmark.v): s_ref[i] is axis i's reference input,
+// sampled with its s_valid[i]; m_z[i] its Z pin, m_homed[i] and m_pos_valid[i] its
+// REF_STATUS.homed and pos_valid. The count latched at the reference is read as that
+// axis's REF_COUNT register (reg_axis), not brought out as a port.
 module finequad_multi #(
     parameter TABLE_DIR = "rtl/tables/",
     // axes sharing the RLS engine, 1..8
@@ -80,6 +85,8 @@ module finequad_multi #(
     input  wire [AXES-1:0]              s_valid,
     input  wire [AXES*ADC_W-1:0]        s_u1,
     input  wire [AXES*ADC_W-1:0]        s_u2,
+    // reference input of axis i (a comparator's output, sampled with s_valid[i])
+    input  wire [AXES-1:0]              s_ref,
     // register port of axis reg_axis
     input  wire                         reg_we,
     input  wire                         reg_re,
@@ -97,7 +104,11 @@ module finequad_multi #(
     output wire [AXES*11-1:0]           m_fault,
     // A/B outputs of axis i
     output wire [AXES-1:0]              m_a,
-    output wire [AXES-1:0]              m_b
+    output wire [AXES-1:0]              m_b,
+    // reference marks of axis i: Z, homed, position valid (REF_COUNT: over reg_axis)
+    output wire [AXES-1:0]              m_z,
+    output wire [AXES-1:0]              m_homed,
+    output wire [AXES-1:0]              m_pos_valid
 );
 /* verilator lint_off UNUSEDPARAM */
 `include "rls_cycles.vh"                  // CYCLES_<PROGRAM>_<LANES> (estimator.py)
@@ -122,6 +133,7 @@ module finequad_multi #(
             localparam [AXW-1:0] IDX = i;
             wire sel = (AXES == 1) || (reg_axis == IDX);   // this axis's registers
             wire signed [COUNT_W-1:0] count;
+            wire signed [COUNT_W-1:0] ref_count;           // REF_COUNT reads it
             finequad_core #(.TABLE_DIR(TABLE_DIR), .ADC_W(ADC_W), .SIN_W(SIN_W),
                             .COUNT_W(COUNT_W), .TABLE_EXACT(TABLE_EXACT), .G_INIT(G_INIT),
                             .OPT_NTH_DSP(OPT_NTH_DSP), .OPT_HARMONIC(OPT_HARMONIC),
@@ -134,16 +146,19 @@ module finequad_multi #(
                             .EXT_PERIOD(SHARED ? AXES * TDM_L : 0)) u_core (
                 .clk(clk), .rst(rst),
                 .s_valid(s_valid[i]), .s_u1(s_u1[ADC_W*i +: ADC_W]),
-                .s_u2(s_u2[ADC_W*i +: ADC_W]),
+                .s_u2(s_u2[ADC_W*i +: ADC_W]), .s_ref(s_ref[i]),
                 .reg_we(reg_we && sel), .reg_re(reg_re && sel), .reg_addr(reg_addr),
                 .reg_wdata(reg_wdata), .reg_rdata(rdata_all[32*i +: 32]),
                 .reg_err(err_all[i]),
                 .m_valid(m_valid[i]), .m_count(count), .m_fault(m_fault[11*i +: 11]),
                 .m_a(m_a[i]), .m_b(m_b[i]),
+                .m_z(m_z[i]), .m_ref_count(ref_count), .m_homed(m_homed[i]),
+                .m_pos_valid(m_pos_valid[i]),
                 .tdm_ok_i(tdm_ok[i]), .eng_cmd_o(cmd_all[66*i +: 66]),
                 .eng_rsp_i(rsp_all[115*i +: 115])
             );
             assign m_count[COUNT_W*i +: COUNT_W] = count;
+            wire unused_ref = &{1'b0, ref_count, 1'b0};
         end
     endgenerate
 

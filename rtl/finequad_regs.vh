@@ -7,7 +7,7 @@
 // `FQ_RD_<REG>(): a read's word from the field values (at the end).
 // (a module uses a part of the map: unused localparams are not findings)
 /* verilator lint_off UNUSEDPARAM */
-localparam [5:0] FQ_ADDR_TOP = 6'h1f;     // the highest word
+localparam [5:0] FQ_ADDR_TOP = 6'h22;     // the highest word
 localparam integer FQ_FAULT_W = 11;     // m_fault: the fields of FAULT_STICKY
 
 // CTRL (W, byte 0x00): Control
@@ -408,12 +408,78 @@ localparam integer FQ_TRAVEL_TRAVEL_LSB = 0;
 localparam integer FQ_TRAVEL_TRAVEL_MSB = 19;
 localparam integer FQ_TRAVEL_TRAVEL_W = 20;
 
+// REF (RW, byte 0x74): Reference mark
+localparam [5:0] FQ_REF = 6'h1d;
+localparam [31:0] FQ_REF_WMASK = 32'h010f07ff;
+localparam [31:0] FQ_REF_RESET = 32'h00020000;
+localparam integer FQ_REF_REF_Q_LSB = 0;
+localparam integer FQ_REF_REF_Q_MSB = 10;
+localparam integer FQ_REF_REF_Q_W = 11;
+localparam [10:0] FQ_REF_REF_Q_RESET = 11'h0;
+localparam [31:0] FQ_REF_REF_Q_LO = 32'h0;
+localparam [31:0] FQ_REF_REF_Q_HI = 32'h7fb;
+localparam integer FQ_REF_REF_FILT_LSB = 16;
+localparam integer FQ_REF_REF_FILT_MSB = 19;
+localparam integer FQ_REF_REF_FILT_W = 4;
+localparam [3:0] FQ_REF_REF_FILT_RESET = 4'h2;
+localparam [31:0] FQ_REF_REF_FILT_LO = 32'h0;
+localparam [31:0] FQ_REF_REF_FILT_HI = 32'hf;
+localparam integer FQ_REF_HOME_LSB = 24;
+localparam integer FQ_REF_HOME_MSB = 24;
+localparam integer FQ_REF_HOME_W = 1;
+localparam [0:0] FQ_REF_HOME_RESET = 1'h0;
+
+// HOME (RW, byte 0x78): Home count
+localparam [5:0] FQ_HOME = 6'h1e;
+localparam [31:0] FQ_HOME_WMASK = 32'hffffffff;
+localparam [31:0] FQ_HOME_RESET = 32'h00000000;
+localparam integer FQ_HOME_HOME_COUNT_LSB = 0;
+localparam integer FQ_HOME_HOME_COUNT_MSB = 31;
+localparam integer FQ_HOME_HOME_COUNT_W = 32;
+localparam [31:0] FQ_HOME_HOME_COUNT_RESET = 32'h0;
+localparam [31:0] FQ_HOME_HOME_COUNT_LO = 32'h80000000;
+localparam [31:0] FQ_HOME_HOME_COUNT_HI = 32'h7fffffff;
+
 // ID (R, byte 0x7c): Identification
 localparam [5:0] FQ_ID = 6'h1f;
 localparam integer FQ_ID_ID_LSB = 0;
 localparam integer FQ_ID_ID_MSB = 31;
 localparam integer FQ_ID_ID_W = 32;
-localparam [31:0] FQ_ID_ID_RESET = 32'h46510006;
+localparam [31:0] FQ_ID_ID_RESET = 32'h46510007;
+
+// REF_COUNT (R, byte 0x80): Reference count
+localparam [5:0] FQ_REF_COUNT = 6'h20;
+localparam integer FQ_REF_COUNT_REF_COUNT_LSB = 0;
+localparam integer FQ_REF_COUNT_REF_COUNT_MSB = 31;
+localparam integer FQ_REF_COUNT_REF_COUNT_W = 32;
+
+// REF_STATUS (R, byte 0x84): Reference status
+localparam [5:0] FQ_REF_STATUS = 6'h21;
+localparam integer FQ_REF_STATUS_WIN_LSB = 0;
+localparam integer FQ_REF_STATUS_WIN_MSB = 0;
+localparam integer FQ_REF_STATUS_WIN_W = 1;
+localparam integer FQ_REF_STATUS_HOMED_LSB = 1;
+localparam integer FQ_REF_STATUS_HOMED_MSB = 1;
+localparam integer FQ_REF_STATUS_HOMED_W = 1;
+localparam integer FQ_REF_STATUS_POS_VALID_LSB = 2;
+localparam integer FQ_REF_STATUS_POS_VALID_MSB = 2;
+localparam integer FQ_REF_STATUS_POS_VALID_W = 1;
+localparam integer FQ_REF_STATUS_HOME_ARMED_LSB = 3;
+localparam integer FQ_REF_STATUS_HOME_ARMED_MSB = 3;
+localparam integer FQ_REF_STATUS_HOME_ARMED_W = 1;
+
+// REF_STICKY (RW, byte 0x88): Reference events
+localparam [5:0] FQ_REF_STICKY = 6'h22;
+localparam [31:0] FQ_REF_STICKY_WMASK = 32'h00000003;
+localparam [31:0] FQ_REF_STICKY_RESET = 32'h00000000;
+localparam integer FQ_REF_STICKY_LATCHED_LSB = 0;
+localparam integer FQ_REF_STICKY_LATCHED_MSB = 0;
+localparam integer FQ_REF_STICKY_LATCHED_W = 1;
+localparam [0:0] FQ_REF_STICKY_LATCHED_RESET = 1'h0;
+localparam integer FQ_REF_STICKY_LOST_LSB = 1;
+localparam integer FQ_REF_STICKY_LOST_MSB = 1;
+localparam integer FQ_REF_STICKY_LOST_W = 1;
+localparam [0:0] FQ_REF_STICKY_LOST_RESET = 1'h0;
 /* verilator lint_on UNUSEDPARAM */
 
 // `FQ_RD_<REG>(fields...): the word a read of the register returns, its readable
@@ -479,6 +545,16 @@ localparam [31:0] FQ_ID_ID_RESET = 32'h46510006;
     {(capture)}
 `define FQ_RD_TRAVEL(travel) \
     {12'd0, (travel)}
+`define FQ_RD_REF(ref_q, ref_filt) \
+    {12'd0, (ref_filt), 5'd0, (ref_q)}
+`define FQ_RD_HOME(home_count) \
+    {(home_count)}
+`define FQ_RD_REF_COUNT(ref_count) \
+    {(ref_count)}
+`define FQ_RD_REF_STATUS(win, homed, pos_valid, home_armed) \
+    {28'd0, (home_armed), (pos_valid), (homed), (win)}
+`define FQ_RD_REF_STICKY(latched, lost) \
+    {30'd0, (lost), (latched)}
 `endif
 
 // fq_write_ok(a, d, options...): a write of d to word a is taken: the register
@@ -561,6 +637,9 @@ function automatic fq_write_ok(input [5:0] a, input [31:0] d, input opt_harmonic
             FQ_CLIP: fq_write_ok = opt_tunable && z16;
             FQ_RADIUS: fq_write_ok = opt_tunable && opt_monitor;
             FQ_MONITOR: fq_write_ok = opt_tunable && opt_monitor && z24 && (d & 32'h0000f0f0) == 32'd0 && d[11:8] <= 4'd8;
+            FQ_REF: fq_write_ok = z25 && (d & 32'h00f0f800) == 32'd0 && d[10:0] <= 11'd2043;
+            FQ_HOME: fq_write_ok = 1'b1;
+            FQ_REF_STICKY: fq_write_ok = z2;
             default: fq_write_ok = 1'b0;
         endcase
     end

@@ -3,9 +3,10 @@
 // finequad_system: the board-independent design that every board top instantiates
 // (verilog-ethernet's fpga_core.v): Pmod AD1 front end -> finequad_core, the core's
 // registers on an AXI4-Lite bus (axil_regs) mastered by the UART bridge (uart_axil), the
-// A/B outputs, status for LEDs.
+// reference input, the A/B and Z outputs, status for LEDs.
 //
-//   adc pins -> adc_pmod_ad1 -> m_valid/m_u1/m_u2 -> finequad_core -> m_a/m_b -> a_o/b_o
+//   adc pins -> adc_pmod_ad1 -> m_valid/m_u1/m_u2 --> finequad_core -> m_a/m_b/m_z -> a_o/b_o/z_o
+//   ref_i -> synchroniser -> s_ref (from CS_N falling) -'
 //   uart_rx_i -> uart_axil (AXI4-Lite master) -> axil_regs -> core register port
 //   (OPT_HOSTLINK = 0: no host link, the registers at their reset values)
 //   uart_tx_o <-'
@@ -17,12 +18,21 @@
 //
 // Timing: a conversion every ADC_PERIOD clocks; the core takes sample k on the edge
 // ADC_CS_SETUP + 30 ADC_SCLK_HALF + 2 clocks after its CS_N falling edge (see
-// rtl/adc_pmod_ad1.v); a_o/b_o are the core's m_a/m_b registered once more (one clock
-// later than the core's ports; pins straight from flip-flops).
-// status_o (sticky until rst, for LEDs): [0] calibrated (the last sample's fault bit 4
-// clear), [1] a fault seen (fault bits 0..3: clip, saturations, overspeed), [2] an ADC
-// frame with non-zero leading bits seen (no Pmod, wrong pins), [3] a UART frame dropped
-// (timeout, framing error or break).
+// rtl/adc_pmod_ad1.v); a_o/b_o/z_o are the core's m_a/m_b/m_z registered once more (one
+// clock later than the core's ports; pins straight from flip-flops).
+// Reference input ref_i (a reference-mark comparator's output, asynchronous): two
+// flip-flops synchronise it, and the level they hold on the edge after CS_N falls (ref_i
+// one clock before that edge, the converters' sampling instant) is held and given to the
+// core as s_ref with the sample that conversion makes (the core takes it
+// ADC_CS_SETUP + 30 ADC_SCLK_HALF + 1 clocks later, before the next conversion replaces
+// it), so the reference level and the codes describe the same instant. Z, the
+// reference count, homing and pos_valid: rtl/refmark.v (REF, HOME, REF_COUNT, REF_STATUS,
+// REF_STICKY).
+// status_o (for LEDs; [1..3] sticky until rst): [0] calibrated (the last sample's fault
+// bit 4 clear), [1] a fault seen (fault bits 0..3: clip, saturations, overspeed), [2] an
+// ADC frame with non-zero leading bits seen (no Pmod, wrong pins), [3] a UART frame
+// dropped (timeout, framing error or break), [4] position valid (the core's
+// REF_STATUS.pos_valid: a reference latched and the count not lost since).
 // rst: synchronous, active high, to every block.
 module finequad_system #(
     // folder of the core's $readmemh tables
@@ -67,11 +77,14 @@ module finequad_system #(
     // host link
     input  wire       uart_rx_i,
     output wire       uart_tx_o,
-    // quadrature outputs
+    // reference input (asynchronous, see above)
+    input  wire       ref_i,
+    // quadrature outputs and Z
     output reg        a_o,
     output reg        b_o,
+    output reg        z_o,
     // status (see above)
-    output wire [3:0] status_o
+    output wire [4:0] status_o
 );
     // the core's register map (FQ_ADDR_TOP, the fault bits): rtl/regs/finequad.rdl
     `include "finequad_regs.vh"
@@ -136,9 +149,24 @@ module finequad_system #(
         end
     endgenerate
 
+    // ---- reference input: synchroniser, then held from the conversion's CS_N edge ----------
+    reg [1:0] ref_sync = 2'b00;              // ref_i, two flip-flops
+    reg       cs_n_q = 1'b1;                 // CS_N one edge later: its falling edge
+    reg       s_ref = 1'b0;                  // the conversion's reference level
+    always @(posedge clk) begin
+        ref_sync <= {ref_sync[0], ref_i};
+        cs_n_q <= adc_cs_n_o;
+        if (cs_n_q && !adc_cs_n_o)
+            s_ref <= ref_sync[1];
+        if (rst) begin
+            cs_n_q <= 1'b1;
+            s_ref <= 1'b0;
+        end
+    end
+
     // ---- the core ---------------------------------------------------------------------------
-    wire        m_valid, m_a, m_b;
-    wire [31:0] m_count;
+    wire        m_valid, m_a, m_b, m_z, m_homed, m_pos_valid;
+    wire [31:0] m_count, m_ref_count;
     wire [FQ_FAULT_W-1:0] m_fault;   // finequad_core: FAULT_STICKY's bits
     wire [65:0] eng_cmd;                 // 0: the core's engine is inside
     finequad_core #(.TABLE_DIR(TABLE_DIR), .ADC_W(12), .OPT_NTH_DSP(OPT_NTH_DSP),
@@ -147,11 +175,12 @@ module finequad_system #(
                     .OPT_PULSE_ADDR(OPT_PULSE_ADDR),
                     .OPT_MONITOR(OPT_MONITOR), .OPT_JUMP(OPT_JUMP)) u_core (
         .clk(clk), .rst(rst),
-        .s_valid(s_valid), .s_u1(s_u1), .s_u2(s_u2),
+        .s_valid(s_valid), .s_u1(s_u1), .s_u2(s_u2), .s_ref(s_ref),
         .reg_we(reg_we), .reg_re(reg_re), .reg_addr(reg_addr), .reg_wdata(reg_wdata),
         .reg_rdata(reg_rdata), .reg_err(reg_err),
         .m_fault(m_fault),
         .m_valid(m_valid), .m_count(m_count), .m_a(m_a), .m_b(m_b),
+        .m_z(m_z), .m_ref_count(m_ref_count), .m_homed(m_homed), .m_pos_valid(m_pos_valid),
         .tdm_ok_i(1'b1), .eng_cmd_o(eng_cmd), .eng_rsp_i(115'd0)   // the engine inside
     );
     wire unused_eng = &{1'b0, eng_cmd, 1'b0};
@@ -161,10 +190,12 @@ module finequad_system #(
     initial begin
         a_o = 1'b1;
         b_o = 1'b1;
+        z_o = 1'b0;
     end
     always @(posedge clk) begin
         a_o <= m_a;
         b_o <= m_b;
+        z_o <= m_z;
         if (m_valid) begin
             cal_q <= !m_fault[FQ_FAULT_STICKY_UNCAL_LSB];
             if (m_fault[FQ_FAULT_STICKY_CLIP_LSB] || m_fault[FQ_FAULT_STICKY_NSAT_LSB] ||
@@ -182,7 +213,8 @@ module finequad_system #(
             uart_err_q <= 1'b0;
         end
     end
-    assign status_o = {uart_err_q, adc_err_q, fault_q, cal_q};
-    wire unused = &{1'b0, m_count, m_fault, 1'b0};
+    // pos_valid: the core's register (rtl/refmark.v), straight to the LED
+    assign status_o = {m_pos_valid, uart_err_q, adc_err_q, fault_q, cal_q};
+    wire unused = &{1'b0, m_count, m_fault, m_ref_count, m_homed, 1'b0};
 endmodule
 `resetall

@@ -21,6 +21,10 @@ Limits (x4 counting: one count per quarter of an n-th order period, pitch / (4 n
       independent of n.
   counters behind the A/B pins: the edge separation ab_sep / fclk must be at least what
       their input filter needs (sim/counters.py); a faster one loses counts silently.
+  Z (reference marks, rtl/refmark.v): one count wide at the pins at any speed (the paced
+      pins step one count at a time and Z marks one of them); a reference is found up to
+      the internal counter's limit (a crossing on an overspeed sample is not taken);
+      above the A/B limit Z comes as late as the pins' backlog.
 """
 import argparse
 import pathlib
@@ -37,6 +41,7 @@ def limits(pitch_um, fs, ab_sep=SETTINGS["ab_sep"].reset, fclk=36e6, v=None, int
     """Dict of the limits (speeds in m/s, factors as floats before rounding down)."""
     p = pitch_um * 1e-6
     out = {"counter_v_max": 3 / 8 * p * fs, "nyquist_v": p * fs / 2}
+    out["z_v_max"] = out["counter_v_max"]           # Z: a crossing without overspeed
     if interp is not None:
         out["edge_counter_v_max"] = p * fs / (4 * interp)
         out["ab_v_max"] = p * fclk / (4 * interp * ab_sep)
@@ -91,6 +96,9 @@ def main(argv=None):
     print(f"  internal counter (fine phase) tracks up to {r['counter_v_max']:.4g} m/s "
           f"(overspeed flag from 3/4 pi per sample; Nyquist {r['nyquist_v']:.4g} m/s), "
           f"at any n")
+    print(f"  Z (reference mark): one count wide at the pins at any speed; a reference is "
+          f"found up to {r['z_v_max']:.4g} m/s" + (f" (above {r['ab_v_max']:.4g} m/s it "
+          f"comes as late as the A/B backlog)" if a.interp is not None else ""))
     if a.interp is not None:
         n = a.interp
         print(f"  n = {n}: resolution {a.pitch * 1e3 / (4 * n):.4g} nm")

@@ -16,7 +16,8 @@ A1, A2, m1, m2 and phi are fractions of full scale (phi in rad) and may be const
 per-sample arrays: `along` makes a slow drift along the travel, `jump` a sudden change.
 Motion profiles return positions (same unit as the pitch) at the sample instants.
 Everything is seeded; `encode` returns the true angle, and `angle_var` the per-sample
-Cramer-Rao bound that the accuracy floor is built from.
+Cramer-Rao bound that the accuracy floor is built from. `reference` gives the reference
+input of marks along the scale (the comparator's output).
 """
 from dataclasses import dataclass, asdict
 
@@ -118,6 +119,26 @@ def reversals(n, fs, amplitude, freq, x0=0.0):
     cycle."""
     t = np.arange(n) / fs
     return x0 + amplitude * (1 - np.cos(2 * np.pi * freq * t))
+
+
+# ---- reference marks ---------------------------------------------------------------------
+
+def reference(x, marks, width, jitter=0.0, glitches=0, seed=0):
+    """The reference input (rtl/refmark.v s_ref) at positions x: 1 while x lies within
+    width / 2 of a mark's centre (marks: centres, same unit as x), as an external
+    comparator gives it. jitter: the comparator's threshold noise as a position
+    (Gaussian sigma per sample: the window's edges chatter); glitches: that many single
+    samples inverted at random (interference). Returns int64 0/1 per sample."""
+    rng = np.random.default_rng(seed)
+    x = np.asarray(x, float)
+    edge = x + (jitter * rng.standard_normal(x.shape) if jitter else 0.0)
+    r = np.zeros(x.shape, np.int64)
+    for m in np.atleast_1d(marks):
+        r |= (np.abs(edge - m) <= width / 2).astype(np.int64)
+    if glitches:
+        at = rng.choice(len(x), glitches, replace=False)
+        r[at] ^= 1
+    return r
 
 
 # ---- parameter profiles -----------------------------------------------------------------

@@ -18,6 +18,7 @@ rising edges.
 
     signal                              L             kind
     s_valid                             0             valid   high for one cycle from t_k
+    s_ref                               0             pulse   the sample's reference input
     u_correct.valid0_o                  0             valid   the sample registered
     u_correct.clip_o, nsat_o            0             window  = m_fault[0], [1] of the sample
     u_correct.valid_o                   CORR_AT       valid
@@ -45,10 +46,17 @@ rising edges.
     u_counter.ill_count_o               EDGE_AT       hold    u16 count of those
     u_counter.ovs_o                     LATENCY       pulse   = m_fault[3] on the sample
     m_valid                             LATENCY       valid
-    m_count                             LATENCY       hold
+    m_count                             LATENCY       hold    (and on the edge the homing
+                                                              offset changes, LATCH_AT of
+                                                              the latching sample)
     m_fault                             LATENCY       window
+    m_z                                 LATENCY       window  Z as the count appears (the
+                                                              model gives Z there only)
+    m_ref_count, m_homed, m_pos_valid   LATCH_AT      hold    REF_COUNT, REF_STATUS bits
     u_abgen.a_o, b_o                    every edge    edges   paced A/B (sim/model/abgen.py
-                                                              run edge by edge on m_count)
+                                                              run edge by edge on the count
+                                                              before the homing offset,
+                                                              from t_k + AB_AT)
     u_abgen.pos_o                       every edge    edges   s(COUNT_W) count they represent
     u_abgen.backlog_o, ovf_o,           every edge    edges   s16 distance, overflow, sticky
       ovf_sticky_o                                            overflow (m_fault[6])
@@ -61,6 +69,8 @@ kinds:
           updates these registers on a valid sample).
   pulse   sample k's value for one cycle, 0 otherwise (exact: gated with valid in the RTL).
   edges   the value after every edge (exact).
+  count   m_count: hold, and with homing the offset's change on its edge (exact; 'x'
+          from there if no later sample shows the new offset).
   window  sample k's value for the one cycle after edge t_k + L and 'x' in every other
           cycle. These registers are also clocked on idle cycles, where they hold the
           datapath's response to the harness's idle input (s_u1 = s_u2 = 0) under
@@ -83,12 +93,12 @@ from sim.model import abgen
 from sim.model import finequad_core as core
 
 PERIOD_PS = 27778        # sim/harness/harness.cpp (36 MHz)
-T0 = 16                  # edge of the first strobe in the harness
+T0 = 32                  # edge of the first strobe in the harness
 SCOPE = "TOP.finequad_core"
 X = -1                   # value code for 'x' in the event arrays
 
 TIMING_KEYS = ("CORR_AT", "OCT_AT", "ADDR_AT", "PHASE_AT", "NTH_AT", "SIN_AT", "PULSE_AT",
-               "EDGE_AT", "LATENCY")
+               "EDGE_AT", "LATENCY", "AB_AT", "LATCH_AT")
 
 
 def rtl_timing():
@@ -123,6 +133,7 @@ HARM = "g_harm.u_harmonic"
 # callable res -> array ('edges' signals are computed from res["count"], _edge_values())
 SIGNALS = [
     ("s_valid", 1, "valid", 0, None),
+    ("s_ref", 1, "pulse", 0, "ref_in"),
     ("u_correct.valid0_o", 1, "valid", 0, None),
     ("u_correct.clip_o", 1, "window", 0, _bit("clip")),
     ("u_correct.nsat_o", 1, "window", 0, _bit("nsat")),
@@ -154,8 +165,12 @@ SIGNALS = [
     ("u_counter.ill_count_o", 16, "hold", "EDGE_AT", _ill_count),
     ("u_counter.ovs_o", 1, "pulse", "LATENCY", _bit("ovs")),
     ("m_valid", 1, "valid", "LATENCY", None),
-    ("m_count", "COUNT_W", "hold", "LATENCY", "count"),
+    ("m_count", "COUNT_W", "count", "LATENCY", "count"),
     ("m_fault", core.FAULT_W, "window", "LATENCY", "fault"),
+    ("m_z", 1, "window", "LATENCY", "z"),
+    ("m_ref_count", "COUNT_W", "hold", "LATCH_AT", "ref_count"),
+    ("m_homed", 1, "hold", "LATCH_AT", "homed"),
+    ("m_pos_valid", 1, "hold", "LATCH_AT", "pos_valid"),
     ("u_abgen.a_o", 1, "edges", 0, "count"),
     ("u_abgen.b_o", 1, "edges", 0, "count"),
     ("u_abgen.pos_o", "COUNT_W", "edges", 0, "count"),
@@ -170,14 +185,55 @@ INIT = {"u_pulse.a_o": 1, "u_pulse.b_o": 1, "m_a": 1, "m_b": 1, "u_abgen.a_o": 1
         "u_abgen.b_o": 1}
 
 
+def _count_raw(res):
+    """The counter's count before the homing offset (m_count = it + the offset)."""
+    return np.asarray(res.get("count_raw", res["count"]), dtype=np.int64)
+
+
 def _abgen(res, cfg, t, tm, end):
     """rtl/abgen.v's outputs after every edge 0 .. end (sim/model/abgen.py run edge by
-    edge): it follows m_count, which takes sample k's count on edge t_k + LATENCY (the
-    target from the edge after)."""
-    count = np.asarray(res["count"], dtype=np.int64)
-    idx = np.searchsorted(t + tm["LATENCY"], np.arange(end + 1) - 1, side="right") - 1
+    edge): its target is the count before the homing offset (rtl/refmark.v target_o),
+    sample k's from edge t_k + AB_AT on (the pins step on that edge)."""
+    count = _count_raw(res)
+    idx = np.searchsorted(t + tm["AB_AT"], np.arange(end + 1), side="right") - 1
     target = np.where(idx >= 0, count[np.maximum(idx, 0)], 0)
     return abgen.abgen(target, cfg.ab_sep, cfg.ab_bound, cfg.COUNT_W)
+
+
+def _count_events(res, cfg, t, tm, width):
+    """(edges, values) of m_count = the counter's count + the homing offset: sample k's
+    count after t_k + LATENCY (res["count"], with the offset as it stands then), and, where
+    homing (cfg.home_arm) latches, the new offset from the latch's edge (t_k + LATCH_AT of
+    the first sample with homed = 1) on: the count registered then plus that offset, which
+    the samples whose count comes on or after that edge show; 'x' if none does (the
+    latch in the last samples)."""
+    count = np.asarray(res["count"], dtype=np.int64)
+    on = t + tm["LATENCY"]
+    e, v = on.copy(), count.copy()
+    homed = np.asarray(res.get("homed", np.zeros(len(count))), dtype=np.int64)
+    if getattr(cfg, "home_arm", False) and homed.any():
+        k = int(np.argmax(homed))
+        el = int(t[k]) + tm["LATCH_AT"]
+        raw = _count_raw(res)
+        j = int(np.searchsorted(on, el, side="right")) - 1     # the count standing then
+        after = np.nonzero(on >= el)[0]
+        if len(after):
+            off = int(count[after[0]] - raw[after[0]])
+            val = (int(raw[j]) + off) & ((1 << width) - 1)
+        else:
+            val = X
+        e = np.concatenate([e, [el]])
+        v = np.concatenate([v & ((1 << width) - 1), [val]])
+        order = np.argsort(e, kind="stable")
+        e, v = e[order], v[order]
+        last = np.ones(len(e), dtype=bool)
+        last[:-1] = e[1:] != e[:-1]                 # one value per edge: the later one
+        e, v = e[last], v[last]
+    else:
+        v = v & ((1 << width) - 1)
+    keep = np.ones(len(v), dtype=bool)
+    keep[1:] = v[1:] != v[:-1]
+    return e[keep], v[keep]
 
 
 def _edge_values(name, res, cfg, t, tm, end, ab):
@@ -284,6 +340,8 @@ def write(path, res, cfg, t0=T0, period_ps=PERIOD_PS, strobes=None, signals=None
             e, v = _events("hold", np.concatenate([[-1], on]),
                            np.concatenate([[INIT.get(name, 0)], vals]), width)
             e, v = e[1:], v[1:]
+        elif kind == "count":
+            e, v = _count_events(res, cfg, t, tm, width)
         else:
             e, v = _events(kind, t + lat, _source(res, src), width)
         all_e.append(e)

@@ -26,8 +26,9 @@ module top_report_multi #(
     output reg  sdo = 1'b0  // XOR of the registered outputs
 );
     localparam AXW = (AXES > 1) ? $clog2(AXES) : 1;
-    // scan chain: {reg_wdata, reg_addr, reg_axis, reg_re, reg_we, s_u2, s_u1, s_valid, rst}
-    localparam IN_W = 1 + AXES * (1 + 16 + 16) + 2 + AXW + 6 + 32;
+    // scan chain: {s_ref, reg_wdata, reg_addr, reg_axis, reg_re, reg_we, s_u2, s_u1, s_valid,
+    // rst}
+    localparam IN_W = 1 + AXES * (1 + 16 + 16) + 2 + AXW + 6 + 32 + AXES;
     reg [IN_W-1:0] chain = 0;
     always @(posedge clk)
         chain <= {chain[IN_W-2:0], sdi};
@@ -35,32 +36,35 @@ module top_report_multi #(
     wire [5:0]  reg_addr;
     wire [AXW-1:0] reg_axis;
     wire        reg_re, reg_we, rst;
-    wire [AXES-1:0] s_valid;
+    wire [AXES-1:0] s_valid, s_ref;
     wire [16*AXES-1:0] s_u1, s_u2;
-    assign {reg_wdata, reg_addr, reg_axis, reg_re, reg_we, s_u2, s_u1, s_valid, rst} = chain;
+    assign {s_ref, reg_wdata, reg_addr, reg_axis, reg_re, reg_we, s_u2, s_u1, s_valid, rst} =
+        chain;
 
     wire [31:0] reg_rdata;
     wire        reg_err;
     wire [32*AXES-1:0] m_count;
     wire [11*AXES-1:0] m_fault;
-    wire [AXES-1:0] m_valid, m_a, m_b;
+    wire [AXES-1:0] m_valid, m_a, m_b, m_z, m_homed, m_pos_valid;
     finequad_multi #(.AXES(AXES), .TDM_W(TDM_W), .OPT_NTH_DSP(OPT_NTH_DSP),
                      .OPT_HARMONIC(OPT_HARMONIC), .OPT_TUNABLE(OPT_TUNABLE),
                      .OPT_DISTRAM(OPT_DISTRAM), .OPT_PHASE_4K(OPT_PHASE_4K),
                      .OPT_ECP5_MULT(OPT_ECP5_MULT), .OPT_PULSE_ADDR(OPT_PULSE_ADDR),
                      .OPT_MONITOR(OPT_MONITOR),
                      .OPT_JUMP(OPT_JUMP), .ENGINE_LANES(ENGINE_LANES)) u_multi (
-        .clk(clk), .rst(rst), .s_valid(s_valid), .s_u1(s_u1), .s_u2(s_u2),
+        .clk(clk), .rst(rst), .s_valid(s_valid), .s_u1(s_u1), .s_u2(s_u2), .s_ref(s_ref),
         .reg_we(reg_we), .reg_re(reg_re), .reg_axis(reg_axis), .reg_addr(reg_addr),
         .reg_wdata(reg_wdata), .reg_rdata(reg_rdata), .reg_err(reg_err),
-        .m_valid(m_valid), .m_count(m_count), .m_fault(m_fault), .m_a(m_a), .m_b(m_b)
+        .m_valid(m_valid), .m_count(m_count), .m_fault(m_fault), .m_a(m_a), .m_b(m_b),
+        .m_z(m_z), .m_homed(m_homed), .m_pos_valid(m_pos_valid)
     );
 
     // every output bit into a 4-input XOR register, then one XOR tree into sdo
-    localparam OUT_W = 33 + AXES * (32 + 11 + 3);
+    localparam OUT_W = 33 + AXES * (32 + 11 + 3 + 3);
     localparam OUT_G = (OUT_W + 3) / 4;
     wire [4*OUT_G-1:0] outs;
-    assign outs[OUT_W-1:0] = {reg_err, reg_rdata, m_count, m_fault, m_valid, m_a, m_b};
+    assign outs[OUT_W-1:0] = {reg_err, reg_rdata, m_count, m_fault, m_valid, m_a, m_b, m_z,
+                              m_homed, m_pos_valid};
     generate
         if (4 * OUT_G > OUT_W) begin : g_pad
             assign outs[4*OUT_G-1:OUT_W] = 0;

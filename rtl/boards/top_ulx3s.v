@@ -8,10 +8,12 @@
 //       Pmod AD1 plugged with its GND/VCC on the board's GND/3.3 V: gp[3] CS_N (Pmod pin
 //       1), gp[2] D0 = u1 (pin 2), gp[1] D1 = u2 (pin 3), gp[0] SCLK (pin 4); 35.714 MHz,
 //       SCLK 17.9 MHz, a conversion every 36 clocks (0.992 MS/s)
-//   J1 GPIO, GN row: gn[0] A, gn[1] B
+//   J1 GPIO, GN row: gn[0] A, gn[1] B, gn[2] Z, gn[3] the reference input (a
+//       reference-mark comparator's 3.3 V output; pulled down: no reference when open)
 //   FT231X UART (ftdi_txd into the FPGA, ftdi_rxd out): 115 207 baud (35.714 MHz / 310)
 //   LEDs: led[0] calibrated, led[1] a fault seen, led[2] ADC leading bits not zero (no
-//       Pmod), led[3] a UART frame dropped, led[7] PLL locked
+//       Pmod), led[3] a UART frame dropped, led[4] position valid (a reference latched,
+//       the count not lost since: REF_STATUS.pos_valid), led[7] PLL locked
 //   btn[1] (FIRE1, active high): reset while pressed
 // Pins from the board's ulx3s_v20.lpf (constraints/ulx3s.lpf); the Pmod-to-header
 // orientation follows the header's layout (3.3 V, GND, then pairs 0..3): check it
@@ -33,9 +35,11 @@ module top_ulx3s #(
     input  wire       adc_sdata1,   // gp[2] (D0, u1)
     input  wire       adc_sdata2,   // gp[1] (D1, u2)
     output wire       adc_sclk,     // gp[0]
-    // A/B on the GN row of J1
+    // A/B/Z and the reference input on the GN row of J1
     output wire       quad_a,       // gn[0]
-    output wire       quad_b        // gn[1]
+    output wire       quad_b,       // gn[1]
+    output wire       quad_z,       // gn[2]
+    input  wire       ref_in        // gn[3]
 );
     wire clk, locked;
     (* FREQUENCY_PIN_CLKI=`FQ_ULX3S_CLKI_MHZ *)
@@ -61,13 +65,13 @@ module top_ulx3s #(
         rst_sync <= {rst_sync[2:0], !locked || btn[1]};
     wire rst = rst_sync[3];
 
-    wire [3:0] status;
+    wire [4:0] status;
     finequad_system #(.TABLE_DIR(TABLE_DIR), `FQ_ULX3S_PARAMS) u_sys (
         .clk(clk), .rst(rst),
         .adc_cs_n_o(adc_cs_n), .adc_sclk_o(adc_sclk), .adc_sdata1_i(adc_sdata1),
         .adc_sdata2_i(adc_sdata2), .uart_rx_i(ftdi_txd), .uart_tx_o(ftdi_rxd),
-        .a_o(quad_a), .b_o(quad_b), .status_o(status)
+        .ref_i(ref_in), .a_o(quad_a), .b_o(quad_b), .z_o(quad_z), .status_o(status)
     );
-    assign led = {locked, 3'b000, status};
+    assign led = {locked, 2'b00, status};
 endmodule
 `resetall

@@ -278,11 +278,60 @@ extern "C" {
 #define FINEQUAD__TRAVEL__TRAVEL_bp 0
 #define FINEQUAD__TRAVEL__TRAVEL_bw 20
 
+// reg - finequad::REF
+#define FINEQUAD__REF__REF_Q_bm 0x7ff
+#define FINEQUAD__REF__REF_Q_bp 0
+#define FINEQUAD__REF__REF_Q_bw 11
+#define FINEQUAD__REF__REF_Q_reset 0x0
+#define FINEQUAD__REF__REF_FILT_bm 0xf0000
+#define FINEQUAD__REF__REF_FILT_bp 16
+#define FINEQUAD__REF__REF_FILT_bw 4
+#define FINEQUAD__REF__REF_FILT_reset 0x2
+#define FINEQUAD__REF__HOME_bm 0x1000000
+#define FINEQUAD__REF__HOME_bp 24
+#define FINEQUAD__REF__HOME_bw 1
+#define FINEQUAD__REF__HOME_reset 0x0
+
+// reg - finequad::HOME
+#define FINEQUAD__HOME__HOME_COUNT_bm 0xffffffff
+#define FINEQUAD__HOME__HOME_COUNT_bp 0
+#define FINEQUAD__HOME__HOME_COUNT_bw 32
+#define FINEQUAD__HOME__HOME_COUNT_reset 0x0
+
 // reg - finequad::ID
 #define FINEQUAD__ID__ID_bm 0xffffffff
 #define FINEQUAD__ID__ID_bp 0
 #define FINEQUAD__ID__ID_bw 32
-#define FINEQUAD__ID__ID_reset 0x46510006
+#define FINEQUAD__ID__ID_reset 0x46510007
+
+// reg - finequad::REF_COUNT
+#define FINEQUAD__REF_COUNT__REF_COUNT_bm 0xffffffff
+#define FINEQUAD__REF_COUNT__REF_COUNT_bp 0
+#define FINEQUAD__REF_COUNT__REF_COUNT_bw 32
+
+// reg - finequad::REF_STATUS
+#define FINEQUAD__REF_STATUS__WIN_bm 0x1
+#define FINEQUAD__REF_STATUS__WIN_bp 0
+#define FINEQUAD__REF_STATUS__WIN_bw 1
+#define FINEQUAD__REF_STATUS__HOMED_bm 0x2
+#define FINEQUAD__REF_STATUS__HOMED_bp 1
+#define FINEQUAD__REF_STATUS__HOMED_bw 1
+#define FINEQUAD__REF_STATUS__POS_VALID_bm 0x4
+#define FINEQUAD__REF_STATUS__POS_VALID_bp 2
+#define FINEQUAD__REF_STATUS__POS_VALID_bw 1
+#define FINEQUAD__REF_STATUS__HOME_ARMED_bm 0x8
+#define FINEQUAD__REF_STATUS__HOME_ARMED_bp 3
+#define FINEQUAD__REF_STATUS__HOME_ARMED_bw 1
+
+// reg - finequad::REF_STICKY
+#define FINEQUAD__REF_STICKY__LATCHED_bm 0x1
+#define FINEQUAD__REF_STICKY__LATCHED_bp 0
+#define FINEQUAD__REF_STICKY__LATCHED_bw 1
+#define FINEQUAD__REF_STICKY__LATCHED_reset 0x0
+#define FINEQUAD__REF_STICKY__LOST_bm 0x2
+#define FINEQUAD__REF_STICKY__LOST_bp 1
+#define FINEQUAD__REF_STICKY__LOST_bw 1
+#define FINEQUAD__REF_STICKY__LOST_reset 0x0
 
 // addrmap - finequad
 typedef struct __attribute__ ((__packed__)) {
@@ -318,8 +367,12 @@ typedef struct __attribute__ ((__packed__)) {
     uint32_t MONITOR;
     uint32_t CAPTURE;
     uint32_t TRAVEL;
-    uint8_t RESERVED_74_7b[0x8];
+    uint32_t REF;
+    uint32_t HOME;
     uint32_t ID;
+    uint32_t REF_COUNT;
+    uint32_t REF_STATUS;
+    uint32_t REF_STICKY;
 } finequad_t;
 
 

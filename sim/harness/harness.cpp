@@ -1,26 +1,38 @@
 // Compiled Verilator harness of finequad_core: CSV of ADC codes in, one CSV row per
 // sample out. No Python runs per clock. Built and run by `make rtlsim`.
 //
-//   rtlsim --in in.csv --out out.csv [--<setting> N ...] [--div D] [--vcd out.vcd]
-//          [--dump-regs]
+//   rtlsim --in in.csv --out out.csv [--<setting> N ...] [--home] [--div D]
+//          [--vcd out.vcd] [--dump-regs]
 //   rtlsim --raw [options]       stream: stdin int16 LE pairs (u1, u2) per sample, stdout
 //                                one 8-byte record per sample: int32 count, uint16 fault,
-//                                uint8 a, uint8 b (LE); for long runs (scripts/soak.py)
+//                                uint8 a, uint8 b (LE); for long runs (scripts/soak.py).
+//                                No reference input (s_ref 0 on every sample) and no
+//                                reference outputs in the record.
+//
+// Input: the CSV of input.h, 'u1,u2' or 'u1,u2,ref' (ref: the sample's s_ref, 0 or 1;
+// without the column 0). Output: the header 'count,a,b,fault,z,ref_count,homed,pos_valid',
+// one row per sample.
 //
 // Settings: --<field> N writes a register field of rtl/regs/finequad.rdl before the first
-// sample (--interp, --eps, --lambda-k, --count-mode, --ab-sep, --jump-off, --loss, ...:
-// input.h Settings); those not given keep their reset values. --dump-regs: after the
-// last sample, stderr gets 'regs: name=value ...' of the counters and status (UPDATES,
-// JUMPS, ILLEGAL, FAULT_STICKY, STATUS, COUNT, GAIN).
+// sample (--interp, --eps, --lambda-k, --count-mode, --ab-sep, --jump-off, --loss,
+// --ref-q, --home-count, ...: input.h Settings); those not given keep their reset values.
+// --home: REF is written last with its pulse REF.home = 1 (and its settings as given):
+// homing is armed from the start, the first reference latched sets the count to HOME.
+// --dump-regs: after the last sample, stderr gets 'regs: name=value ...' of the counters
+// and status (UPDATES, JUMPS, ILLEGAL, FAULT_STICKY, STATUS, COUNT, GAIN).
 //
-// a, b: the A/B pins after the sample's output edge (paced, or with --ab-src 1 the
-// Eq. 12 pulses).
+// count, fault: m_count, m_fault after the sample's output edge (m_valid high: t + 8 for
+// a sample strobed on edge t); a, b, z: m_a, m_b, m_z after that same edge (the A/B pins,
+// paced or with --ab-src 1 the Eq. 12 pulses, and Z, as they stand when the count
+// appears: the paced pins take it up from t + 10). ref_count, homed, pos_valid:
+// m_ref_count, m_homed, m_pos_valid two edges later (after t + 10, where the core
+// registers the sample's reference latch): the state after the sample's own latch.
 //
 // The VCD holds every signal of the design (Verilator --trace); it grows by about
 // 27 MB per 1000 samples at 36 clocks per sample, so dump short excerpts.
 //
 // Timing (the bit-true model uses the same): registers are written on edges 0, 1, ..., sample
-// k is strobed on edge T0 + k * div (T0 = 16); edge e is at time e * PERIOD_PS in the VCD.
+// k is strobed on edge T0 + k * div (T0 = 32); edge e is at time e * PERIOD_PS in the VCD.
 //
 // Two builds (Makefile): the harness of `make rtlsim` is built without --trace and runs
 // one scheduler pass per clock ("Fast clocking" below); given --vcd it hands over to the
@@ -81,15 +93,16 @@ static bool clear_prev_clk(R *, long) { return false; }
 #ifndef PERIOD_PS
 #define PERIOD_PS 27778  // 36 MHz
 #endif
-static const long T0 = 16;
+static const long T0 = 32;
 
-// The sample source: the CSV's samples, or int16 pairs from stdin (--raw).
+// The sample source: the CSV's samples, or int16 pairs from stdin (--raw; ref 0).
 struct Source {
     const std::vector<int> *u1 = nullptr, *u2 = nullptr;
+    const std::vector<unsigned char> *ref = nullptr;     // empty: no ref column (0)
     size_t next = 0;
     bool raw = false;
     long count = 0;
-    bool get(int &a, int &b) {
+    bool get(int &a, int &b, int &r) {
         if (raw) {
             int16_t v[2];
             // (counted in bytes: a stream cut inside a code is an error, not the end)
@@ -106,10 +119,12 @@ struct Source {
                     std::to_string(v[1]));
             a = v[0];
             b = v[1];
+            r = 0;
         } else {
             if (next >= u1->size()) return false;
             a = (*u1)[next];
             b = (*u2)[next];
+            r = ref->empty() ? 0 : (*ref)[next];
             next++;
         }
         count++;
@@ -117,8 +132,9 @@ struct Source {
     }
 };
 
-// The output rows "count,a,b,fault\n" (decimal, as printf's %d would write them), formatted
-// into a buffer written in large blocks: fprintf per row was about 1 % of a run.
+// The output rows "count,a,b,fault,z,ref_count,homed,pos_valid\n" (decimal, as printf's %d
+// would write them), formatted into a buffer written in large blocks: fprintf per row was
+// about 1 % of a run.
 struct CsvOut {
     FILE *f = nullptr;
     char buf[1 << 16];
@@ -135,24 +151,38 @@ struct CsvOut {
         if (v < 0) buf[n++] = '-';
         while (k) buf[n++] = tmp[--k];
     }
-    void row(long count, long a, long b, long fault) {
-        if (n > sizeof buf - 96) flush();
-        num(count);
-        buf[n++] = ',';
-        num(a);
-        buf[n++] = ',';
-        num(b);
-        buf[n++] = ',';
-        num(fault);
-        buf[n++] = '\n';
+    // (at most 8 fields of 20 characters and their separators: 168 bytes)
+    void row(const long (&v)[8]) {
+        if (n > sizeof buf - 256) flush();
+        for (int k = 0; k < 8; k++) {
+            num(v[k]);
+            buf[n++] = k < 7 ? ',' : '\n';
+        }
     }
+};
+
+// The rows whose count, a, b, fault and z are taken (on the sample's output edge) and
+// whose ref_count, homed and pos_valid come REF_LAG edges later: at most REF_LAG + 1 of
+// them are pending (a sample on every clock, --div 1).
+static const long REF_LAG = 2;
+struct Pending {
+    struct Row { long edge; long v[8]; };
+    Row q[4];
+    unsigned head = 0, tail = 0;      // (indices mod 4)
+    bool empty() const { return head == tail; }
+    Row &front() { return q[head & 3]; }
+    Row &push() {
+        if (tail - head >= 4) die("internal: more than 4 rows pending");
+        return q[tail++ & 3];
+    }
+    void pop() { head++; }
 };
 
 int main(int argc, char **argv) {
     std::string in, out, vcd;
     long div = 36;
     Settings set;
-    bool raw = false, dump_regs = false;
+    bool raw = false, dump_regs = false, home = false;
     for (int i = 1; i < argc; i++) {
         std::string a = argv[i];
         auto val = [&](const char *name) -> std::string {
@@ -165,15 +195,21 @@ int main(int argc, char **argv) {
         else if (a == "--div") div = parse_bounded(val("--div"), "--div", 1, DIV_MAX);
         else if (set.take(argc, argv, i)) continue;
         else if (a == "--raw") raw = true;
+        else if (a == "--home") home = true;
         else if (a == "--dump-regs") dump_regs = true;
         else if (a.rfind("+verilator", 0) == 0) continue;
         else die("unknown argument '" + a + "'");
     }
     if (!raw && (in.empty() || out.empty()))
         die("usage: rtlsim --in IN.csv --out OUT.csv [--div D] [--vcd F] [--dump-regs]" +
-            Settings::usage() + " | rtlsim --raw [...]");
+            Settings::usage() + " [--home] | rtlsim --raw [...]");
     if (raw && (!in.empty() || !out.empty() || !vcd.empty()))
         die("--raw streams stdin to stdout: no --in, --out or --vcd");
+    // the settings given (CTRL's pulses 0; with --home REF last, REF.home 1), one register
+    // per edge from edge 0
+    const auto regs = set.writes(home);
+    const long n_regs = (long)regs.size();
+    if (T0 < n_regs + 1) die("internal: the register writes run into the first strobe");
 
 #if !VM_TRACE
     if (!vcd.empty()) {
@@ -192,6 +228,7 @@ int main(int argc, char **argv) {
     }
 #endif
     std::vector<int> u1, u2;
+    std::vector<unsigned char> ref;
     Source src;
     src.raw = raw;
     FILE *fo = stdout;
@@ -201,12 +238,13 @@ int main(int argc, char **argv) {
         std::fclose(t);
     }
     if (!raw) {
-        read_csv(in, u1, u2);
+        read_csv(in, u1, u2, ref);
         src.u1 = &u1;
         src.u2 = &u2;
+        src.ref = &ref;
         fo = std::fopen(out.c_str(), "w");
         if (!fo) die("cannot write '" + out + "'");
-        std::fprintf(fo, "count,a,b,fault\n");
+        std::fprintf(fo, "count,a,b,fault,z,ref_count,homed,pos_valid\n");
     }
 
     auto ctx = std::make_unique<VerilatedContext>();
@@ -240,22 +278,20 @@ int main(int argc, char **argv) {
         rise();
     };
 #endif
-    // the settings given (CTRL's pulses 0), one register per edge from edge 0
-    const auto regs = set.writes();
-    const long n_regs = (long)regs.size();
-    if (T0 < n_regs + 1) die("internal: the register writes run into the first strobe");
     long written = 0, strobed = 0;
     long last_edge = -1;                 // set when the source runs dry
-    int a = 0, b = 0;
-    bool have = src.get(a, b);
+    int a = 0, b = 0, rf = 0;            // the next sample: u1, u2, ref
+    bool have = src.get(a, b, rf);
     if (!have) die(raw ? "--raw: stdin has no samples" : "no samples");
     top->clk = 0;
     top->rst = 0;
+    top->s_ref = 0;
     top->eval();                         // the first eval also initialises the model
     // (no dump before edge 0: the VCD's time 0 is the state after edge 0, and every edge e
     // dumps at e * PERIOD_PS; a second dump at one time is dropped by Verilator)
     CsvOut csv;
     if (!raw) csv.f = fo;
+    Pending pend;
     auto edge = [&](long e) {
         // posedge at time e * PERIOD_PS, negedge half a period later
         top->clk = 1;
@@ -267,9 +303,25 @@ int main(int argc, char **argv) {
                     (int32_t)top->m_count, (uint16_t)top->m_fault, (uint8_t)top->m_a,
                     (uint8_t)top->m_b};
                 if (std::fwrite(&r, sizeof r, 1, fo) != 1) die("--raw: cannot write stdout");
+                written++;
             } else {
-                csv.row((int32_t)top->m_count, top->m_a, top->m_b, top->m_fault);
+                Pending::Row &p = pend.push();
+                p.edge = e;
+                p.v[0] = (int32_t)top->m_count;
+                p.v[1] = top->m_a;
+                p.v[2] = top->m_b;
+                p.v[3] = top->m_fault;
+                p.v[4] = top->m_z;
             }
+        }
+        // (after the push: with REF_LAG = 0 a row would complete on its own edge)
+        if (!pend.empty() && pend.front().edge + REF_LAG == e) {
+            Pending::Row &p = pend.front();
+            p.v[5] = (int32_t)top->m_ref_count;
+            p.v[6] = top->m_homed;
+            p.v[7] = top->m_pos_valid;
+            csv.row(p.v);
+            pend.pop();
             written++;
         }
         top->clk = 0;
@@ -289,9 +341,10 @@ int main(int argc, char **argv) {
         top->s_valid = strobe;
         top->s_u1 = strobe ? a : 0;
         top->s_u2 = strobe ? b : 0;
+        top->s_ref = strobe ? rf : 0;
         if (strobe) {
             strobed++;
-            have = src.get(a, b);
+            have = src.get(a, b, rf);
             if (!have) last_edge = e + 12;
         }
         edge(e);

@@ -3,12 +3,14 @@
 // a recording alike and name what is wrong and where. Define HARNESS_TOOL (the name that
 // starts every error message) and ADC_W before including it.
 //
-// CSV: the header 'u1,u2', then one 'u1,u2' pair of decimal ADC codes per line in the
-// signed ADC_W-bit range; blank lines are skipped. A line's trailing '\r', ' ' and '\n'
-// and its leading ' ' do not count, nor do a field's trailing ' ' and its leading white
-// space (strtol's: ' ', '\t', '\n', '\v', '\f', '\r'). sim/run_model.py reads by the
-// same rules and names the same errors. An error exits with status 2 and one line,
-// 'TOOL: error: ' and what was wrong: with 'file:line:' for a line's error, with the
+// CSV: the header 'u1,u2' or 'u1,u2,ref', then one row per sample: 'u1,u2', decimal ADC
+// codes in the signed ADC_W-bit range, and with the header 'u1,u2,ref' a third value on
+// every row, ref, 0 or 1 (the reference comparator's output for the sample; without the
+// column ref is 0 on every sample); blank lines are skipped. A line's trailing '\r', ' '
+// and '\n' and its leading ' ' do not count, nor do a field's trailing ' ' and its
+// leading white space (strtol's: ' ', '\t', '\n', '\v', '\f', '\r'). sim/run_model.py
+// reads by the same rules and names the same errors. An error exits with status 2 and one
+// line, 'TOOL: error: ' and what was wrong: with 'file:line:' for a line's error, with the
 // file's name for a file's; bytes outside printable ASCII are shown as \xNN.
 #ifndef FINEQUAD_HARNESS_INPUT_H
 #define FINEQUAD_HARNESS_INPUT_H
@@ -31,6 +33,9 @@
 #include <sys/stat.h>
 
 #include "regs.h"
+// REF.home, a pulse (regs.h lists the settings only): the C header of the register map
+#include "../../rtl/regs/finequad_regs.h"
+static const uint32_t FQ_REF_HOME_BM = FINEQUAD__REF__HOME_bm;
 
 [[noreturn]] static void die(const std::string &msg) {
     std::cerr << HARNESS_TOOL << ": error: " << msg << std::endl;
@@ -120,9 +125,27 @@ static long parse_field(const char *p, const char *q, const std::string &path, l
     return v;
 }
 
+// A row's ref: a decimal integer (parse_long's rules), 0 or 1.
+static int parse_ref(const char *p, const char *q, const std::string &path, long ln) {
+    trim(p, q);
+    if (q - p == 1 && (*p == '0' || *p == '1')) return *p - '0';      // the common case
+    const std::string where = path + ":" + std::to_string(ln) + ": ref", text(p, q);
+    errno = 0;
+    char *end = nullptr;
+    long v = std::strtol(text.c_str(), &end, 10);
+    if (end == text.c_str() || end != text.c_str() + text.size())
+        die(where + ": not a decimal integer: '" + shown(text) + "'");
+    if (errno == ERANGE || (v != 0 && v != 1))
+        die(where + ": must be 0 or 1, got '" + shown(text) + "'");
+    return (int)v;
+}
+
 // The whole file is read at once and split into lines in place (std::getline and
 // std::string per line were about 2 % of a run); messages name the file and line.
-static void read_csv(const std::string &path, std::vector<int> &u1, std::vector<int> &u2) {
+// ref: filled with each sample's ref if the file has the column (the return value: true),
+// left empty if not (every sample's ref is 0).
+static bool read_csv(const std::string &path, std::vector<int> &u1, std::vector<int> &u2,
+                     std::vector<unsigned char> &ref) {
     struct stat st;
     if (stat(path.c_str(), &st) != 0) die("cannot open input '" + path + "': " + std::strerror(errno));
     if (!S_ISREG(st.st_mode)) die("input '" + path + "' is not a regular file");
@@ -144,27 +167,38 @@ static void read_csv(const std::string &path, std::vector<int> &u1, std::vector<
         return true;
     };
     const char *p, *q;
-    if (!next_line(p, q)) die(path + ":1: empty file (expected header 'u1,u2')");
+    if (!next_line(p, q)) die(path + ":1: empty file (expected header 'u1,u2' or 'u1,u2,ref')");
     trim(p, q);
-    if (std::string(p, q) != "u1,u2")
-        die(path + ":1: header is '" + shown(p, q) + "', expected 'u1,u2'");
+    const std::string header(p, q);
+    if (header != "u1,u2" && header != "u1,u2,ref")
+        die(path + ":1: header is '" + shown(p, q) + "', expected 'u1,u2' or 'u1,u2,ref'");
+    const bool has_ref = header == "u1,u2,ref";
     long ln = 1;
     u1.reserve(text.size() / 8);
     u2.reserve(text.size() / 8);
+    ref.clear();
+    if (has_ref) ref.reserve(text.size() / 10);
     while (next_line(p, q)) {
         ln++;
         trim(p, q);
         if (p == q) continue;
         const char *c = static_cast<const char *>(std::memchr(p, ',', (size_t)(q - p)));
-        if (!c || std::memchr(c + 1, ',', (size_t)(q - c - 1)))
+        const char *c2 = c ? static_cast<const char *>(std::memchr(c + 1, ',', (size_t)(q - c - 1)))
+                           : nullptr;
+        if (!has_ref && (!c || c2))
             die(path + ":" + std::to_string(ln) + ": expected two values 'u1,u2', got '" +
                 shown(p, q) + "'");
+        if (has_ref && (!c2 || std::memchr(c2 + 1, ',', (size_t)(q - c2 - 1))))
+            die(path + ":" + std::to_string(ln) + ": expected three values 'u1,u2,ref', got '" +
+                shown(p, q) + "'");
         long a = parse_field(p, c, path, ln, "u1");
-        long b = parse_field(c + 1, q, path, ln, "u2");
+        long b = parse_field(c + 1, has_ref ? c2 : q, path, ln, "u2");
+        if (has_ref) ref.push_back((unsigned char)parse_ref(c2 + 1, q, path, ln));
         u1.push_back((int)a);
         u2.push_back((int)b);
     }
     if (u1.empty()) die(path + ": no samples after the header");
+    return has_ref;
 }
 
 // A setting's reset value (sim/harness/regs.h).
@@ -231,15 +265,12 @@ struct Settings {
         return false;
     }
     // (word index, word) of each register a given setting is in: its settings as given or
-    // at their reset values, its pulses 0
-    std::vector<std::pair<int, uint32_t>> writes() const {
+    // at their reset values, its pulses 0; with home (--home) REF last, whether a setting
+    // of it is given or not, with its pulse REF.home = 1 (homing armed from the start)
+    std::vector<std::pair<int, uint32_t>> writes(bool home = false) const {
         std::vector<std::pair<int, uint32_t>> out;
-        for (int k = 0; k < FQ_N_SETTINGS; k++) {
-            if (!given[k]) continue;
-            const int idx = FQ_SETTINGS[k].index;
-            bool done = false;
-            for (const auto &w : out) done = done || w.first == idx;
-            if (done) continue;
+        // a register's word: its settings as given, the others at their reset values
+        auto word_of = [&](int idx) {
             uint32_t word = 0;
             for (int j = 0; j < FQ_N_SETTINGS; j++) {
                 const FqSetting &f = FQ_SETTINGS[j];
@@ -248,8 +279,18 @@ struct Settings {
                 const uint32_t mask = f.width >= 32 ? 0xFFFFFFFFu : ((1u << f.width) - 1u);
                 word |= ((uint32_t)v & mask) << f.lsb;
             }
-            out.emplace_back(idx, word);
+            return word;
+        };
+        for (int k = 0; k < FQ_N_SETTINGS; k++) {
+            if (!given[k]) continue;
+            const int idx = FQ_SETTINGS[k].index;
+            if (home && idx == FQ_REF) continue;
+            bool done = false;
+            for (const auto &w : out) done = done || w.first == idx;
+            if (done) continue;
+            out.emplace_back(idx, word_of(idx));
         }
+        if (home) out.emplace_back(FQ_REF, word_of(FQ_REF) | FQ_REF_HOME_BM);
         return out;
     }
     // the options, for a usage line

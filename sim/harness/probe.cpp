@@ -7,8 +7,9 @@
 //                 [--space C] [--seed X]
 //
 // stream: the timing of sim/harness/harness.cpp (registers written on edges 0..10 with
-// the harness' defaults, sample k strobed on edge T0 + k * div, T0 = 16), so out.csv
-// (count,a,b,fault) equals `make model` with the same DIV. After the register writes the
+// the harness' defaults, sample k strobed on edge T0 + k * div, T0 = 32, s_ref from the
+// input's ref column), so out.csv (count,a,b,fault,z,ref_count,homed,pos_valid, sampled
+// as the harness does) equals `make model` with the same DIV. After the register writes the
 // read port reads UPDATES on every edge; trace.csv has one row per sample:
 // its strobe edge, the edge its result appeared on (m_valid), and UPDATES after that
 // edge (with PROBE_INTERNALS also, cumulative, the programs started -- RESET, UPDATE,
@@ -48,7 +49,7 @@
 #define EST(sig) (c.top->rootp->finequad_core__DOT__u_est__DOT__##sig)
 #endif
 
-static const long T0 = 16;
+static const long T0 = 32;
 
 struct Core {
     std::unique_ptr<VerilatedContext> ctx;
@@ -60,6 +61,7 @@ struct Core {
         top->clk = 0;
         top->rst = 0;
         top->s_valid = 0;
+        top->s_ref = 0;
         top->reg_we = 0;
         top->reg_re = 0;
         top->eval();
@@ -80,11 +82,12 @@ struct Core {
 static int stream(int argc, char **argv, const std::string &in, const std::string &out,
                   const std::string &trace, long div, long interp) {
     std::vector<int> u1, u2;
-    read_csv(in, u1, u2);
+    std::vector<unsigned char> ref;
+    read_csv(in, u1, u2, ref);
     FILE *fo = std::fopen(out.c_str(), "w");
     FILE *ft = std::fopen(trace.c_str(), "w");
     if (!fo || !ft) die("cannot write '" + out + "' or '" + trace + "'");
-    std::fprintf(fo, "count,a,b,fault\n");
+    std::fprintf(fo, "count,a,b,fault,z,ref_count,homed,pos_valid\n");
 #ifdef PROBE_INTERNALS
     std::fprintf(ft, "strobe_edge,out_edge,updates,starts_reset,starts_update,starts_extract,"
                      "busy_reset,busy_update,busy_extract,gate_blocks\n");
@@ -103,6 +106,11 @@ static int stream(int argc, char **argv, const std::string &in, const std::strin
          max_gap = 0;
     std::vector<long> strobe_at;
     strobe_at.reserve(n);
+    // the rows waiting for their reference columns (two edges after m_valid, as the
+    // harness): at most 3 with a sample on every clock
+    struct Row { long edge; int count, a, b, fault, z; };
+    Row pend[4];
+    unsigned head = 0, tail = 0;
     for (long e = 0; e <= last_edge; e++) {
         c.top->reg_we = (e < n_regs);
         c.top->reg_re = (e >= n_regs);
@@ -116,6 +124,7 @@ static int stream(int argc, char **argv, const std::string &in, const std::strin
         c.top->s_valid = strobe;
         c.top->s_u1 = strobe ? u1[next] : 0;
         c.top->s_u2 = strobe ? u2[next] : 0;
+        c.top->s_ref = strobe && !ref.empty() ? ref[next] : 0;
         if (strobe) {
             strobe_at.push_back(e);
             next++;
@@ -134,8 +143,9 @@ static int stream(int argc, char **argv, const std::string &in, const std::strin
 #endif
         if (c.top->m_valid) {
             if (done >= n) die("more results than samples");
-            std::fprintf(fo, "%d,%d,%d,%d\n", (int)(int32_t)c.top->m_count, c.top->m_a,
-                         c.top->m_b, c.top->m_fault);
+            if (tail - head >= 4) die("internal: more than 4 rows pending");
+            pend[tail++ & 3] = {e, (int)(int32_t)c.top->m_count, c.top->m_a, c.top->m_b,
+                                c.top->m_fault, c.top->m_z};
 #ifdef PROBE_INTERNALS
             std::fprintf(ft, "%ld,%ld,%u,%ld,%ld,%ld,%ld,%ld,%ld,%ld\n", strobe_at[done], e,
                          (unsigned)c.top->reg_rdata, starts[0], starts[1], starts[2], busy[0],
@@ -148,6 +158,12 @@ static int stream(int argc, char **argv, const std::string &in, const std::strin
             last_valid = e;
             valid_edges++;
             done++;
+        }
+        if (head != tail && pend[head & 3].edge + 2 == e) {
+            const Row &r = pend[head++ & 3];
+            std::fprintf(fo, "%d,%d,%d,%d,%d,%d,%d,%d\n", r.count, r.a, r.b, r.fault, r.z,
+                         (int)(int32_t)c.top->m_ref_count, c.top->m_homed,
+                         c.top->m_pos_valid);
         }
         c.fall();
     }
@@ -162,6 +178,7 @@ static int stream(int argc, char **argv, const std::string &in, const std::strin
     std::fclose(fo);
     std::fclose(ft);
     if (done != n) die("got " + std::to_string(done) + " results for " + std::to_string(n) + " samples");
+    if (head != tail) die("internal: rows left without their reference columns");
     std::printf("{\"samples\": %ld, \"div\": %ld, \"first_strobe_edge\": %ld, "
                 "\"last_strobe_edge\": %ld, \"valid_edges\": %ld, \"first_valid_edge\": %ld, "
                 "\"last_valid_edge\": %ld, \"max_gap\": %ld, \"jumps\": %u}\n",

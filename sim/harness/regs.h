@@ -39,6 +39,9 @@ static const FqSetting FQ_SETTINGS[] = {
     {"glitch_k", "MONITOR", 0x1a, 0, 4, 0L, 15L, 10L},
     {"code_step", "MONITOR", 0x1a, 8, 4, 0L, 8L, 0L},
     {"stuck_n", "MONITOR", 0x1a, 16, 8, 0L, 255L, 8L},
+    {"ref_q", "REF", 0x1d, 0, 11, 0L, 2043L, 0L},
+    {"ref_filt", "REF", 0x1d, 16, 4, 0L, 15L, 2L},
+    {"home_count", "HOME", 0x1e, 0, 32, -2147483648L, 2147483647L, 0L},
 };
 static const int FQ_N_SETTINGS = (int)(sizeof FQ_SETTINGS / sizeof FQ_SETTINGS[0]);
 static const int FQ_CTRL = 0x00;
@@ -71,4 +74,9 @@ static const int FQ_RADIUS = 0x19;
 static const int FQ_MONITOR = 0x1a;
 static const int FQ_CAPTURE = 0x1b;
 static const int FQ_TRAVEL = 0x1c;
+static const int FQ_REF = 0x1d;
+static const int FQ_HOME = 0x1e;
 static const int FQ_ID = 0x1f;
+static const int FQ_REF_COUNT = 0x20;
+static const int FQ_REF_STATUS = 0x21;
+static const int FQ_REF_STICKY = 0x22;

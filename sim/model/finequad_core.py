@@ -6,7 +6,7 @@ from 0):
 * Sample k is strobed (s_valid high) on edge t_k: correct.v registers x - m on t_k with
   the coefficient bundle as it stands before t_k (committed on edges < t_k), so a sample
   never mixes two bundles. Its fine phase is registered on t_k + PHASE_AT (6), its count
-  on t_k + LATENCY (8); the paced A/B outputs follow the count from t_k + 9.
+  on t_k + LATENCY (8); the paced A/B outputs and Z follow the count from t_k + 10.
 * The estimator sees every sample on t_k and decides on t_k + 1 (sim/model/estimator.py
   gives its schedule); a hand-over commits a new bundle on an edge, and the samples
   strobed after that edge use it. A LOAD (CTRL.load) written on edge w replaces the
@@ -18,10 +18,15 @@ from 0):
 * Edge mode (count_mode 1): the count of sample k is the x4 decoder's count of the Eq. 12
   pulses as of its output edge: the steps of the samples strobed on or before t_k - 3
   (the pulses come two edges after the phase-mode count).
-* A/B pins: the paced outputs (sim/model/abgen.py) follow m_count, which takes sample
-  k's count on t_k + 8 (the target from t_k + 9); the per-sample a, b are the pins after
-  t_k + 8, as `make rtlsim` samples them. With ab_src = 1 the pins are the Eq. 12 pulses
-  (of the previous sample at that edge).
+* A/B pins: the paced outputs (sim/model/abgen.py) follow the count before the homing
+  offset, which takes sample k's count on t_k + 8 and is registered again on t_k + 9 (the
+  target from t_k + 10); the per-sample a, b and z are the pins after t_k + 8, as `make
+  rtlsim` samples them. With ab_src = 1 the pins are the Eq. 12 pulses (of the previous
+  sample at that edge) and Z is 0.
+* Reference marks (sim/model/refmark.py): sample k's reference input is taken on t_k + 9
+  (window, crossing, Z armed), REF_COUNT, homed and pos_valid on t_k + 10 (the per-sample
+  ref_count, homed, pos_valid are after t_k + 10); m_count = the count + the homing
+  offset as it stands after t_k + 8.
 """
 import bisect
 from dataclasses import dataclass, field
@@ -30,6 +35,7 @@ import numpy as np
 
 from . import abgen
 from . import harmonic
+from . import refmark
 from . import regs
 from .correct import align, correct
 from .counter import counter, edge_steps
@@ -50,7 +56,9 @@ NTH_AT = 7           # n * phase; the period count B
 LATENCY = 8          # counter: m_valid, m_count, m_fault
 SIN_AT = 8           # sines of the n-th order
 PULSE_AT = 9         # Eq. 12 pulses
-AB_AT = 9            # paced A/B (follows m_count)
+AB_AT = 10           # paced A/B and Z (follow the count, registered again on t + 9)
+REF_AT = 9           # reference window, crossing, Z armed (rtl/refmark.v)
+LATCH_AT = 10        # REF_COUNT, homed, pos_valid, the homing offset
 EDGE_AT = 10         # edge-mode count (x4 decoder of the pulses)
 assert PHASE_AT == 6 and PHASE_STAGE == PHASE_AT + 2   # the fine phase (estimator.py)
 ID = regs.ID_VALUE   # the ID register: "FQ" and the register map's version
@@ -101,6 +109,11 @@ class Config:
     ab_sep: int = _S["ab_sep"].reset
     ab_src: int = _S["ab_src"].reset
     ab_bound: int = _S["ab_bound"].reset
+    ref_q: int = _S["ref_q"].reset
+    ref_filt: int = _S["ref_filt"].reset
+    home_count: int = _S["home_count"].reset
+    home_arm: bool = False   # REF.home written before the first sample: the first
+                             # reference latched homes the count to home_count
     clip: int = _S["clip"].reset
     loss: int = _S["loss"].reset
     over: int = _S["over"].reset
@@ -157,7 +170,7 @@ def _front(u1r, u2r, bundle, lut):
     return fr
 
 
-def strobe_edges(n, div, t0=16):
+def strobe_edges(n, div, t0=32):
     return t0 + div * np.arange(n, dtype=np.int64)
 
 
@@ -168,7 +181,7 @@ class Core:
     result of one `run` over the whole (sim/tests/test_model.py checks it).
 
     Strobe edges continue from the last piece: by default `div` edges apart (the first
-    sample on edge 16); given strobes must come after the last one. Config.resets are
+    sample on edge 32); given strobes must come after the last one. Config.resets are
     global sample indices; per-sample arrays in the harm_* fields are indexed globally
     too."""
 
@@ -199,6 +212,8 @@ class Core:
         self.e_base = 0               # E before the samples in e_tail
         self.ill_count = 0            # illegal A/B steps
         self.ab = abgen.Follower(cfg.ab_sep, cfg.ab_bound, cfg.COUNT_W)
+        self.rm = refmark.RefMark(cfg.COUNT_W, cfg.ref_q, cfg.ref_filt, cfg.home_count,
+                                  cfg.home_arm)
 
     @staticmethod
     def _apply(state, delta):
@@ -243,13 +258,17 @@ class Core:
             return v
         return np.asarray(v)[self.k0:self.k0 + n]
 
-    def feed(self, u1_code, u2_code, strobes=None, trace=False):
-        """Run the next samples (ADC codes); returns a dict of per-sample arrays for them
-        (and, as a list since power-up, the jumps; the schedule: schedule_samples())."""
+    def feed(self, u1_code, u2_code, strobes=None, trace=False, ref=None):
+        """Run the next samples (ADC codes; ref: the reference input per sample, 0 or 1,
+        None: 0); returns a dict of per-sample arrays for them (and, as a list since
+        power-up, the jumps; the schedule: schedule_samples())."""
         cfg = self.cfg
         u1_code = np.asarray(u1_code, dtype=np.int64)
         u2_code = np.asarray(u2_code, dtype=np.int64)
         n = len(u1_code)
+        ref = np.zeros(n, np.int64) if ref is None else np.asarray(ref, dtype=np.int64)
+        if len(ref) != n or np.any((ref != 0) & (ref != 1)):
+            raise ValueError("ref: one value per sample, each 0 or 1")
         t = self._strobes(n, strobes)
         u1r, clip1 = align(u1_code, cfg.ADC_W, cfg.clip)
         u2r, clip2 = align(u2_code, cfg.ADC_W, cfg.clip)
@@ -304,16 +323,17 @@ class Core:
             drop = len(tail_t) - keep
             self.e_base = int(ecum[drop - 1]) if drop > 0 else self.e_base
             self.e_tail = list(zip(tail_t[drop:].tolist(), ecum[drop:].tolist()))
-        # A/B pins after each sample's output edge
-        a_pin = np.empty(n, np.int64)
-        b_pin = np.empty(n, np.int64)
-        ab_ovf = np.empty(n, np.int64)
+        # A/B pins and Z after each sample's output edge; the reference marks
+        held = np.asarray(mon["hold"], bool) & (cfg.count_mode == 0)
+        rmo = self.rm.run(t, count, np.asarray(prod, np.int64) >> 11, cfg.interp, held, ovs,
+                          ref, cfg.count_mode, self.ab)
+        a_pin, b_pin, ab_ovf, z_pin = rmo["a"], rmo["b"], rmo["ab_ovf"], rmo["z"]
+        wrapm = 1 << cfg.COUNT_W
+        count_raw = count
+        count = ((count + rmo["off8"] + (wrapm >> 1)) % wrapm) - (wrapm >> 1)
         prev_pulse = self.pulse_ab
-        for k in range(n):
-            e = int(t[k]) + LATENCY
-            a_pin[k], b_pin[k], ab_ovf[k] = self.ab.sample(e)
-            self.ab.set(e + 1, int(count[k]))
         if cfg.ab_src:
+            z_pin = np.zeros(n, np.int64)
             a_pin = np.concatenate([[prev_pulse[0]], pa[:-1]]) if n else a_pin
             b_pin = np.concatenate([[prev_pulse[1]], pb[:-1]]) if n else b_pin
         if n:
@@ -338,6 +358,9 @@ class Core:
                 del self.ev_edge[:keep], self.ev_delta[:keep], self.ev_state[:keep]
         est = self.est
         res = dict(jumps=list(est.jumps), count=count, a=a_pin, b=b_pin, fault=fault,
+                   z=z_pin, ref_count=rmo["ref_count"], homed=rmo["homed"],
+                   pos_valid=rmo["pos_valid"],
+                   ref_latched=self.rm.latches, ref_lost=self.rm.losts,
                    n_updates=est.n_updates, invalid_updates=est.n_invalid,
                    gain_held=est.n_gain_held,
                    sat=est.sat,           # the engine saturated a register (STATUS.sat)
@@ -348,7 +371,8 @@ class Core:
                                            "j", "base", "neg", "bin")})
             res.update(prod=prod, pn=pn, cosn=cosn, sinn=sinn, pa=pa, pb=pb, g=g, m1=m1,
                        m2=m2, c1=c1, c12=c12, c2=c2, phase_c=phase_c, harm=self.harm,
-                       count_phase=count_ph, ill=ill, t=t, travel=mon["travel"],
+                       count_phase=count_ph, count_raw=count_raw, ill=ill, t=t,
+                       travel=mon["travel"], ref_in=ref,
                        mon_hold=mon["hold"], excl=mon["excl"], ref=mon["ref"],
                        loaded=flags[:, 2])
         return res
@@ -419,10 +443,10 @@ class Core:
         return out
 
 
-def run(u1_code, u2_code, cfg: Config = Config(), strobes=None, trace=False):
-    """Run the core on ADC codes from power-up; returns a dict of per-sample arrays, and
-    the estimator's schedule (Core.schedule_samples)."""
+def run(u1_code, u2_code, cfg: Config = Config(), strobes=None, trace=False, ref=None):
+    """Run the core on ADC codes (and the reference input: ref) from power-up; returns a
+    dict of per-sample arrays, and the estimator's schedule (Core.schedule_samples)."""
     c = Core(cfg)
-    res = c.feed(u1_code, u2_code, strobes=strobes, trace=trace)
+    res = c.feed(u1_code, u2_code, strobes=strobes, trace=trace, ref=ref)
     res["sched"] = c.schedule_samples()
     return res

@@ -184,10 +184,42 @@ REGS = {
         'travel': Field('travel', 'TRAVEL', 0, 20, None, True, False, False, False, False, 0, 1048575, 'u20',
             "The monitor's smoothed unwrapped travel S (integer part; 8192 per signal period, wraps)."),
     }, 'Travel', ''),
+    'REF': Reg('REF', 0x1d, 0x74, True, True, 0x010f07ff, 0x000f07ff, 0x00020000, (), {
+        'ref_q': Field('ref_q', 'REF', 0, 11, 0, True, True, False, False, False, 0, 2043, 'u11',
+            'The reference point within the signal period, in counts, 0 .. 4 n - 1 (a value of 4 n or more is never reached: no Z, no latch).'),
+        'ref_filt': Field('ref_filt', 'REF', 16, 4, 2, True, True, False, False, False, 0, 15, 'u4',
+            "Glitch filter: the window takes a new level of the reference input once the input has shown it on ref_filt + 1 consecutive samples (0: at once). The reference is found while the stage moves less than w / 2 / max(1, ref_filt) per sample, w the window's width."),
+        'home': Field('home', 'REF', 24, 1, 0, False, True, True, False, False, 0, 1, '',
+            '1: home: the next reference latched sets the count to HOME (REF_STATUS.home_armed until then).'),
+    }, 'Reference mark', 'The reference point and the window (rtl/refmark.v). Z and the latch take the count c = ref_q (mod 4 n) where the fine phase passes 2048 ref_q / n, inside the window of the reference input. Choose ref_q so that exactly one such count lies inside the window, near its middle (the window narrower than a signal period).'),
+    'HOME': Reg('HOME', 0x1e, 0x78, True, True, 0xffffffff, 0xffffffff, 0x00000000, (), {
+        'home_count': Field('home_count', 'HOME', 0, 32, 0, True, True, False, False, True, -2147483648, 2147483647, 's32',
+            'The count at the reference after homing (REF.home).'),
+    }, 'Home count', ''),
     'ID': Reg('ID', 0x1f, 0x7c, True, False, 0x00000000, 0xffffffff, 0x00000000, (), {
-        'id': Field('id', 'ID', 0, 32, 1179713542, True, False, False, False, False, 0, 4294967295, 'u32',
-            '"FQ" (0x4651) and the register map\'s version, major.minor (0x0006: 0.6).'),
+        'id': Field('id', 'ID', 0, 32, 1179713543, True, False, False, False, False, 0, 4294967295, 'u32',
+            '"FQ" (0x4651) and the register map\'s version, major.minor (0x0007: 0.7).'),
     }, 'Identification', ''),
+    'REF_COUNT': Reg('REF_COUNT', 0x20, 0x80, True, False, 0x00000000, 0xffffffff, 0x00000000, (), {
+        'ref_count': Field('ref_count', 'REF_COUNT', 0, 32, None, True, False, False, False, True, -2147483648, 2147483647, 's32',
+            'The count at the last reference latched (one latch per pass over the mark); 0 before the first.'),
+    }, 'Reference count', ''),
+    'REF_STATUS': Reg('REF_STATUS', 0x21, 0x84, True, False, 0x00000000, 0x0000000f, 0x00000000, (), {
+        'win': Field('win', 'REF_STATUS', 0, 1, None, True, False, False, False, False, 0, 1, '',
+            'The window: the reference input after its glitch filter.'),
+        'homed': Field('homed', 'REF_STATUS', 1, 1, None, True, False, False, False, False, 0, 1, '',
+            'A reference has been latched since rst (REF_COUNT holds it).'),
+        'pos_valid': Field('pos_valid', 'REF_STATUS', 2, 1, None, True, False, False, False, False, 0, 1, '',
+            'Position valid: a reference has been latched and nothing since has made the count uncertain by a period (rtl/refmark.v lists what clears it: a held or overspeed sample, a change of INTERP, edge mode, rst).'),
+        'home_armed': Field('home_armed', 'REF_STATUS', 3, 1, None, True, False, False, False, False, 0, 1, '',
+            'Homing is armed (REF.home): the next reference sets the count to HOME.'),
+    }, 'Reference status', ''),
+    'REF_STICKY': Reg('REF_STICKY', 0x22, 0x88, True, True, 0x00000003, 0x00000003, 0x00000000, (), {
+        'latched': Field('latched', 'REF_STICKY', 0, 1, 0, True, True, False, True, False, 0, 1, '',
+            'A reference was latched.'),
+        'lost': Field('lost', 'REF_STICKY', 1, 1, 0, True, True, False, True, False, 0, 1, '',
+            'pos_valid fell: the count may be off by a period (home again).'),
+    }, 'Reference events', 'Sticky: write 1 to clear a bit (an event on the clearing edge stays set).'),
 }
 
 CTRL = 0x00
@@ -220,8 +252,13 @@ RADIUS = 0x19
 MONITOR = 0x1a
 CAPTURE = 0x1b
 TRAVEL = 0x1c
+REF = 0x1d
+HOME = 0x1e
 ID = 0x1f
-ADDR_TOP = 0x1f
+REF_COUNT = 0x20
+REF_STATUS = 0x21
+REF_STICKY = 0x22
+ADDR_TOP = 0x22
 
 SETTINGS = {f.name: f for r in REGS.values() for f in r.fields.values()
             if f.write and not f.pulse and not f.w1c}

@@ -5,8 +5,8 @@
 // make fusesoc). Run from a folder that holds rtl/tables/ (TABLE_DIR), with rtl and
 // rtl/tables on the include path.
 //   1. After reset every register is read: ID and each register's reset value (the
-//      register map's, rtl/finequad_regs.vh: FQ_<REG>_RESET; the counters and the
-//      status as at power-up).
+//      register map's, rtl/finequad_regs.vh: FQ_<REG>_RESET; the counters, the status,
+//      REF_COUNT and REF_STATUS as at power-up).
 //   2. A slightly distorted circle of ADC codes ($cos/$sin: amplitudes 0.40 and 0.37 of
 //      full scale, offsets 1.2 % and -0.8 %, a phase error of 0.05 rad) turns PERIODS
 //      signal periods forward, then as many back, SPP samples per period, a sample every
@@ -15,8 +15,11 @@
 //      forward and fall by 4 n going back, and end where it started; every sample must
 //      give a result, LATENCY clocks after its strobe, without a clip, saturation or
 //      overspeed bit. (The estimator hands over no coefficients in so few updates, so
-//      the phase of a code pair does not change during the run.)
-//   3. COUNT reads the last result's count.
+//      the phase of a code pair does not change during the run.) The reference input
+//      s_ref stays 0, so Z never rises and nothing is latched: m_z, m_homed and
+//      m_pos_valid stay 0 (checked with every result).
+//   3. COUNT reads the last result's count; REF_COUNT, REF_STATUS and REF_STICKY still
+//      read 0.
 // The first failed check stops the run with $fatal (a nonzero exit); the last line is
 // "tb_finequad_core: PASS" and the number of checks.
 module tb_finequad_core #(
@@ -44,17 +47,18 @@ module tb_finequad_core #(
     reg [5:0]              reg_addr = 6'd0;
     reg [31:0]             reg_wdata = 32'd0;
     wire [31:0]            reg_rdata;
-    wire                   m_valid, m_a, m_b;
-    wire signed [31:0]     m_count;
+    wire                   m_valid, m_a, m_b, m_z, m_homed, m_pos_valid;
+    wire signed [31:0]     m_count, m_ref_count;
     wire [10:0]            m_fault;
     wire [65:0]            eng_cmd;
 
     finequad_core #(.TABLE_DIR(TABLE_DIR)) dut (
         .clk(clk), .rst(rst),
-        .s_valid(s_valid), .s_u1(s_u1), .s_u2(s_u2),
+        .s_valid(s_valid), .s_u1(s_u1), .s_u2(s_u2), .s_ref(1'b0),
         .reg_we(reg_we), .reg_re(reg_re), .reg_addr(reg_addr), .reg_wdata(reg_wdata),
         .reg_rdata(reg_rdata),
         .m_valid(m_valid), .m_count(m_count), .m_fault(m_fault), .m_a(m_a), .m_b(m_b),
+        .m_z(m_z), .m_ref_count(m_ref_count), .m_homed(m_homed), .m_pos_valid(m_pos_valid),
         .tdm_ok_i(1'b1), .eng_cmd_o(eng_cmd), .eng_rsp_i(115'd0)
     );
 
@@ -113,6 +117,9 @@ module tb_finequad_core #(
             if (m_fault[3:0] != 4'd0)
                 $fatal(1, "tb_finequad_core: sample %0d: fault bits 0x%03h (clip, saturation or overspeed)",
                        nres, m_fault);
+            if (m_z !== 1'b0 || m_homed !== 1'b0 || m_pos_valid !== 1'b0 || m_ref_count !== 0)
+                $fatal(1, "tb_finequad_core: sample %0d without a reference input: Z %b, homed %b, pos_valid %b, ref_count %0d",
+                       nres, m_z, m_homed, m_pos_valid, m_ref_count);
             counts[nres] <= m_count;
             nres <= nres + 1;
         end
@@ -162,6 +169,11 @@ module tb_finequad_core #(
         expect_reg(FQ_MONITOR, FQ_MONITOR_RESET, "MONITOR");
         expect_reg(FQ_CAPTURE, 32'd0, "CAPTURE");
         expect_reg(FQ_TRAVEL, 32'd0, "TRAVEL");
+        expect_reg(FQ_REF, FQ_REF_RESET, "REF");
+        expect_reg(FQ_HOME, FQ_HOME_RESET, "HOME");
+        expect_reg(FQ_REF_COUNT, 32'd0, "REF_COUNT");
+        expect_reg(FQ_REF_STATUS, 32'd0, "REF_STATUS");
+        expect_reg(FQ_REF_STICKY, FQ_REF_STICKY_RESET, "REF_STICKY");
         n = FQ_INTERP_RESET;
 
         // 2. the circle, forward then back: a strobe every DIV clocks (inputs set on the
@@ -197,8 +209,11 @@ module tb_finequad_core #(
                    counts[N - 1], counts[0]);
         checks = checks + 1;
 
-        // 3. COUNT is the last result's count
+        // 3. COUNT is the last result's count; no reference was latched
         expect_reg(FQ_COUNT, counts[N - 1], "COUNT (end)");
+        expect_reg(FQ_REF_COUNT, 32'd0, "REF_COUNT (end)");
+        expect_reg(FQ_REF_STATUS, 32'd0, "REF_STATUS (end)");
+        expect_reg(FQ_REF_STICKY, 32'd0, "REF_STICKY (end)");
         $display("tb_finequad_core: PASS (%0d checks; %0d samples, count %0d at the turn, 4 n = %0d per period)", checks, N, counts[PERIODS * SPP], 4 * n);
         $finish;
     end

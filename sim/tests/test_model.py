@@ -242,7 +242,7 @@ def test_feeding_in_pieces_equals_one_run():
     n = 60000
     x = siggen.s_curve(n, 1e6, 0.12e6, 0.05, t_start=0.005)
     u1, u2, _ = siggen.encode(x, 4000.0, siggen.Signal(h3=0.01), seed=11)
-    cfg = core.Config(resets=[31000], harm_clears=[16 + 36 * 45000])
+    cfg = core.Config(resets=[31000], harm_clears=[32 + 36 * 45000])
     whole = core.run(u1, u2, cfg)
     c = core.Core(cfg)
     rng = np.random.default_rng(5)
@@ -254,3 +254,34 @@ def test_feeding_in_pieces_equals_one_run():
     assert parts[-1]["jumps"] == whole["jumps"]
     assert parts[-1]["n_updates"] == whole["n_updates"]
     assert any(kind == "reset" and k >= 31000 for kind, k, _, _ in whole["sched"])
+
+
+def test_recording_csv_round_trip_and_output_columns(tmp_path):
+    """The CSV contract of `make model` (sim/run_model.py, as the harness's): write_codes
+    and read_codes round-trip 'u1,u2' (ref None: every sample's ref 0) and 'u1,u2,ref';
+    the output has the harness's columns, each the result key of that name, and the
+    model's run with a column of zeros equals the one without the column."""
+    from sim import run_model
+    from sim.model import finequad_core as core
+    u1 = np.array([1000, -2000, 30000, -32768], np.int64)
+    u2 = np.array([-5, 7, 0, 32767], np.int64)
+    ref = np.array([0, 1, 1, 0], np.int64)
+    run_model.write_codes(tmp_path / "a.csv", u1, u2)
+    run_model.write_codes(tmp_path / "b.csv", u1, u2, ref)
+    assert (tmp_path / "b.csv").read_text().splitlines()[:2] == ["u1,u2,ref", "1000,-5,0"]
+    a1, a2, ar = run_model.read_codes(str(tmp_path / "a.csv"))
+    b1, b2, br = run_model.read_codes(str(tmp_path / "b.csv"))
+    assert ar is None and br.dtype == np.int64 and np.array_equal(br, ref)
+    assert all(np.array_equal(x, y) for x, y in ((a1, u1), (a2, u2), (b1, u1), (b2, u2)))
+    with pytest.raises(ValueError):
+        run_model.write_codes(tmp_path / "c.csv", u1, u2, ref[:3])
+    assert run_model.COLUMNS == ("count", "a", "b", "fault", "z", "ref_count", "homed",
+                                 "pos_valid")
+    res = core.run(u1, u2, core.Config(), ref=ref)
+    run_model.write_result(tmp_path / "out.csv", res)
+    rows = (tmp_path / "out.csv").read_text().splitlines()
+    assert rows[0] == ",".join(run_model.COLUMNS) and len(rows) == len(u1) + 1
+    assert rows[1] == ",".join(str(int(res[c][0])) for c in run_model.COLUMNS)
+    zero = core.run(u1, u2, core.Config(), ref=np.zeros(4, np.int64))
+    none = core.run(u1, u2, core.Config())
+    assert all(np.array_equal(zero[c], none[c]) for c in run_model.COLUMNS)

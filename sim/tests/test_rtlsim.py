@@ -7,7 +7,7 @@ import pytest
 
 from sim import siggen
 from sim.model import finequad_core as core
-from sim.run_model import write_codes
+from sim.run_model import COLUMNS, write_codes
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 
@@ -23,11 +23,13 @@ UP5K = dict(PROFILE="up5k", OPT_MONITOR=1, OPT_JUMP=1)
 
 def _make(tmp_path, target, knobs, tag=None):
     """`make target` (rtlsim or model) on tmp_path/in.csv with the knobs (NAME: value);
-    its rows (count, a, b, fault), written to tmp_path/<tag or target>.csv."""
+    its rows (COLUMNS: count, a, b, fault, z, ref_count, homed, pos_valid), written to
+    tmp_path/<tag or target>.csv."""
     out = tmp_path / f"{tag or target}.csv"
     subprocess.run(["make", "-s", "-C", str(ROOT), target, f"IN={tmp_path / 'in.csv'}",
                     f"OUT={out}"] + [f"{k}={v}" for k, v in knobs.items()], check=True)
-    return np.loadtxt(out, delimiter=",", skiprows=1, dtype=np.int64)
+    assert out.read_text().split("\n", 1)[0] == ",".join(COLUMNS)
+    return np.loadtxt(out, delimiter=",", skiprows=1, dtype=np.int64, ndmin=2)
 
 
 @pytest.mark.parametrize("table,interp,seed,div,adc_w,count_mode,build",
@@ -63,7 +65,7 @@ def test_rtlsim_equals_model(tmp_path, table, interp, seed, div, adc_w, count_mo
     knobs = dict(INTERP=interp, TABLE=table, DIV=div, ADC_W=adc_w, COUNT_MODE=count_mode,
                  **build)
     r, m = _make(tmp_path, "rtlsim", knobs), _make(tmp_path, "model", knobs)
-    assert r.shape == (n, 4)
+    assert r.shape == (n, len(COLUMNS))
     diff = np.nonzero((r != m).any(axis=1))[0]
     assert len(diff) == 0, f"first difference at sample {diff[0]}: rtl {r[diff[0]]} model {m[diff[0]]}"
     assert np.abs(np.diff(r[:, 0])).max() > 0      # the counter moved
@@ -110,7 +112,7 @@ def test_lean_build_equals_model_through_faults(tmp_path, div):
     # it changes the outputs there (so an RTL that kept it would differ)
     jump = core.run(u1, u2, core.Config(OPT_HARMONIC=0, OPT_MONITOR=0, div=div))
     assert jump["jumps"]
-    assert (np.stack([jump[f] for f in ("count", "a", "b", "fault")], axis=1) != m).any()
+    assert (np.stack([jump[f] for f in COLUMNS], axis=1) != m).any()
 
 
 @pytest.mark.parametrize("knob,value", [("MONITOR", "2"), ("JUMP", ""), ("LANES", "3"),
@@ -144,6 +146,25 @@ BAD_CSV = [
     ("u1,u2\n\t1 ,\t-2\n1,2,\x7f\n", 3, "got '1,2,\\x7f'"),
     # a field of more digits than Python converts by default (4300): the same error
     ("u1,u2\n1,2\n" + "7" * 5000 + ",3\n", 3, "u1: code 777777"),
+    # the reference column: the header names it, every row has it, 0 or 1
+    ("", 1, "empty file (expected header 'u1,u2' or 'u1,u2,ref')"),
+    ("u1,u2,ref\n1,2,0\n3,4,2\n", 3, "ref: must be 0 or 1, got '2'"),
+    ("u1,u2,ref\n1,2,-1\n", 2, "ref: must be 0 or 1, got '-1'"),
+    ("u1,u2,ref\n1,2,99999999999999999999999\n", 2,
+     "ref: must be 0 or 1, got '99999999999999999999999'"),
+    ("u1,u2,ref\n1,2,x\n", 2, "ref: not a decimal integer: 'x'"),
+    ("u1,u2,ref\n1,2,\n", 2, "ref: not a decimal integer: ''"),
+    ("u1,u2,ref\n1,2,1\t\n", 2, "ref: not a decimal integer: '1\\x09'"),
+    ("u1,u2,ref\n1,2,0x1\n", 2, "ref: not a decimal integer: '0x1'"),
+    ("u1,u2,ref\n1,2,0\n3,4\n", 3, "expected three values 'u1,u2,ref', got '3,4'"),
+    ("u1,u2,ref\n1,2,0,1\n", 2, "expected three values 'u1,u2,ref', got '1,2,0,1'"),
+    ("u1,u2\n1,2,0\n", 2, "expected two values 'u1,u2', got '1,2,0'"),
+    ("u1,u2,ref\n1,40000,1\n", 2, "u2: code 40000 out of the signed 16-bit range"),
+    ("u1,u2,ref\nq,2,7\n", 2, "u1: not a decimal integer: 'q'"),
+    ("u1,u2,REF\n1,2,0\n", 1, "header is 'u1,u2,REF', expected 'u1,u2' or 'u1,u2,ref'"),
+    ("u1,u2, ref\n1,2,0\n", 1, "header is 'u1,u2, ref', expected"),
+    ("u1,u2,ref,x\n1,2,0,0\n", 1, "header is 'u1,u2,ref,x', expected"),
+    ("ref,u1,u2\n0,1,2\n", 1, "header is 'ref,u1,u2', expected"),
 ]
 
 
@@ -169,6 +190,61 @@ def test_bad_input_is_rejected_alike_with_file_line_and_reason(tmp_path, text, l
         assert len(err) == 1, (tool, p.stderr)
         msgs.append(err[0][len(tool) + 2:])
     assert msgs[0] == msgs[1]
+
+
+def test_ref_column_is_read_alike_and_zero_without_it(tmp_path):
+    """The reference column as both tools read it: the header 'u1,u2,ref' with the line
+    rules of 'u1,u2' (blank lines, CR, spaces, a sign, leading zeros: one file of all of
+    them); the same rows from the harness and the model. A column of zeros gives the
+    rows of the file without the column; --home without a reference changes nothing."""
+    (tmp_path / "in.csv").write_bytes(b"u1,u2,ref \r\n 100,200,\t+0 \r\n\n300,-400, 01\n"
+                                      b"-500,600,-0\n700,800,1\n")
+    r, m = _make(tmp_path, "rtlsim", {}), _make(tmp_path, "model", {})
+    assert r.shape == (4, len(COLUMNS)) and (r == m).all(), (r, m)
+    u1, u2 = np.array([100, 300, -500, 700]), np.array([200, -400, 600, 800])
+    write_codes(tmp_path / "in.csv", u1, u2, np.zeros(4, np.int64))
+    assert (tmp_path / "in.csv").read_text().startswith("u1,u2,ref\n100,200,0\n")
+    zeros = _make(tmp_path, "rtlsim", {"SETTINGS": "--home"}, tag="zeros")
+    write_codes(tmp_path / "in.csv", u1, u2)
+    plain = _make(tmp_path, "rtlsim", {}, tag="plain")
+    assert (zeros == plain).all()
+
+
+@pytest.mark.parametrize("div,settings", [(36, "--ref-q 200"),
+                                          (36, "--ref-q 200 --home --home-count -123456"),
+                                          (1, "--ref-q 200 --ref-filt 0 --home --ab-sep 1"),
+                                          (3, "--ref-q 200 --home --home-count 77 --ab-sep 2")])
+def test_reference_marks_rtlsim_equals_model(tmp_path, div, settings):
+    """The reference input (the 'ref' column) through marks passed forward and back, with
+    a chattering comparator and single-sample glitches, a signal dropout (a held count:
+    pos_valid falls) and overspeed: the RTL's rows equal the model's in every column,
+    with and without homing armed from the start (--home), also with a sample on every
+    clock and every third (the harness's pending rows: ref_count, homed and pos_valid
+    two edges after the count; the pins paced fast enough to reach the marks)."""
+    n = 40000
+    x = siggen.s_curve(n, 1e6, 60e3, 0.03, t_start=0.003)
+    x += siggen.s_curve(n, 1e6, -25e3, 0.005, t_start=0.034)
+    sig = siggen.Signal(A1=0.4, A2=0.37, m1=0.01, m2=-0.008, noise=0.004,
+                        dropout=((24000, 24040, 0.0),))
+    u1, u2, _ = siggen.encode(x, 4000.0, sig, seed=7)
+    # count 200 (mod 400, INTERP 100) lies at the marks' centres (the first at 3000)
+    ref = siggen.reference(x, [30000.0, 45000.0, 50000.0, 53000.0], 2500.0, jitter=30.0,
+                           glitches=20, seed=4)
+    write_codes(tmp_path / "in.csv", u1, u2, ref)
+    knobs = {"DIV": div, "SETTINGS": settings}
+    r, m = _make(tmp_path, "rtlsim", knobs), _make(tmp_path, "model", knobs)
+    for i, c in enumerate(COLUMNS):
+        d = np.nonzero(r[:, i] != m[:, i])[0]
+        assert len(d) == 0, f"{c}: first difference at sample {d[0]}: rtl {r[d[0]]} model {m[d[0]]}"
+    col = {c: r[:, i] for i, c in enumerate(COLUMNS)}
+    assert col["z"].any() and col["homed"][-1] == 1           # Z seen, a reference latched
+    assert len(np.unique(col["ref_count"])) >= 3               # latched on several passes
+    fell = np.nonzero(np.diff(col["pos_valid"]) < 0)[0]
+    assert len(fell), "pos_valid never fell: the case checks less than it says"
+    if "--home " in settings + " ":
+        home = int(settings.split("--home-count ")[1].split()[0]) if "--home-count" in settings else 0
+        first = int(np.argmax(col["homed"]))
+        assert col["ref_count"][first] == home
 
 
 BAD_OPTIONS = [
@@ -285,7 +361,7 @@ def test_hand_over_waits_for_the_input_gain_in_the_rtl(tmp_path):
     rtl = _make(tmp_path, "rtlsim", {"TABLE": table})
     model = _make(tmp_path, "model", {"TABLE": table})
     assert (rtl == model).all(), f"RTL differs from the model in {int((rtl != model).any(axis=1).sum())} rows"
-    mine = np.stack([r[f] for f in ("count", "a", "b", "fault")], axis=1)
+    mine = np.stack([r[f] for f in COLUMNS], axis=1)
     assert (model == mine).all()
 
 
@@ -342,5 +418,5 @@ def test_coarse_adc_scan_equals_model(tmp_path):
     rtl = _make(tmp_path, "rtlsim", knobs)
     model = _make(tmp_path, "model", knobs)
     assert (rtl == model).all(), f"RTL differs from the model in {int((rtl != model).any(axis=1).sum())} rows"
-    mine = np.stack([r[f] for f in ("count", "a", "b", "fault")], axis=1)
+    mine = np.stack([r[f] for f in COLUMNS], axis=1)
     assert (model == mine).all()

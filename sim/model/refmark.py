@@ -1,0 +1,146 @@
+"""Bit-true model of rtl/refmark.v: the reference window, the reference crossing, Z at
+the paced A/B pins, REF_COUNT, homing and pos_valid. The rules and their reasons are in
+rtl/refmark.v's header; this model follows them sample by sample and edge by edge:
+
+* Sample k (strobe edge t_k; its count c_k on t_k + 8): on t_k + 9 the window takes the
+  filtered reference input, the crossing of c_(k-1) -> c_k over a count = ref_q (mod 4 n)
+  is found (x), Z is armed at x, and the pins' target becomes c_k (the pins step towards
+  it from t_k + 10). On t_k + 10 the latch, homing and pos_valid take the sample.
+* Z is disarmed on an edge where the window (as registered) is closed and the pins and
+  their target both lie strictly on one side of z_at. Between two registrations of the
+  target and the window (t_j + 10 .. t_(j+1) + 9) the pins move monotonically towards a
+  fixed target, so once that holds it holds to the end of the span: the model tests it
+  on the span's last edge, t_(j+1) + 9, the edge of sample j + 1's own update (its
+  crossing wins). A disarm earlier in the span changes no sampled Z: after it the pins
+  stay strictly on one side of z_at.
+* Z after edge e: armed (before e) and the pins after e at z_at (before e).
+"""
+import numpy as np
+
+from .fixed import wrap
+
+
+class RefMark:
+    """The block's state from rst; `run` takes the next samples."""
+
+    def __init__(self, count_w=32, ref_q=0, ref_filt=2, home_count=0, home_arm=False):
+        self.count_w = count_w
+        self.ref_q, self.ref_filt = int(ref_q), int(ref_filt)
+        self.home = wrap(int(home_count), count_w)
+        # stage 1 (t + 9)
+        self.cp = 0                  # the previous sample's count (low 12 bits used)
+        self.primed = False
+        self.win = 0
+        self.fc = 0
+        self.arm = False
+        self.z_en = False
+        self.z_at = 0
+        self.target = 0              # the pins' target (the last count registered)
+        # stage 2 (t + 10)
+        self.off = 0
+        self.ref_count = 0
+        self.homed = 0
+        self.pos_valid = 0
+        self.home_armed = bool(home_arm)
+        self.latches = 0             # latch pulses (REF_STICKY.latched)
+        self.losts = 0               # pos_valid falls (REF_STICKY.lost)
+
+    def crossing(self, c, q, n, held, ovs, mode):
+        """(hit, x) of one sample: does the step from the previous count to c cross a
+        count = ref_q (mod 4 n), and at which count (rtl/refmark.v)."""
+        n4 = 4 * n
+        if not self.primed or mode or held or ovs or self.ref_q >= n4:
+            return False, 0
+        kf = (q - self.ref_q) % n4
+        kr = (self.ref_q - q) % n4
+        dc = ((c - self.cp) + 2048) % 4096 - 2048        # 12-bit two's complement
+        if dc > 0 and kf < dc:
+            return True, wrap(c - kf, self.count_w)
+        if dc < 0 and kr < -dc:
+            return True, wrap(c + kr, self.count_w)
+        return False, 0
+
+    def run(self, t, count, q, n, held, ovs, ref, mode, ab):
+        """Samples with strobe edges t, raw counts, q = prod >> 11, held, ovs, ref (per
+        sample arrays), n, mode (count_mode), and the pins (abgen.Follower, run to no
+        later than the first sample's t + 8). Returns per-sample arrays:
+        a, b, ab_ovf (pins after t + 8), z (after t + 8), off8 (the offset after t + 8:
+        m_count = count + off8), ref_count, homed, pos_valid (after t + 10)."""
+        n_s = len(t)
+        out = {k: np.zeros(n_s, np.int64) for k in
+               ("a", "b", "ab_ovf", "z", "off8", "ref_count", "homed", "pos_valid")}
+        tl = [int(v) for v in t]
+        cl = [int(v) for v in count]
+        ql = [int(v) for v in q]
+        hl = [bool(v) for v in held]
+        ol = [bool(v) for v in ovs]
+        rl = [int(v) for v in ref]
+        cw = self.count_w
+        # stage-2 results wait for their edge t + 10 (m_count's offset is read on t + 8)
+        pend = []                    # (edge t_j + 10, off after it)
+        last_off = self.off
+        # Z's state before the last stage-1 update and that update's edge: with samples on
+        # consecutive edges, sample k - 1's update (t_(k-1) + 9 = t_k + 8) comes after the
+        # Z of sample k
+        z_before, z_edge = (self.z_en, self.z_at), -1
+        for k in range(n_s):
+            tk = tl[k]
+            while pend and pend[0][0] <= tk + 8:
+                last_off = pend.pop(0)[1]
+            out["off8"][k] = last_off
+            # ---- the pins and Z after t_k + 8 (each target was set for its edge t_j + 10,
+            # so the pins run to t_k + 8 with the targets registered before) -------------
+            a, b, ovf = ab.sample(tk + 8)
+            p8 = ab.st.pos
+            out["a"][k], out["b"][k], out["ab_ovf"][k] = a, b, ovf
+            z_en, z_at = (self.z_en, self.z_at) if z_edge < tk + 8 else z_before
+            out["z"][k] = int(z_en and p8 == z_at)
+            # ---- stage 1 of sample k on t_k + 9 -------------------------------------------
+            # pins before t_k + 9 = after t_k + 8 (p8); the target and the window before it:
+            # the span's registered values (c_(k-1), win_(k-1))
+            hit, x = self.crossing(cl[k], ql[k], n, hl[k], ol[k], mode)
+            r = rl[k]
+            flip = r != self.win and self.fc >= self.ref_filt
+            win_n = r if flip else self.win
+            xc = hit and win_n == 1
+            arm_n = self.arm or (win_n == 1 and self.win == 0)
+            lat = xc and arm_n
+            if xc:
+                z_en, z_at = True, x
+            else:
+                z_en, z_at = self.z_en, self.z_at
+                if self.z_en and self.win == 0:
+                    sp = wrap(p8 - self.z_at, cw)
+                    st = wrap(self.target - self.z_at, cw)
+                    if sp != 0 and st != 0 and (sp < 0) == (st < 0):
+                        z_en = False
+            self.fc = 0 if (r == self.win or flip) else self.fc + 1
+            self.win = win_n
+            self.arm = arm_n and win_n == 1 and not lat
+            z_before, z_edge = (self.z_en, self.z_at), tk + 9
+            self.z_en, self.z_at = z_en, z_at
+            self.cp = cl[k]
+            self.primed = True
+            self.target = cl[k]
+            ab.set(tk + 10, cl[k])
+            # ---- stage 2 on t_k + 10 -----------------------------------------------------
+            inv = hl[k] or ol[k]
+            if self.pos_valid and inv:
+                self.losts += 1
+            if lat:
+                self.latches += 1
+                self.homed = 1
+                self.pos_valid = 1
+                if self.home_armed:
+                    self.off = wrap(self.home - x, cw)
+                    self.ref_count = self.home
+                    self.home_armed = False
+                else:
+                    self.ref_count = wrap(x + self.off, cw)
+            if inv:
+                self.pos_valid = 0
+            pend.append((tk + 10, self.off))
+            out["ref_count"][k] = self.ref_count
+            out["homed"][k] = self.homed
+            out["pos_valid"][k] = self.pos_valid
+        return out
