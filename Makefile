@@ -276,10 +276,11 @@ reproduce: deps ## the paper's experiments in simulation (Figs. 2-12, validation
 	$(PY) scripts/reproduce.py --build $(BUILD)/reproduce
 
 FCLK     ?= 36e6
-limits: deps     ## speed/resolution limits: PITCH=um FS=Hz [V=m/s | INTERP=n] [AB_SEP=clocks] [FCLK=Hz]
+limits: deps     ## speed/resolution limits: PITCH=um FS=Hz [V=m/s | INTERP=n] [AB_SEP=clocks] [FCLK=Hz] [REF_WIDTH=periods REF_FILT=samples]
 	@test -n "$(PITCH)" -a -n "$(FS)" || { echo "limits: error: give PITCH=<um> and FS=<Hz>, e.g. make limits PITCH=4 FS=1e6 V=0.01" >&2; exit 2; }
 	$(PY) scripts/limits.py --pitch $(PITCH) --fs $(FS) --fclk $(FCLK) \
-	    $(if $(AB_SEP),--ab-sep $(AB_SEP)) $(if $(V),--v $(V)) $(if $(INTERP),--interp $(INTERP))
+	    $(if $(AB_SEP),--ab-sep $(AB_SEP)) $(if $(V),--v $(V)) $(if $(INTERP),--interp $(INTERP)) \
+	    $(if $(REF_WIDTH),--ref-width $(REF_WIDTH)) $(if $(REF_FILT),--ref-filt $(REF_FILT))
 
 clean:           ## remove build products
 	rm -rf $(BUILD) sim_build cocotb_tests/sim_build

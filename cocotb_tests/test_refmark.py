@@ -10,9 +10,10 @@ PASSES times, alternating direction, at peak speeds from creep (0.0002 period pe
 to the paced pins' limit (div / ab_sep counts per sample), then dithers on the mark, rests
 on it, moves off, loses the signal for a moment (amplitude x 0.03: the counter holds,
 pos_valid falls) and crosses the mark once more. Homing is armed from the start (REF.home,
-HOME = HOME_COUNT). Two runs: 0.5 % noise with uniform strobes, and 2 % noise with random
-gaps between strobes (1 .. 30 clocks, bursts back to back), both on Verilator; Icarus runs
-the first on a shortened recording (LENGTH).
+HOME = HOME_COUNT) and again (a REF.home write during the run) before that last pass. Three runs: 0.5 % noise with uniform strobes; 2 % noise with random
+gaps between strobes (1 .. 30 clocks, bursts back to back); the Eq. 12 pulses on the pins
+(ABGEN.ab_src = 1, 0.5 % noise, passes up to 0.4 counts per sample, as fast as the pulses
+can follow), all on Verilator; Icarus runs the first on a shortened recording (LENGTH).
 
 Checks:
 * every sample: count, a, b, fault and z after t + 8, ref_count, homed and pos_valid after
@@ -23,9 +24,14 @@ Checks:
 * the pins, decoded independently (an x4 decoder of m_a/m_b; m_z watched): Z high on at
   least one span per pass, every span exactly one count wide (no A/B edge while Z is
   high) and at the same decoded count every time;
-* pos_valid falls at the loss (REF_STICKY.lost) and is back after the next pass;
+* Z on every pass: a span rising between the pass's first sample and its last (plus the
+  pins' lag);
+* pos_valid falls at the loss (REF_STICKY.lost), stays 0 until the homing armed again
+  latches on the last pass, and is 1 after it;
 * REF_COUNT, REF_STATUS, REF_STICKY read back as the model ends.
 """
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -47,6 +53,10 @@ WIDTH = 0.5 * PITCH          # the window
 RUNS = {
     "n05": dict(noise=0.005, gaps=False),
     "n2_gaps": dict(noise=0.02, gaps=True),
+    # the Eq. 12 pulses on the pins (ABGEN.ab_src = 1): they follow up to a quarter of an
+    # n-th order period per sample (less with noise), so the passes peak at 0.4 counts per
+    # sample
+    "eq12": dict(noise=0.005, gaps=False, ab_src=1, vmax=0.004),
 }
 # the recording's length: Verilator the whole (32 000 samples), Icarus (some 30x slower) a
 # short one: 6 passes, creep at 0.001 period per sample, shorter dither and rest
@@ -65,7 +75,7 @@ def _pass(x0, x1, v):
     return siggen.s_curve(n, 1.0, x1 - x0, float(n), 0.0, x0)
 
 
-def homing_recording(noise, passes=PASSES, creep=0.0002, dwell=1.0, seed=1):
+def homing_recording(noise, passes=PASSES, creep=0.0002, dwell=1.0, vmax=None, seed=1):
     """(x, ref, events): the true position per sample, the reference input, and the
     sample ranges of the parts (dict)."""
     xc = mark_centre()
@@ -79,17 +89,19 @@ def homing_recording(noise, passes=PASSES, creep=0.0002, dwell=1.0, seed=1):
 
     ncal = int(6000 * max(dwell, 0.5))
     add("calibrate", siggen.s_curve(ncal, 1.0, 12 * PITCH, ncal - 200.0, 100.0, 0.0))
-    add("approach", _pass(12 * PITCH, xc - half, 0.05 * PITCH))
-    # peak speeds (periods per sample): two creep passes over 0.7 period at constant speed,
-    # then geometric up to the pins' limit (DIV / AB_SEP counts per sample, less 5 %)
-    vmax = 0.95 * DIV / AB_SEP / (4 * INTERP)
-    speeds = np.geomspace(0.002, vmax, passes - 2)
+    # peak speeds (periods per sample): by default up to the paced pins' limit (DIV /
+    # AB_SEP counts per sample, less 5 %); every move is at most that fast
+    if vmax is None:
+        vmax = 0.95 * DIV / AB_SEP / (4 * INTERP)
+    add("approach", _pass(12 * PITCH, xc - half, min(0.05, vmax) * PITCH))
+    # two creep passes over 0.7 period at constant speed, then geometric up to vmax
+    speeds = np.geomspace(min(0.002, vmax / 4), vmax, passes - 2)
     x = xc - half
     for i in range(passes):
         fwd = i % 2 == 0
         if i < 2:
             a, b = (xc - 0.35 * PITCH, xc + 0.35 * PITCH)
-            add("to_creep", _pass(x, a if fwd else b, 0.02 * PITCH))
+            add("to_creep", _pass(x, a if fwd else b, min(0.02, vmax) * PITCH))
             n = int(0.7 / creep)
             seg = np.linspace(a, b, n) if fwd else np.linspace(b, a, n)
             add("pass", seg)
@@ -102,15 +114,15 @@ def homing_recording(noise, passes=PASSES, creep=0.0002, dwell=1.0, seed=1):
             x = tgt
     # end the passes below the mark, then dither on it and rest there
     if x > xc:
-        add("pass", _pass(x, xc - half, 0.02 * PITCH))
-    add("pass", _pass(xc - half, xc, 0.01 * PITCH))     # the dither enters the window
+        add("pass", _pass(x, xc - half, min(0.02, vmax) * PITCH))
+    add("pass", _pass(xc - half, xc, min(0.01, vmax) * PITCH))     # the dither enters the window
     k = np.arange(int(2000 * dwell))
     add("dither", xc - 0.5 * PITCH / (4 * INTERP) + 0.03 * PITCH * np.sin(2 * np.pi * k / 200))
     add("rest", np.full(int(1000 * dwell), xc - 0.5 * PITCH / (4 * INTERP)))
-    add("leave", _pass(xc - 0.5 * PITCH / (4 * INTERP), xc + 3 * PITCH, 0.01 * PITCH))
+    add("leave", _pass(xc - 0.5 * PITCH / (4 * INTERP), xc + 3 * PITCH, min(0.01, vmax) * PITCH))
     # creep during a signal loss (the counter holds; pos_valid falls)
     add("loss", xc + 3 * PITCH + 0.0005 * PITCH * np.arange(600))
-    add("final", _pass(xc + 3 * PITCH + 0.3 * PITCH, xc - half, 0.02 * PITCH))
+    add("final", _pass(xc + 3 * PITCH + 0.3 * PITCH, xc - half, min(0.02, vmax) * PITCH))
     x = np.concatenate(parts)
     lo, hi = ev["loss"][0]
     ref = siggen.reference(x, [xc], WIDTH, jitter=0.002 * PITCH, seed=seed)
@@ -142,15 +154,15 @@ def expected_latches(x):
     return n
 
 
-def config(run, t=None):
+def config(run):
     return core_model.Config(interp=INTERP, ab_sep=AB_SEP, ref_q=REF_Q, home_count=HOME_COUNT,
-                             home_arm=True, div=DIV)
+                             home_arm=True, div=DIV, ab_src=RUNS[run].get("ab_src", 0))
 
 
 def recording(run, sim="verilator"):
     """(u1, u2, ref, t, x, ev) of a run, as long as the simulator runs it."""
     spec = RUNS[run]
-    x, ref, ev, sig = homing_recording(spec["noise"], **LENGTH[sim])
+    x, ref, ev, sig = homing_recording(spec["noise"], vmax=spec.get("vmax"), **LENGTH[sim])
     u1, u2, _ = siggen.encode(x, PITCH, sig, seed=7)
     n = len(x)
     if spec["gaps"]:
@@ -176,7 +188,7 @@ def setup_writes(cfg):
 @pytest.mark.parametrize("sim", fqtb.SIMULATORS)
 def test_refmark(sim, run):
     if sim == "icarus" and run != "n05":
-        pytest.skip("the gaps run: Verilator only (Icarus runs the 0.5 % run, shortened)")
+        pytest.skip(f"{run}: Verilator only (Icarus runs the 0.5 % run, shortened)")
     fqtb.run_block(sim, "finequad_core", CORE_SOURCES, "test_refmark",
                    parameters=dict(TABLE_DIR=fqtb.qstr(fqtb.TABLE_DIR), TABLE_EXACT=1),
                    extra_env=dict(RUN=run, SIM=sim), testcase="refmark_run")
@@ -196,9 +208,11 @@ async def _watch(sig, log):
         log.append((get_sim_time(unit="ps"), fqtb.uval(sig)))
 
 
-def decode_z(logs, bench):
-    """The pins decoded from their change logs: [(edge Z rose, edge Z fell, decoded count
-    at the rise, A/B edges while Z was high)]; the decoder starts at (1, 1) = 0."""
+def decode_z(logs, bench, start=0):
+    """The pins decoded from their change logs: ([(edge Z rose, edge Z fell, decoded count
+    at the rise, A/B edges while Z was high)], the edge of the first illegal A/B step or
+    None); the decoder starts at (1, 1) = 0 and stops at an illegal step (both pins)
+    after edge `start` (the Eq. 12 pulses jump from (1, 1) to the first sample's state)."""
     ev = []
     for ch in ("a", "b", "z"):
         for tm, v in logs[ch]:
@@ -217,8 +231,11 @@ def decode_z(logs, bench):
         nxt = (chg.get("a", ab[0]), chg.get("b", ab[1]))
         if nxt != ab:
             step = (GRAY_UP[nxt] - GRAY_UP[ab]) % 4
-            assert step in (1, 3), f"A and B both changed on edge {e}"
-            pos += 1 if step == 1 else -1
+            if step == 2 and e <= start:
+                step = 0
+            elif step == 2:
+                return spans, e
+            pos += {0: 0, 1: 1, 3: -1}[step]
             ab = nxt
             if cur is not None and "z" not in chg:
                 cur[3] += 1
@@ -230,7 +247,7 @@ def decode_z(logs, bench):
                 cur[1] = e
                 spans.append(tuple(cur))
                 cur = None
-    return spans
+    return spans, None
 
 
 @cocotb.test()
@@ -239,13 +256,17 @@ async def refmark_run(dut):
     sim = fqtb.env_str("SIM")
     u1, u2, ref, t, x, ev = recording(run, sim)
     n = len(u1)
-    cfg = config(run)
+    # homing armed again by a REF.home write before the last pass
+    w_home = int(t[ev["final"][0][0]]) + 3
+    cfg = dataclasses.replace(config(run), homes=[w_home])
     res = core_model.run(u1, u2, cfg, strobes=t, ref=ref)
     log = dut._log
     log.info("%s: %d samples, last strobe on edge %d, %d latches, %d Z samples", run, n,
-             int(t[-1]), res["ref_latched"], int(res["z"].sum()))
+             int(t[-1]), res["ref_latches"], int(res["z"].sum()))
     writes = dict(enumerate(setup_writes(cfg)))
     assert max(writes) < int(t[0])
+    writes[w_home] = (regs.REF, regs.word("REF", ref_q=cfg.ref_q, ref_filt=cfg.ref_filt,
+                                          home=1))
     strobe = {int(e): k for k, e in enumerate(t)}
     r8 = {int(e) + core_model.LATENCY: k for k, e in enumerate(t)}
     r10 = {int(e) + core_model.LATCH_AT: k for k, e in enumerate(t)}
@@ -302,7 +323,7 @@ async def refmark_run(dut):
     # ---- the latch: once per pass, HOME every time ---------------------------------------------
     want = expected_latches(x)
     assert want >= LENGTH[sim]["passes"], want
-    assert res["ref_latched"] == want, (f"{run}: {res['ref_latched']} latches, the motion "
+    assert res["ref_latches"] == want, (f"{run}: {res['ref_latches']} latches, the motion "
                                         f"crossed the reference point in {want} passes")
     rc = np.asarray(res["ref_count"])
     first = int(np.argmax(res["homed"]))
@@ -311,8 +332,22 @@ async def refmark_run(dut):
 
     # ---- the pins, decoded: Z one count wide, at one count --------------------------------------
     await bench.goto(bench.edge + 20 * AB_SEP * 100)
-    spans = decode_z(logs, bench)
-    assert len(spans) >= want, f"{run}: {len(spans)} Z spans for {want} passes"
+    spans, illegal = decode_z(logs, bench, start=int(t[0]) + core_model.AB_AT)
+    if cfg.ab_src:
+        # the pulses skip states in the signal loss: the passes before it are decoded
+        lost_at = int(t[ev["loss"][0][0]])
+        assert illegal is None or illegal >= lost_at, \
+            f"{run}: the pulses made an illegal step on edge {illegal}, before the loss"
+        want_spans = want - 1
+    else:
+        assert illegal is None, f"{run}: A and B both changed on edge {illegal}"
+        want_spans = want
+    assert len(spans) >= want_spans, f"{run}: {len(spans)} Z spans for {want} passes"
+    rises = np.array([sp[0] for sp in spans])
+    for s0, s1 in ev["pass"]:
+        e0, e1 = int(t[s0]), int(t[min(s1, n - 1)]) + 20 * AB_SEP * 10
+        assert np.any((rises >= e0) & (rises <= e1)), \
+            f"{run}: no Z in the pass over samples {s0}..{s1}"
     wide = [s for s in spans if s[3]]
     assert not wide, f"{run}: Z high over A/B edges: {wide[:5]}"
     at = sorted({s[2] for s in spans})
@@ -320,11 +355,12 @@ async def refmark_run(dut):
 
     # ---- pos_valid: lost in the signal loss, back with the next pass ----------------------------
     lo, hi = ev["loss"][0]
+    f0 = ev["final"][0][0]
     pv = np.asarray(res["pos_valid"])
-    assert pv[lo - 1] == 1 and not pv[lo:hi].all() and pv[-1] == 1, \
-        f"{run}: pos_valid {pv[lo - 1]} before the loss, min {pv[lo:hi].min()} in it, " \
-        f"{pv[-1]} at the end"
-    assert res["ref_lost"] >= 1
+    assert pv[lo - 1] == 1 and pv[hi - 1] == 0 and pv[f0:f0 + 10].max() == 0 and \
+        pv[-1] == 1, (f"{run}: pos_valid {pv[lo - 1]} before the loss, {pv[hi - 1]} after "
+                      f"it, {pv[f0:f0 + 10].max()} as the last pass starts, {pv[-1]} at the end")
+    assert res["ref_losses"] == 1
 
     # ---- registers after the run ---------------------------------------------------------------
     bad = []
@@ -342,4 +378,4 @@ async def refmark_run(dut):
     zc = sorted(at)[0]
     log.info("%s: %d samples equal; %d latches (REF_COUNT %d), %d Z spans, all one count wide "
              "at decoded count %d; pos_valid lost in the signal loss and back", run, n,
-             res["ref_latched"], HOME_COUNT, len(spans), zc)
+             res["ref_latches"], HOME_COUNT, len(spans), zc)

@@ -13,8 +13,8 @@
 //                                  | pn -> sines (Table 1) -> pulse (Eq. 12) -> edge mode
 //
 // Latency: a sample strobed on edge t (s_valid high before it) appears on m_valid,
-// m_count, m_fault after edge t + LATENCY (8); the paced A/B outputs and Z follow the
-// count two edges later (t + 10); m_ref_count, m_homed, m_pos_valid take the sample on
+// m_count, m_fault after edge t + LATENCY (8); the A/B outputs (paced, or the Eq. 12
+// pulses) and Z follow the count two edges later (t + 10); m_ref_count, m_homed, m_pos_valid take the sample on
 // t + 10 (rtl/refmark.v). Stages: t correct (offsets), t+1 products, t+2 magnitudes, t+3
 // reciprocal, t+4 ratio, t+5 address and bin (block RAM reads), t+6 fine phase, t+7
 // n * phase and the period count, t+8 count; Eq. 12 sines t+8, pulses t+9, the edge-mode
@@ -29,7 +29,8 @@
 // nothing holds the counter; clipped samples are still kept from the estimator.
 // Reference marks (rtl/refmark.v): s_ref is the reference input of the sample (a
 // comparator's output, sampled with s_u1/s_u2); m_z is Z, high while the paced A/B pins
-// show the reference count (0 when the pins show the Eq. 12 pulses, AB_SRC = 1). Homing
+// show the reference count (with the Eq. 12 pulses on the pins, AB_SRC = 1, while they
+// show its A/B state in its n-th order period: rtl/refmark.v). Homing
 // adds an offset to the counter's count: m_count = count + off (the pins keep the count
 // without it).
 // Register port: reg_we writes reg_wdata to reg_addr on the edge, unless reg_err (a
@@ -114,7 +115,8 @@ module finequad_core #(
     output wire                      m_valid,
     output wire signed [COUNT_W-1:0] m_count,
     output wire [10:0]               m_fault,
-    // A/B outputs (paced quadrature following m_count, or the Eq. 12 pulses)
+    // A/B outputs (paced quadrature following the count before the homing offset, or the
+    // Eq. 12 pulses)
     output wire                      m_a,
     output wire                      m_b,
     // reference marks (rtl/refmark.v; REF_COUNT, REF_STATUS.homed, REF_STATUS.pos_valid)
@@ -447,6 +449,7 @@ module finequad_core #(
         .ill_count_o(k_ill_count), .held_o(k_held)
     );
     // ---- t+9 .. t+10: reference marks ----------------------------------------------------------
+    wire rm_pa, rm_pb, rm_zp;
     wire rm_z_en, rm_win, rm_homed, rm_pos_valid, rm_home_armed, rm_latch, rm_lost;
     wire signed [COUNT_W-1:0] rm_target, rm_z_at, rm_off, rm_ref_count;
     wire signed [COUNT_W-1:0] g_pos;
@@ -455,6 +458,7 @@ module finequad_core #(
         .clk(clk), .rst(rst), .nv_i(n_valid), .q_i(n_prod[21:11]), .n_i(r_interp),
         .ref_q_i(r_ref_q), .filt_i(r_ref_filt), .mode_i(r_count_mode),
         .cv_i(m_valid), .count_i(k_count), .held_i(k_held), .ovs_i(k_ovs), .ref_i(fl_ref),
+        .pv_i(p_valid), .pa_i(p_a), .pb_i(p_b), .pa_o(rm_pa), .pb_o(rm_pb), .zp_o(rm_zp),
         .pos_i(g_pos), .target_o(rm_target), .z_en_o(rm_z_en), .z_at_o(rm_z_at),
         .home_arm_i(req_home), .home_i(r_home[COUNT_W-1:0]), .inval_i(req_inval),
         .off_o(rm_off), .ref_count_o(rm_ref_count), .win_o(rm_win), .homed_o(rm_homed),
@@ -473,9 +477,10 @@ module finequad_core #(
         .a_o(g_a), .b_o(g_b), .pos_o(g_pos), .backlog_o(g_backlog), .ovf_o(g_ovf),
         .ovf_sticky_o(g_sticky), .z_en_i(rm_z_en), .z_at_i(rm_z_at), .z_o(g_z)
     );
-    assign m_a = r_ab_src ? p_a : g_a;
-    assign m_b = r_ab_src ? p_b : g_b;
-    assign m_z = !r_ab_src && g_z;
+    // the Eq. 12 pulses on the pins one edge late, beside their Z (rtl/refmark.v)
+    assign m_a = r_ab_src ? rm_pa : g_a;
+    assign m_b = r_ab_src ? rm_pb : g_b;
+    assign m_z = r_ab_src ? rm_zp : g_z;
 
     // ---- estimator: every sample on arrival (t), its fine phase PHASE_AT = 6 edges after (t+6) -----
     estimator #(.TABLE_DIR(TABLE_DIR), .G_INIT(G_INIT), .PH_DELAY(PHASE_AT),

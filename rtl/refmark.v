@@ -4,18 +4,19 @@
 // count at which the fine phase passes the reference phase inside it, Z at the paced A/B
 // pins, REF_COUNT latched once per pass, homing, and pos_valid.
 //
-// The reference point. The count (phase mode) is c = B + q with B a multiple of 4 n and
-// q = floor(n phase / 2048) in 0 .. 4 n - 1, so the counts c = ref_q (mod 4 n) are where
-// the fine phase passes 2048 ref_q / n: once per signal period. A sample's count step from
-// the previous count c' to c crosses one when, with kf = (q - ref_q) mod 4 n and
-// kr = (ref_q - q) mod 4 n:
+// The reference point. The count (phase mode) is c = B + q, B stepping by 4 n per signal
+// period and q = floor(n phase / 2048) in 0 .. 4 n - 1 the count within the period, so the
+// counts where q = ref_q are where the fine phase passes 2048 ref_q / n: once per signal
+// period. A sample's count step from the previous count c' to c crosses one when, with
+// kf = (q - ref_q) mod 4 n and kr = (ref_q - q) mod 4 n:
 //     c > c' and kf < c - c'    (forward: the crossed count is x = c - kf)
 //     c < c' and kr < c' - c    (reverse: x = c + kr)
 // i.e. x lies in (c', c] or [c, c'), so the pins pass x whichever way they move (a
 // decoder sees Z in the same A/B state in both directions). No crossing is taken on the
-// first sample after rst, on a held sample (its count does not move), on an overspeed
-// sample (its step is ambiguous), in edge mode (count_mode = 1: the count is not B + q)
-// or with ref_q >= 4 n (no count is ever at it).
+// first trusted sample after rst or inval_i (there is no step before it), on a held
+// sample (its count does not move), on an overspeed sample (its step is ambiguous), in
+// edge mode (count_mode = 1: the count is not B + q) or with ref_q >= 4 n (no count is
+// ever at it).
 //
 // The window. The reference input ref_i of each sample, glitch-filtered: the window takes
 // a new level once the input has shown it on filt_i + 1 consecutive samples (filt_i = 0:
@@ -33,23 +34,35 @@
 // on the mark gives Z each time the pins are at x.
 //
 // The latch. One per pass: the window's rise arms it, the first crossing inside the
-// window takes it: REF_COUNT = x + off (the count at the reference), homed = 1,
-// pos_valid = 1. A stage at rest or dithering on the mark therefore latches once, and
-// every latch of the same mark gives the same count. Homing (home_arm_i, REF.home): the
-// next latch sets off = HOME - x first, so the count (m_count = raw count + off) reads
-// HOME at the reference and REF_COUNT = HOME; the pins keep counting as before (a
-// controller homes its own count on Z).
+// window takes it: REF_COUNT = x + off (the count at the reference), homed = 1 (a
+// reference latched since rst). A stage at rest or dithering on the mark therefore
+// latches once, and every latch of the same mark gives the same count. Homing
+// (home_arm_i, REF.home): the next latch sets off = HOME - x first, so the count
+// (m_count = raw count + off) reads HOME at the reference, REF_COUNT = HOME, and
+// pos_valid = 1; the pins keep counting as before (a controller homes its own count on
+// Z). m_count changes with off on t + 10 of the homing sample, without m_valid.
 //
-// pos_valid: 0 after rst; 1 from a latch; 0 again on a sample whose count may be off by a
-// period: a held sample (signal loss, stuck channel, glitch, clip with over-range: the
+// Z with the Eq. 12 pulses on the pins (ABGEN.ab_src = 1): the pins are the pulses one
+// edge late (pa_o, pb_o: registered on t + 10 like the paced pins), and zp_o is high while
+// they show the reference count's A/B state in the reference count's n-th order period.
+// The pulses lag the phase by their hysteresis, so the count they show is
+// qp = q - delta (mod 4 n), delta = (q - pq) mod 4 taken as -1, 0, 1 or 2 (pq their
+// quadrant code, rtl/counter.v), which is ref_q exactly when kf = delta (mod 4 n). Z rises
+// on a sample inside the window whose pulses show that count, and stays high while the
+// pulses stay in that state (a window closing does not cut it): one A/B state wide.
+//
+// pos_valid: 0 after rst; 1 from a homing latch; 0 again on a sample whose count may be
+// off by a period: a held sample (signal loss, stuck channel, glitch, clip with over-range: the
 // counter did not follow the travel) or an overspeed sample; and on inval_i (the core: a
-// write that changes INTERP, whose counts then mix two scales, or count_mode = 1).
+// write that changes INTERP, whose counts then mix two scales, or count_mode = 1; it
+// also disarms Z and takes no crossing on the next sample).
 // lost_o pulses when pos_valid falls (REF_STICKY.lost).
 //
 // Timing (t = the sample's strobe edge; the core's count is registered on t + 8):
 //   t + 8  kf, kr, zok from q_i (registered with the n-th order product on t + 7)
 //   t + 9  the window, the crossing and x; Z armed; target_o (the pins follow from t + 10)
-//   t + 10 REF_COUNT, off, homed, pos_valid, home_armed_o; latch_o, lost_o pulses
+//   t + 10 REF_COUNT, off, homed, pos_valid, home_armed_o; latch_o, lost_o pulses; the
+//          Eq. 12 pins and their Z (the pulses registered on t + 9)
 // Cost: COUNT_W registers for the previous count, the pins' target, z_at, x, off, REF_COUNT;
 // three COUNT_W adders (x, HOME - x, x + off), two COUNT_W subtracts (the disarm sides),
 // 12-bit arithmetic for kf, kr and the step. No multipliers.
@@ -71,6 +84,13 @@ module refmark #(
     input  wire                      held_i,     // the count held (not edge mode)
     input  wire                      ovs_i,
     input  wire                      ref_i,
+    // t + 9: the sample's Eq. 12 pulses (rtl/pulse.v)
+    input  wire                      pv_i,
+    input  wire                      pa_i,
+    input  wire                      pb_i,
+    output reg                       pa_o,       // the pulses one edge later (the pins)
+    output reg                       pb_o,
+    output reg                       zp_o,       // Z beside them
     // the pins (rtl/abgen.v)
     input  wire signed [COUNT_W-1:0] pos_i,      // the count the pins show
     output reg  signed [COUNT_W-1:0] target_o,   // count_i one edge later: the pins' target
@@ -95,26 +115,32 @@ module refmark #(
     wire [11:0] kr0 = {1'b0, ref_q_i} - {1'b0, q_i};
     reg  [11:0] kf = 12'd0, kr = 12'd0;
     reg         zok = 1'b0;
+    reg  [1:0]  qlo = 2'd0;                      // q mod 4 (the phase's quadrant)
     always @(posedge clk) begin
         if (nv_i) begin
             kf <= kf0[11] ? kf0 + n4 : kf0;
             kr <= kr0[11] ? kr0 + n4 : kr0;
             zok <= ({1'b0, ref_q_i} < n4);
+            qlo <= q_i[1:0];
         end
         if (rst) begin
             kf <= 12'd0;
             kr <= 12'd0;
             zok <= 1'b0;
+            qlo <= 2'd0;
         end
     end
 
     // ---- t + 9: the window, the crossing, Z --------------------------------------------------
     reg  [11:0] cp = 12'd0;                      // the previous sample's count, low bits
-    reg         primed = 1'b0;
+    reg         primed = 1'b0;                   // cp holds a trusted phase-mode count
     reg  [3:0]  fc = 4'd0;                       // samples the input has differed
     reg         arm = 1'b0;                      // the latch is armed (this pass)
     reg         lat1 = 1'b0, inv1 = 1'b0;
     reg  signed [COUNT_W-1:0] x_q = 0;
+    reg  [11:0] kf1 = 12'd0;                     // kf, qlo, zok of the sample in stage 1
+    reg  [1:0]  qlo1 = 2'd0;
+    reg         zok1 = 1'b0;
     // the step c - c' in 12 bits: |step| <= 2 n <= 1022 on a sample without overspeed
     wire [11:0] dc = count_i[11:0] - cp;
     wire        fwd = !dc[11] && (dc != 12'd0);
@@ -141,19 +167,26 @@ module refmark #(
         inv1 <= 1'b0;
         if (cv_i) begin
             cp <= count_i[11:0];
-            primed <= 1'b1;
+            primed <= (primed || !held_i) && !mode_i;
             win_o <= win_n;
             fc <= (ref_i == win_o || flip) ? 4'd0 : fc + 4'd1;
             arm <= arm_n && win_n && !lat_n;
             lat1 <= lat_n;
             inv1 <= held_i || ovs_i;
             x_q <= x;
+            kf1 <= kf;
+            qlo1 <= qlo;
+            zok1 <= zok;
         end
         if (xc) begin
             z_en_o <= 1'b1;
             z_at_o <= x;
         end else if (off_side)
             z_en_o <= 1'b0;
+        if (inval_i) begin
+            primed <= 1'b0;
+            z_en_o <= 1'b0;
+        end
         if (rst) begin
             target_o <= 0;
             cp <= 12'd0;
@@ -164,8 +197,30 @@ module refmark #(
             lat1 <= 1'b0;
             inv1 <= 1'b0;
             x_q <= 0;
+            kf1 <= 12'd0;
+            qlo1 <= 2'd0;
+            zok1 <= 1'b0;
             z_en_o <= 1'b0;
             z_at_o <= 0;
+        end
+    end
+
+    // ---- t + 10: the Eq. 12 pins and their Z ------------------------------------------------------
+    wire [1:0]  pq = {~pb_i, pa_i ^ pb_i};       // quadrant codes (rtl/counter.v)
+    wire [1:0]  pq_d = {~pb_o, pa_o ^ pb_o};
+    wire [1:0]  dl = qlo1 - pq;                  // delta mod 4: 3 is -1
+    wire [11:0] n4m1 = n4 - 12'd1;
+    wire        at_ref = (dl == 2'd3) ? (kf1 == n4m1) : (kf1 == {10'd0, dl});
+    always @(posedge clk) begin
+        if (pv_i) begin
+            pa_o <= pa_i;
+            pb_o <= pb_i;
+            zp_o <= (win_o && zok1 && at_ref) || (zp_o && pq == pq_d);
+        end
+        if (rst) begin
+            pa_o <= 1'b1;
+            pb_o <= 1'b1;
+            zp_o <= 1'b0;
         end
     end
 
@@ -175,8 +230,8 @@ module refmark #(
         lost_o <= pos_valid_o && (inv1 || inval_i);
         if (lat1) begin
             homed_o <= 1'b1;
-            pos_valid_o <= 1'b1;
             if (home_armed_o) begin
+                pos_valid_o <= 1'b1;
                 off_o <= home_i - x_q;
                 ref_count_o <= home_i;
             end else
@@ -201,7 +256,7 @@ module refmark #(
     initial begin
         target_o = 0; z_en_o = 1'b0; z_at_o = 0; off_o = 0; ref_count_o = 0; win_o = 1'b0;
         homed_o = 1'b0; pos_valid_o = 1'b0; home_armed_o = 1'b0; latch_o = 1'b0;
-        lost_o = 1'b0;
+        lost_o = 1'b0; pa_o = 1'b1; pb_o = 1'b1; zp_o = 1'b0;
     end
 
 `ifdef FORMAL
@@ -210,8 +265,8 @@ module refmark #(
     //     latch since the window last was closed, as registered on the edge before).
     //  R2 a latch only inside the window, with a crossing of the sample's count step.
     //  R3 Z is armed only at a crossing inside the window, at its count x; z_at changes
-    //     only then.
-    //  R4 pos_valid rises only with a latch; a held or overspeed sample (or inval_i)
+    //     only then (inval_i disarms it).
+    //  R4 pos_valid rises only with a homing latch; a held or overspeed sample (or inval_i)
     //     clears it on the next edge, and lost_o pulses if it was set.
     reg f_past_valid = 1'b0, f_rst = 1'b0, f_lip = 1'b0;
     reg f_xc = 1'b0, f_lat = 1'b0, f_inv = 1'b0, f_pv = 1'b0, f_inval = 1'b0;
@@ -237,7 +292,7 @@ module refmark #(
                 assert (!f_lip && win_o && f_xc);                            // R1, R2
             assert (lat1 == f_lat);
             if (f_xc)
-                assert (z_en_o && z_at_o == f_x);                            // R3
+                assert (z_en_o == !f_inval && z_at_o == f_x);                // R3
             else
                 assert (z_at_o == f_zat);
             // induction: a latch in this pass disarms the latch until the window closes
@@ -250,7 +305,7 @@ module refmark #(
     always @(posedge clk) begin
         if (f_past_valid && !rst && !f_rst) begin
             if (pos_valid_o && !$past(pos_valid_o))
-                assert ($past(lat1));                                        // R4
+                assert ($past(lat1) && $past(home_armed_o));                 // R4
             if ($past(inv1) || $past(inval_i))
                 assert (!pos_valid_o && lost_o == $past(pos_valid_o));
         end

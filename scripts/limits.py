@@ -22,9 +22,11 @@ Limits (x4 counting: one count per quarter of an n-th order period, pitch / (4 n
   counters behind the A/B pins: the edge separation ab_sep / fclk must be at least what
       their input filter needs (sim/counters.py); a faster one loses counts silently.
   Z (reference marks, rtl/refmark.v): one count wide at the pins at any speed (the paced
-      pins step one count at a time and Z marks one of them); a reference is found up to
-      the internal counter's limit (a crossing on an overspeed sample is not taken);
-      above the A/B limit Z comes as late as the pins' backlog.
+      pins step one count at a time and Z marks one of them); a reference is found while
+      the stage moves less than w / 2 / max(1, ref_filt) per sample (w the window's width,
+      REF.ref_filt the glitch filter: --ref-width, --ref-filt) and below the internal
+      counter's limit (a crossing on an overspeed sample is not taken); above the A/B
+      limit Z comes as late as the pins' backlog.
 """
 import argparse
 import pathlib
@@ -37,11 +39,14 @@ from sim.model.regs import SETTINGS  # noqa: E402
 N_MAX = SETTINGS["interp"].hi   # the core's largest n (INTERP)
 
 
-def limits(pitch_um, fs, ab_sep=SETTINGS["ab_sep"].reset, fclk=36e6, v=None, interp=None):
+def limits(pitch_um, fs, ab_sep=SETTINGS["ab_sep"].reset, fclk=36e6, v=None, interp=None,
+           ref_width=0.5, ref_filt=SETTINGS["ref_filt"].reset):
     """Dict of the limits (speeds in m/s, factors as floats before rounding down)."""
     p = pitch_um * 1e-6
     out = {"counter_v_max": 3 / 8 * p * fs, "nyquist_v": p * fs / 2}
-    out["z_v_max"] = out["counter_v_max"]           # Z: a crossing without overspeed
+    # Z: a crossing without overspeed, on a sample inside the filtered window (ref_width in
+    # signal periods)
+    out["z_v_max"] = min(out["counter_v_max"], ref_width / 2 / max(1, ref_filt) * p * fs)
     if interp is not None:
         out["edge_counter_v_max"] = p * fs / (4 * interp)
         out["ab_v_max"] = p * fclk / (4 * interp * ab_sep)
@@ -62,6 +67,11 @@ def main(argv=None):
     ap.add_argument("--ab-sep", type=int, default=SETTINGS["ab_sep"].reset,
                     help="A/B edge separation, clocks (ABGEN.ab_sep; default its reset value)")
     ap.add_argument("--fclk", type=float, default=36e6, help="core clock, Hz")
+    ap.add_argument("--ref-width", type=float, default=0.5,
+                    help="reference mark's window, signal periods (default 0.5)")
+    ap.add_argument("--ref-filt", type=int, default=SETTINGS["ref_filt"].reset,
+                    help="the window's glitch filter, samples (REF.ref_filt; default its "
+                         "reset value)")
     a = ap.parse_args(argv)
     if a.v is None and a.interp is None:
         a.interp = SETTINGS["interp"].reset
@@ -71,6 +81,12 @@ def main(argv=None):
               ("fclk", a.fclk, 1e3, 1e10, "Hz"), ("v", a.v, 1e-12, 1e4, "m/s"))
     bad = [f"--{k} must be {lo:g}..{hi:g} {unit}, got {v}" for k, v, lo, hi, unit in ranges
            if v is not None and not lo <= v <= hi]
+    if not 0 < a.ref_width <= 1:
+        bad.append(f"--ref-width must be above 0 and at most 1 signal period, got "
+                   f"{a.ref_width}")
+    filt = SETTINGS["ref_filt"]
+    if not filt.lo <= a.ref_filt <= filt.hi:
+        bad.append(f"--ref-filt must be {filt.lo}..{filt.hi} (REF.ref_filt), got {a.ref_filt}")
     if a.interp is not None and a.interp < 1:
         bad.append(f"--interp must be 1..{N_MAX} (the core's INTERP), got {a.interp}")
     sep = SETTINGS["ab_sep"]
@@ -84,7 +100,7 @@ def main(argv=None):
     if bad:
         print("limits: error: " + "; ".join(bad), file=sys.stderr)
         return 2
-    r = limits(a.pitch, a.fs, a.ab_sep, a.fclk, a.v, a.interp)
+    r = limits(a.pitch, a.fs, a.ab_sep, a.fclk, a.v, a.interp, a.ref_width, a.ref_filt)
     sep_ns = a.ab_sep / a.fclk * 1e9
     print(f"pitch {a.pitch:g} um, fs {a.fs:g} Hz, A/B edge separation {a.ab_sep} clocks "
           f"= {sep_ns:.0f} ns at {a.fclk / 1e6:g} MHz")
@@ -97,8 +113,9 @@ def main(argv=None):
           f"(overspeed flag from 3/4 pi per sample; Nyquist {r['nyquist_v']:.4g} m/s), "
           f"at any n")
     print(f"  Z (reference mark): one count wide at the pins at any speed; a reference is "
-          f"found up to {r['z_v_max']:.4g} m/s" + (f" (above {r['ab_v_max']:.4g} m/s it "
-          f"comes as late as the A/B backlog)" if a.interp is not None else ""))
+          f"found up to {r['z_v_max']:.4g} m/s (window {a.ref_width:g} period, filter "
+          f"{a.ref_filt})" + (f"; above {r['ab_v_max']:.4g} m/s Z comes as late as the A/B "
+                             f"backlog" if a.interp is not None else ""))
     if a.interp is not None:
         n = a.interp
         print(f"  n = {n}: resolution {a.pitch * 1e3 / (4 * n):.4g} nm")

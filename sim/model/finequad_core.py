@@ -21,8 +21,8 @@ from 0):
 * A/B pins: the paced outputs (sim/model/abgen.py) follow the count before the homing
   offset, which takes sample k's count on t_k + 8 and is registered again on t_k + 9 (the
   target from t_k + 10); the per-sample a, b and z are the pins after t_k + 8, as `make
-  rtlsim` samples them. With ab_src = 1 the pins are the Eq. 12 pulses (of the previous
-  sample at that edge) and Z is 0.
+  rtlsim` samples them. With ab_src = 1 the pins are the Eq. 12 pulses from t_k + 10
+  (those of the last sample strobed on or before t_k - 2) and Z beside them.
 * Reference marks (sim/model/refmark.py): sample k's reference input is taken on t_k + 9
   (window, crossing, Z armed), REF_COUNT, homed and pos_valid on t_k + 10 (the per-sample
   ref_count, homed, pos_valid are after t_k + 10); m_count = the count + the homing
@@ -114,6 +114,8 @@ class Config:
     home_count: int = _S["home_count"].reset
     home_arm: bool = False   # REF.home written before the first sample: the first
                              # reference latched homes the count to home_count
+    homes: list = field(default_factory=list)   # edges w of REF.home writes during the run
+                             # (each arms homing for the latches on edges >= w + 2)
     clip: int = _S["clip"].reset
     loss: int = _S["loss"].reset
     over: int = _S["over"].reset
@@ -213,7 +215,7 @@ class Core:
         self.ill_count = 0            # illegal A/B steps
         self.ab = abgen.Follower(cfg.ab_sep, cfg.ab_bound, cfg.COUNT_W)
         self.rm = refmark.RefMark(cfg.COUNT_W, cfg.ref_q, cfg.ref_filt, cfg.home_count,
-                                  cfg.home_arm)
+                                  cfg.home_arm, cfg.homes)
 
     @staticmethod
     def _apply(state, delta):
@@ -326,16 +328,13 @@ class Core:
         # A/B pins and Z after each sample's output edge; the reference marks
         held = np.asarray(mon["hold"], bool) & (cfg.count_mode == 0)
         rmo = self.rm.run(t, count, np.asarray(prod, np.int64) >> 11, cfg.interp, held, ovs,
-                          ref, cfg.count_mode, self.ab)
+                          ref, cfg.count_mode, self.ab, pa, pb)
         a_pin, b_pin, ab_ovf, z_pin = rmo["a"], rmo["b"], rmo["ab_ovf"], rmo["z"]
         wrapm = 1 << cfg.COUNT_W
         count_raw = count
         count = ((count + rmo["off8"] + (wrapm >> 1)) % wrapm) - (wrapm >> 1)
-        prev_pulse = self.pulse_ab
         if cfg.ab_src:
-            z_pin = np.zeros(n, np.int64)
-            a_pin = np.concatenate([[prev_pulse[0]], pa[:-1]]) if n else a_pin
-            b_pin = np.concatenate([[prev_pulse[1]], pb[:-1]]) if n else b_pin
+            a_pin, b_pin, z_pin = rmo["ep_a"], rmo["ep_b"], rmo["ep_z"]
         if n:
             self.pulse_ab = (int(pa[-1]), int(pb[-1]))
         fault = (clip.astype(np.int64) << FAULT_BITS["clip"]
@@ -360,7 +359,7 @@ class Core:
         res = dict(jumps=list(est.jumps), count=count, a=a_pin, b=b_pin, fault=fault,
                    z=z_pin, ref_count=rmo["ref_count"], homed=rmo["homed"],
                    pos_valid=rmo["pos_valid"],
-                   ref_latched=self.rm.latches, ref_lost=self.rm.losts,
+                   ref_latches=self.rm.latches, ref_losses=self.rm.losses,
                    n_updates=est.n_updates, invalid_updates=est.n_invalid,
                    gain_held=est.n_gain_held,
                    sat=est.sat,           # the engine saturated a register (STATUS.sat)

@@ -14,16 +14,22 @@ rtl/refmark.v's header; this model follows them sample by sample and edge by edg
   crossing wins). A disarm earlier in the span changes no sampled Z: after it the pins
   stay strictly on one side of z_at.
 * Z after edge e: armed (before e) and the pins after e at z_at (before e).
+* With the Eq. 12 pulses on the pins (ab_src = 1) the pins are sample j's pulses from
+  t_j + 10, and Z beside them (rtl/refmark.v: the count the pulses show is ref_q, inside
+  the window, or it was and the pulses have not moved).
 """
 import numpy as np
 
 from .fixed import wrap
 
+QUAD = {(1, 1): 0, (0, 1): 1, (0, 0): 2, (1, 0): 3}   # quadrant code {~B, A ^ B}
+
 
 class RefMark:
     """The block's state from rst; `run` takes the next samples."""
 
-    def __init__(self, count_w=32, ref_q=0, ref_filt=2, home_count=0, home_arm=False):
+    def __init__(self, count_w=32, ref_q=0, ref_filt=2, home_count=0, home_arm=False,
+                 homes=()):
         self.count_w = count_w
         self.ref_q, self.ref_filt = int(ref_q), int(ref_filt)
         self.home = wrap(int(home_count), count_w)
@@ -42,8 +48,16 @@ class RefMark:
         self.homed = 0
         self.pos_valid = 0
         self.home_armed = bool(home_arm)
-        self.latches = 0             # latch pulses (REF_STICKY.latched)
-        self.losts = 0               # pos_valid falls (REF_STICKY.lost)
+        self.homes = sorted(int(w) for w in homes)   # edges of REF.home writes (pending)
+        self.pins = (1, 1)           # the Eq. 12 pins (pulses one edge late) and their Z
+        self.zp = 0
+        self.latches = 0             # latch pulses (REF_STICKY.latched), counted
+        self.losses = 0              # pos_valid falls (REF_STICKY.lost), counted
+        # results registered after the last sample fed, shown on later edges: (edge, off),
+        # (edge, pins, zp); Z's state before the last stage-1 update and that update's edge
+        self.off_pend, self.pins_pend = [], []
+        self.off_shown, self.pins_shown = 0, ((1, 1), 0)
+        self.z_before, self.z_edge = (False, 0), -1
 
     def crossing(self, c, q, n, held, ovs, mode):
         """(hit, x) of one sample: does the step from the previous count to c cross a
@@ -60,15 +74,22 @@ class RefMark:
             return True, wrap(c + kr, self.count_w)
         return False, 0
 
-    def run(self, t, count, q, n, held, ovs, ref, mode, ab):
+    def run(self, t, count, q, n, held, ovs, ref, mode, ab, pa=None, pb=None):
         """Samples with strobe edges t, raw counts, q = prod >> 11, held, ovs, ref (per
         sample arrays), n, mode (count_mode), and the pins (abgen.Follower, run to no
         later than the first sample's t + 8). Returns per-sample arrays:
         a, b, ab_ovf (pins after t + 8), z (after t + 8), off8 (the offset after t + 8:
-        m_count = count + off8), ref_count, homed, pos_valid (after t + 10)."""
+        m_count = count + off8), ref_count, homed, pos_valid (after t + 10); with the
+        sample's Eq. 12 pulses pa, pb: the pins ep_a, ep_b and ep_z (after t + 8) when
+        they show the pulses."""
         n_s = len(t)
         out = {k: np.zeros(n_s, np.int64) for k in
-               ("a", "b", "ab_ovf", "z", "off8", "ref_count", "homed", "pos_valid")}
+               ("a", "b", "ab_ovf", "z", "off8", "ref_count", "homed", "pos_valid",
+                "ep_a", "ep_b", "ep_z")}
+        if pa is None:
+            pa = pb = np.ones(n_s, np.int64)
+        pal, pbl = [int(v) for v in pa], [int(v) for v in pb]
+        n4 = 4 * n
         tl = [int(v) for v in t]
         cl = [int(v) for v in count]
         ql = [int(v) for v in q]
@@ -76,25 +97,25 @@ class RefMark:
         ol = [bool(v) for v in ovs]
         rl = [int(v) for v in ref]
         cw = self.count_w
-        # stage-2 results wait for their edge t + 10 (m_count's offset is read on t + 8)
-        pend = []                    # (edge t_j + 10, off after it)
-        last_off = self.off
-        # Z's state before the last stage-1 update and that update's edge: with samples on
-        # consecutive edges, sample k - 1's update (t_(k-1) + 9 = t_k + 8) comes after the
-        # Z of sample k
-        z_before, z_edge = (self.z_en, self.z_at), -1
+        # stage-2 results wait for their edge t + 10 (m_count's offset is read on t + 8);
+        # with samples on consecutive edges, sample k - 1's stage-1 update (t_(k-1) + 9 =
+        # t_k + 8) comes after the Z of sample k
+        pend, pins_pend = self.off_pend, self.pins_pend
         for k in range(n_s):
             tk = tl[k]
             while pend and pend[0][0] <= tk + 8:
-                last_off = pend.pop(0)[1]
-            out["off8"][k] = last_off
+                self.off_shown = pend.pop(0)[1]
+            out["off8"][k] = self.off_shown
             # ---- the pins and Z after t_k + 8 (each target was set for its edge t_j + 10,
             # so the pins run to t_k + 8 with the targets registered before) -------------
             a, b, ovf = ab.sample(tk + 8)
             p8 = ab.st.pos
             out["a"][k], out["b"][k], out["ab_ovf"][k] = a, b, ovf
-            z_en, z_at = (self.z_en, self.z_at) if z_edge < tk + 8 else z_before
+            z_en, z_at = (self.z_en, self.z_at) if self.z_edge < tk + 8 else self.z_before
             out["z"][k] = int(z_en and p8 == z_at)
+            while pins_pend and pins_pend[0][0] <= tk + 8:
+                self.pins_shown = pins_pend.pop(0)[1:]
+            (out["ep_a"][k], out["ep_b"][k]), out["ep_z"][k] = self.pins_shown
             # ---- stage 1 of sample k on t_k + 9 -------------------------------------------
             # pins before t_k + 9 = after t_k + 8 (p8); the target and the window before it:
             # the span's registered values (c_(k-1), win_(k-1))
@@ -117,21 +138,25 @@ class RefMark:
             self.fc = 0 if (r == self.win or flip) else self.fc + 1
             self.win = win_n
             self.arm = arm_n and win_n == 1 and not lat
-            z_before, z_edge = (self.z_en, self.z_at), tk + 9
+            self.z_before, self.z_edge = (self.z_en, self.z_at), tk + 9
             self.z_en, self.z_at = z_en, z_at
             self.cp = cl[k]
-            self.primed = True
+            self.primed = (self.primed or not hl[k]) and not mode
             self.target = cl[k]
             ab.set(tk + 10, cl[k])
             # ---- stage 2 on t_k + 10 -----------------------------------------------------
+            # a REF.home write on edge w arms homing on w + 1: before this latch if w <= t_k + 8
+            while self.homes and self.homes[0] <= tk + 8:
+                self.homes.pop(0)
+                self.home_armed = True
             inv = hl[k] or ol[k]
             if self.pos_valid and inv:
-                self.losts += 1
+                self.losses += 1
             if lat:
                 self.latches += 1
                 self.homed = 1
-                self.pos_valid = 1
                 if self.home_armed:
+                    self.pos_valid = 1
                     self.off = wrap(self.home - x, cw)
                     self.ref_count = self.home
                     self.home_armed = False
@@ -140,6 +165,16 @@ class RefMark:
             if inv:
                 self.pos_valid = 0
             pend.append((tk + 10, self.off))
+            # ---- the Eq. 12 pins and their Z on t_k + 10 ------------------------------------
+            pins = (pal[k], pbl[k])
+            pq, pq_d = QUAD[pins], QUAD[self.pins]
+            dl = (ql[k] - pq) & 3
+            kf = (ql[k] - self.ref_q) % n4
+            at_ref = kf == (n4 - 1 if dl == 3 else dl)
+            self.zp = int((self.win == 1 and self.ref_q < n4 and at_ref)
+                          or (self.zp == 1 and pq == pq_d))
+            self.pins = pins
+            pins_pend.append((tk + 10, pins, self.zp))
             out["ref_count"][k] = self.ref_count
             out["homed"][k] = self.homed
             out["pos_valid"][k] = self.pos_valid

@@ -190,11 +190,11 @@ REGS = {
         'ref_filt': Field('ref_filt', 'REF', 16, 4, 2, True, True, False, False, False, 0, 15, 'u4',
             "Glitch filter: the window takes a new level of the reference input once the input has shown it on ref_filt + 1 consecutive samples (0: at once). The reference is found while the stage moves less than w / 2 / max(1, ref_filt) per sample, w the window's width."),
         'home': Field('home', 'REF', 24, 1, 0, False, True, True, False, False, 0, 1, '',
-            '1: home: the next reference latched sets the count to HOME (REF_STATUS.home_armed until then).'),
-    }, 'Reference mark', 'The reference point and the window (rtl/refmark.v). Z and the latch take the count c = ref_q (mod 4 n) where the fine phase passes 2048 ref_q / n, inside the window of the reference input. Choose ref_q so that exactly one such count lies inside the window, near its middle (the window narrower than a signal period).'),
+            '1: home: the next reference latched sets the count to HOME and pos_valid (REF_STATUS.home_armed until then).'),
+    }, 'Reference mark', 'The reference point and the window (rtl/refmark.v). Z and the latch take the count where the fine phase passes 2048 ref_q / n (the count within the signal period becomes ref_q), inside the window of the reference input. Choose ref_q so that exactly one such count lies inside the window, near its middle (the window narrower than a signal period). A write sets all three fields: to arm homing, write ref_q and ref_filt as they are with home = 1.'),
     'HOME': Reg('HOME', 0x1e, 0x78, True, True, 0xffffffff, 0xffffffff, 0x00000000, (), {
         'home_count': Field('home_count', 'HOME', 0, 32, 0, True, True, False, False, True, -2147483648, 2147483647, 's32',
-            'The count at the reference after homing (REF.home).'),
+            'The count at the reference after homing (REF.home; its low COUNT_W bits).'),
     }, 'Home count', ''),
     'ID': Reg('ID', 0x1f, 0x7c, True, False, 0x00000000, 0xffffffff, 0x00000000, (), {
         'id': Field('id', 'ID', 0, 32, 1179713543, True, False, False, False, False, 0, 4294967295, 'u32',
@@ -210,7 +210,7 @@ REGS = {
         'homed': Field('homed', 'REF_STATUS', 1, 1, None, True, False, False, False, False, 0, 1, '',
             'A reference has been latched since rst (REF_COUNT holds it).'),
         'pos_valid': Field('pos_valid', 'REF_STATUS', 2, 1, None, True, False, False, False, False, 0, 1, '',
-            'Position valid: a reference has been latched and nothing since has made the count uncertain by a period (rtl/refmark.v lists what clears it: a held or overspeed sample, a change of INTERP, edge mode, rst).'),
+            'Position valid: homing (REF.home) has latched a reference and nothing since has made the count uncertain by a period (rtl/refmark.v lists what clears it: a held or overspeed sample, a change of INTERP, edge mode, rst).'),
         'home_armed': Field('home_armed', 'REF_STATUS', 3, 1, None, True, False, False, False, False, 0, 1, '',
             'Homing is armed (REF.home): the next reference sets the count to HOME.'),
     }, 'Reference status', ''),

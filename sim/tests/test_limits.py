@@ -66,3 +66,12 @@ def test_edge_separation_in_ns_and_the_counters():
         "(ab_sep >= 24 clocks at this clock)" in p.stdout
     p = run("--pitch", "4", "--fs", "1e6", "--fclk", "100e6")
     assert "= 240 ns at 100 MHz" in p.stdout and "ab_sep >= 64 clocks" in p.stdout
+
+
+def test_reference_speed_limit():
+    """A reference is found while the stage moves less than w / 2 / max(1, ref_filt) per
+    sample (sim/tests/test_refmark_model.py measures it on the model), and below the
+    counter's overspeed limit."""
+    assert limits.limits(4, 1e6, ref_width=0.5, ref_filt=2)["z_v_max"] == pytest.approx(0.5)
+    assert limits.limits(4, 1e6, ref_width=0.5, ref_filt=0)["z_v_max"] == pytest.approx(1.0)
+    assert limits.limits(4, 1e6, ref_width=1.0, ref_filt=0)["z_v_max"] == pytest.approx(1.5)
