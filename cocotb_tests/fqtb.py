@@ -331,6 +331,40 @@ class ClockedBench:
         await self.goto(self.edge + 1)
         dut.reg_we.value = 0
 
+    async def run_samples(self, t, u1, u2, ref, writes, probes):
+        """Drive finequad_core's sample port and register port, edge by edge: sample k
+        (u1[k], u2[k], ref[k]) strobed on edge t[k] (s_valid low between strobes), each
+        write {edge: (addr, data)} taken on its edge; probes {lag: (read, out)}: after
+        edge t[k] + lag, out[k] = read() (a tuple of the outputs). Visits only the
+        edges where something happens."""
+        dut = self.dut
+        strobe = {int(e): k for k, e in enumerate(t)}
+        at = {lag: {int(e) + lag: k for k, e in enumerate(t)} for lag in probes}
+        slots = set(strobe) | {e - 1 for e in strobe} | set(writes) | {e - 1 for e in writes}
+        for m in at.values():
+            slots |= set(m)
+        for s in sorted(slots):
+            await self.goto(s)
+            for lag, (read, out) in probes.items():
+                k = at[lag].get(s)
+                if k is not None:
+                    out[k] = read()
+            k = strobe.get(s + 1)
+            if k is not None:
+                dut.s_valid.value = 1
+                dut.s_u1.value = int(u1[k])
+                dut.s_u2.value = int(u2[k])
+                dut.s_ref.value = int(ref[k])
+            elif s in strobe:
+                dut.s_valid.value = 0
+            if s + 1 in writes:
+                a, d = writes[s + 1]
+                dut.reg_we.value = 1
+                dut.reg_addr.value = a
+                dut.reg_wdata.value = d
+            elif s in writes:
+                dut.reg_we.value = 0
+
     async def settle(self):
         """Let combinational logic settle after writes (stays well before the next edge)."""
         from cocotb.triggers import Timer

@@ -267,11 +267,6 @@ async def refmark_run(dut):
     assert max(writes) < int(t[0])
     writes[w_home] = (regs.REF, regs.word("REF", ref_q=cfg.ref_q, ref_filt=cfg.ref_filt,
                                           home=1))
-    strobe = {int(e): k for k, e in enumerate(t)}
-    r8 = {int(e) + core_model.LATENCY: k for k, e in enumerate(t)}
-    r10 = {int(e) + core_model.LATCH_AT: k for k, e in enumerate(t)}
-    slots = sorted(set(strobe) | {e - 1 for e in strobe} | set(r8) | set(r10)
-                   | set(writes) | {e - 1 for e in writes})
     got8 = np.zeros((n, 5), np.int64)
     got10 = np.zeros((n, 3), np.int64)
     bench = fqtb.ClockedBench(dut)
@@ -282,31 +277,12 @@ async def refmark_run(dut):
     logs = {"a": [], "b": [], "z": []}
     for ch in logs:
         cocotb.start_soon(_watch(getattr(dut, f"m_{ch}"), logs[ch]))
-    for s in slots:
-        await bench.goto(s)
-        k = r8.get(s)
-        if k is not None:
-            got8[k] = (fqtb.sval(dut.m_count), fqtb.uval(dut.m_a), fqtb.uval(dut.m_b),
-                       fqtb.uval(dut.m_fault), fqtb.uval(dut.m_z))
-        k = r10.get(s)
-        if k is not None:
-            got10[k] = (fqtb.sval(dut.m_ref_count), fqtb.uval(dut.m_homed),
-                        fqtb.uval(dut.m_pos_valid))
-        k = strobe.get(s + 1)
-        if k is not None:
-            dut.s_valid.value = 1
-            dut.s_u1.value = int(u1[k])
-            dut.s_u2.value = int(u2[k])
-            dut.s_ref.value = int(ref[k])
-        elif s in strobe:
-            dut.s_valid.value = 0
-        if s + 1 in writes:
-            a, d = writes[s + 1]
-            dut.reg_we.value = 1
-            dut.reg_addr.value = a
-            dut.reg_wdata.value = d
-        elif s in writes:
-            dut.reg_we.value = 0
+    await bench.run_samples(t, u1, u2, ref, writes, {
+        core_model.LATENCY: (lambda: (fqtb.sval(dut.m_count), fqtb.uval(dut.m_a),
+                                      fqtb.uval(dut.m_b), fqtb.uval(dut.m_fault),
+                                      fqtb.uval(dut.m_z)), got8),
+        core_model.LATCH_AT: (lambda: (fqtb.sval(dut.m_ref_count), fqtb.uval(dut.m_homed),
+                                       fqtb.uval(dut.m_pos_valid)), got10)})
 
     # ---- RTL == model, every sample ----------------------------------------------------------
     exp8 = np.stack([res["count"], res["a"], res["b"], res["fault"], res["z"]], axis=1)

@@ -15,3 +15,4 @@ rtl/phase.v
 rtl/monitor.v
 rtl/abgen.v
 rtl/refmark.v
+rtl/dcode.v

@@ -86,6 +86,9 @@ module finequad_core #(
     // 1: the estimator's jump detector (rtl/estimator.v); 0: none (JUMP reads 0x8000,
     // disabled, and JUMPS 0: for a small device)
     parameter [0:0] OPT_JUMP = 1'b1,
+    // 1: distance-coded reference marks (rtl/dcode.v, DCODE, ABS_COUNT); 0: none (DCODE
+    // takes no writes, ABS_COUNT and REF_STATUS.abs_valid read 0: for a small device)
+    parameter [0:0] OPT_DCODE = 1'b1,
     // lanes of the estimator's RLS engine, 1 or 2 (2: four more DSP blocks, shorter
     // programs: rtl/rls_engine.v, sim/model/rls_engine.py CYCLES_BY_LANES)
     parameter ENGINE_LANES = 1,
@@ -215,7 +218,10 @@ module finequad_core #(
     reg        req_home = 1'b0;                 // REF.home (a pulse)
     // the count loses its scale (a pulse): a write that changes INTERP, or edge mode
     reg        req_inval = 1'b0;
-    reg [1:0]  r_ref_sticky = 2'b00;            // REF_STICKY {lost, latched}, write 1 to clear
+    reg [2:0]  r_ref_sticky = 3'b000;           // REF_STICKY {dc_err, lost, latched}, w1c
+    reg [FQ_DCODE_DC_SPACING_W-1:0] r_dc_spacing = FQ_DCODE_DC_SPACING_RESET;  // periods
+    reg [FQ_DCODE_DC_CODED_W-1:0]   r_dc_coded = FQ_DCODE_DC_CODED_RESET;      // periods
+    reg        r_dc_confirm = FQ_DCODE_DC_CONFIRM_RESET;
     // the write the core takes: reg_we unless refused (rtl/regs/finequad.rdl, fq_write_ok)
     wire wr_take = reg_we && `FQ_WRITE_OK(reg_addr, reg_wdata);
     assign reg_err = reg_we && !wr_take;
@@ -246,6 +252,11 @@ module finequad_core #(
                     req_home <= reg_wdata[FQ_REF_HOME_LSB];
                 end
                 FQ_HOME: r_home <= reg_wdata[FQ_HOME_HOME_COUNT_MSB:FQ_HOME_HOME_COUNT_LSB];
+                FQ_DCODE: if (OPT_DCODE) begin
+                    r_dc_spacing <= reg_wdata[FQ_DCODE_DC_SPACING_MSB:FQ_DCODE_DC_SPACING_LSB];
+                    r_dc_coded <= reg_wdata[FQ_DCODE_DC_CODED_MSB:FQ_DCODE_DC_CODED_LSB];
+                    r_dc_confirm <= reg_wdata[FQ_DCODE_DC_CONFIRM_LSB];
+                end
                 FQ_GAIN: st_gain <= reg_wdata[FQ_GAIN_GAIN_MSB:FQ_GAIN_GAIN_LSB];
                 FQ_M1: st_m1 <= reg_wdata[FQ_M1_M1_LSB + 15:FQ_M1_M1_LSB];
                 FQ_M2: st_m2 <= reg_wdata[FQ_M2_M2_LSB + 15:FQ_M2_M2_LSB];
@@ -303,9 +314,10 @@ module finequad_core #(
                                               reg_wdata[FQ_FAULT_W-1:0] : {FQ_FAULT_W{1'b0}}))
                           | (m_valid ? m_fault : {FQ_FAULT_W{1'b0}});
         r_ref_sticky <= (r_ref_sticky & ~((wr_take && reg_addr == FQ_REF_STICKY) ?
-                                          {reg_wdata[FQ_REF_STICKY_LOST_LSB],
-                                           reg_wdata[FQ_REF_STICKY_LATCHED_LSB]} : 2'b00))
-                        | {rm_lost, rm_latch};
+                                          {reg_wdata[FQ_REF_STICKY_DC_ERR_LSB],
+                                           reg_wdata[FQ_REF_STICKY_LOST_LSB],
+                                           reg_wdata[FQ_REF_STICKY_LATCHED_LSB]} : 3'b000))
+                        | {dc_err, rm_lost, rm_latch};
         if (rst) begin
             r_interp <= FQ_INTERP_INTERP_RESET;
             r_eps <= FQ_EPS_EPS_RESET;
@@ -318,7 +330,10 @@ module finequad_core #(
             r_jump_off <= FQ_JUMP_JUMP_OFF_RESET;
             r_jump_min <= FQ_JUMP_JUMP_MIN_RESET;
             r_fault_sticky <= 0;
-            r_ref_sticky <= 2'b00;
+            r_ref_sticky <= 3'b000;
+            r_dc_spacing <= FQ_DCODE_DC_SPACING_RESET;
+            r_dc_coded <= FQ_DCODE_DC_CODED_RESET;
+            r_dc_confirm <= FQ_DCODE_DC_CONFIRM_RESET;
             r_ref_q <= FQ_REF_REF_Q_RESET;
             r_ref_filt <= FQ_REF_REF_FILT_RESET;
             r_home <= FQ_HOME_HOME_COUNT_RESET;
@@ -451,7 +466,11 @@ module finequad_core #(
     // ---- t+9 .. t+10: reference marks ----------------------------------------------------------
     wire rm_pa, rm_pb, rm_zp;
     wire rm_z_en, rm_win, rm_homed, rm_pos_valid, rm_home_armed, rm_latch, rm_lost;
-    wire signed [COUNT_W-1:0] rm_target, rm_z_at, rm_off, rm_ref_count;
+    wire signed [COUNT_W-1:0] rm_target, rm_z_at, rm_off, rm_ref_count, rm_x;
+    wire rm_cross, rm_cdir, rm_mark, rm_inv;
+    wire dc_en = OPT_DCODE && (r_dc_spacing != 0);
+    wire dc_home, dc_err, dc_abs_valid;
+    wire signed [COUNT_W-1:0] dc_off, dc_ref, dc_abs;
     wire signed [COUNT_W-1:0] g_pos;
     wire fl_ref;                                 // the sample's s_ref on t + 8
     refmark #(.COUNT_W(COUNT_W)) u_refmark (
@@ -463,8 +482,31 @@ module finequad_core #(
         .home_arm_i(req_home), .home_i(r_home[COUNT_W-1:0]), .inval_i(req_inval),
         .off_o(rm_off), .ref_count_o(rm_ref_count), .win_o(rm_win), .homed_o(rm_homed),
         .pos_valid_o(rm_pos_valid), .home_armed_o(rm_home_armed), .latch_o(rm_latch),
-        .lost_o(rm_lost)
+        .lost_o(rm_lost), .dc_en_i(dc_en), .dc_home_i(dc_home), .dc_off_i(dc_off),
+        .dc_ref_i(dc_ref), .cross_o(rm_cross), .cdir_o(rm_cdir), .mark_o(rm_mark),
+        .x_o(rm_x), .inv_o(rm_inv)
     );
+    // distance-coded marks (rtl/dcode.v), on the latch's t + 10
+    generate
+        if (OPT_DCODE) begin : g_dcode
+            dcode #(.COUNT_W(COUNT_W)) u_dcode (
+                .clk(clk), .rst(rst), .a_i(r_dc_spacing), .b_i(r_dc_coded),
+                .conf_i(r_dc_confirm), .n_i(r_interp), .home_i(r_home[COUNT_W-1:0]),
+                .cross_i(rm_cross), .cdir_i(rm_cdir), .lat_i(rm_mark && dc_en), .x_i(rm_x),
+                .inv_i(rm_inv || !dc_en), .abs_valid_o(dc_abs_valid), .abs_o(dc_abs),
+                .home_o(dc_home), .off_o(dc_off), .ref_o(dc_ref), .err_o(dc_err)
+            );
+        end else begin : g_no_dcode
+            assign dc_home = 1'b0;
+            assign dc_err = 1'b0;
+            assign dc_abs_valid = 1'b0;
+            assign dc_off = 0;
+            assign dc_ref = 0;
+            assign dc_abs = 0;
+            wire unused_dc = &{1'b0, rm_cross, rm_cdir, rm_mark, rm_x, rm_inv, r_dc_spacing,
+                               r_dc_coded, r_dc_confirm, 1'b0};
+        end
+    endgenerate
     assign m_count = k_count + rm_off;
     assign m_ref_count = rm_ref_count;
     assign m_homed = rm_homed;
@@ -628,8 +670,12 @@ module finequad_core #(
                 FQ_REF_COUNT: reg_rdata <= `FQ_RD_REF_COUNT({{(32-COUNT_W+1){rm_ref_count[COUNT_W-1]}},
                                                             rm_ref_count[COUNT_W-2:0]});
                 FQ_REF_STATUS: reg_rdata <= `FQ_RD_REF_STATUS(rm_win, rm_homed, rm_pos_valid,
-                                                             rm_home_armed);
-                FQ_REF_STICKY: reg_rdata <= `FQ_RD_REF_STICKY(r_ref_sticky[0], r_ref_sticky[1]);
+                                                             rm_home_armed, dc_abs_valid);
+                FQ_REF_STICKY: reg_rdata <= `FQ_RD_REF_STICKY(r_ref_sticky[0], r_ref_sticky[1],
+                                                             r_ref_sticky[2]);
+                FQ_DCODE: reg_rdata <= `FQ_RD_DCODE(r_dc_spacing, r_dc_coded, r_dc_confirm);
+                FQ_ABS_COUNT: reg_rdata <= `FQ_RD_ABS_COUNT({{(32-COUNT_W+1){dc_abs[COUNT_W-1]}},
+                                                            dc_abs[COUNT_W-2:0]});
                 FQ_ID: reg_rdata <= ID;
                 default: reg_rdata <= 32'd0;
             endcase

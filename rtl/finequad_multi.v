@@ -75,6 +75,8 @@ module finequad_multi #(
     // 1: the signal monitor's fault checks, the jump detector; 0: none (rtl/finequad_core.v)
     parameter [0:0] OPT_MONITOR = 1'b1,
     parameter [0:0] OPT_JUMP = 1'b1,
+    // distance-coded reference marks (rtl/finequad_core.v OPT_DCODE)
+    parameter [0:0] OPT_DCODE = 1'b1,
     // lanes of the shared RLS engine, 1 or 2
     parameter ENGINE_LANES = 1
 ) (
@@ -140,7 +142,7 @@ module finequad_multi #(
                             .OPT_DISTRAM(OPT_DISTRAM), .OPT_PHASE_4K(OPT_PHASE_4K),
                             .OPT_ECP5_MULT(OPT_ECP5_MULT), .OPT_PULSE_ADDR(OPT_PULSE_ADDR),
                             .OPT_MONITOR(OPT_MONITOR),
-                            .OPT_JUMP(OPT_JUMP),
+                            .OPT_JUMP(OPT_JUMP), .OPT_DCODE(OPT_DCODE),
                             .OPT_TUNABLE(OPT_TUNABLE), .ENGINE_LANES(ENGINE_LANES),
                             .OPT_EXT_ENGINE(SHARED),
                             .EXT_PERIOD(SHARED ? AXES * TDM_L : 0)) u_core (

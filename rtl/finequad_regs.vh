@@ -7,7 +7,7 @@
 // `FQ_RD_<REG>(): a read's word from the field values (at the end).
 // (a module uses a part of the map: unused localparams are not findings)
 /* verilator lint_off UNUSEDPARAM */
-localparam [5:0] FQ_ADDR_TOP = 6'h22;     // the highest word
+localparam [5:0] FQ_ADDR_TOP = 6'h24;     // the highest word
 localparam integer FQ_FAULT_W = 11;     // m_fault: the fields of FAULT_STICKY
 
 // CTRL (W, byte 0x00): Control
@@ -445,7 +445,7 @@ localparam [5:0] FQ_ID = 6'h1f;
 localparam integer FQ_ID_ID_LSB = 0;
 localparam integer FQ_ID_ID_MSB = 31;
 localparam integer FQ_ID_ID_W = 32;
-localparam [31:0] FQ_ID_ID_RESET = 32'h46510007;
+localparam [31:0] FQ_ID_ID_RESET = 32'h46510008;
 
 // REF_COUNT (R, byte 0x80): Reference count
 localparam [5:0] FQ_REF_COUNT = 6'h20;
@@ -467,10 +467,13 @@ localparam integer FQ_REF_STATUS_POS_VALID_W = 1;
 localparam integer FQ_REF_STATUS_HOME_ARMED_LSB = 3;
 localparam integer FQ_REF_STATUS_HOME_ARMED_MSB = 3;
 localparam integer FQ_REF_STATUS_HOME_ARMED_W = 1;
+localparam integer FQ_REF_STATUS_ABS_VALID_LSB = 4;
+localparam integer FQ_REF_STATUS_ABS_VALID_MSB = 4;
+localparam integer FQ_REF_STATUS_ABS_VALID_W = 1;
 
 // REF_STICKY (RW, byte 0x88): Reference events
 localparam [5:0] FQ_REF_STICKY = 6'h22;
-localparam [31:0] FQ_REF_STICKY_WMASK = 32'h00000003;
+localparam [31:0] FQ_REF_STICKY_WMASK = 32'h00000007;
 localparam [31:0] FQ_REF_STICKY_RESET = 32'h00000000;
 localparam integer FQ_REF_STICKY_LATCHED_LSB = 0;
 localparam integer FQ_REF_STICKY_LATCHED_MSB = 0;
@@ -480,6 +483,39 @@ localparam integer FQ_REF_STICKY_LOST_LSB = 1;
 localparam integer FQ_REF_STICKY_LOST_MSB = 1;
 localparam integer FQ_REF_STICKY_LOST_W = 1;
 localparam [0:0] FQ_REF_STICKY_LOST_RESET = 1'h0;
+localparam integer FQ_REF_STICKY_DC_ERR_LSB = 2;
+localparam integer FQ_REF_STICKY_DC_ERR_MSB = 2;
+localparam integer FQ_REF_STICKY_DC_ERR_W = 1;
+localparam [0:0] FQ_REF_STICKY_DC_ERR_RESET = 1'h0;
+
+// DCODE (RW, byte 0x8c): Distance-coded marks
+localparam [5:0] FQ_DCODE = 6'h23;
+localparam [31:0] FQ_DCODE_WMASK = 32'h01ffffff;
+localparam [31:0] FQ_DCODE_RESET = 32'h01000000;
+localparam integer FQ_DCODE_DC_SPACING_LSB = 0;
+localparam integer FQ_DCODE_DC_SPACING_MSB = 11;
+localparam integer FQ_DCODE_DC_SPACING_W = 12;
+localparam [11:0] FQ_DCODE_DC_SPACING_RESET = 12'h0;
+localparam [31:0] FQ_DCODE_DC_SPACING_LO = 32'h0;
+localparam [31:0] FQ_DCODE_DC_SPACING_HI = 32'hffe;
+localparam integer FQ_DCODE_DC_CODED_LSB = 12;
+localparam integer FQ_DCODE_DC_CODED_MSB = 23;
+localparam integer FQ_DCODE_DC_CODED_W = 12;
+localparam [11:0] FQ_DCODE_DC_CODED_RESET = 12'h0;
+localparam [31:0] FQ_DCODE_DC_CODED_LO = 32'h0;
+localparam [31:0] FQ_DCODE_DC_CODED_HI = 32'hfff;
+localparam integer FQ_DCODE_DC_CONFIRM_LSB = 24;
+localparam integer FQ_DCODE_DC_CONFIRM_MSB = 24;
+localparam integer FQ_DCODE_DC_CONFIRM_W = 1;
+localparam [0:0] FQ_DCODE_DC_CONFIRM_RESET = 1'h1;
+localparam [31:0] FQ_DCODE_DC_CONFIRM_LO = 32'h0;
+localparam [31:0] FQ_DCODE_DC_CONFIRM_HI = 32'h1;
+
+// ABS_COUNT (R, byte 0x90): Absolute count
+localparam [5:0] FQ_ABS_COUNT = 6'h24;
+localparam integer FQ_ABS_COUNT_ABS_COUNT_LSB = 0;
+localparam integer FQ_ABS_COUNT_ABS_COUNT_MSB = 31;
+localparam integer FQ_ABS_COUNT_ABS_COUNT_W = 32;
 /* verilator lint_on UNUSEDPARAM */
 
 // `FQ_RD_<REG>(fields...): the word a read of the register returns, its readable
@@ -551,10 +587,14 @@ localparam [0:0] FQ_REF_STICKY_LOST_RESET = 1'h0;
     {(home_count)}
 `define FQ_RD_REF_COUNT(ref_count) \
     {(ref_count)}
-`define FQ_RD_REF_STATUS(win, homed, pos_valid, home_armed) \
-    {28'd0, (home_armed), (pos_valid), (homed), (win)}
-`define FQ_RD_REF_STICKY(latched, lost) \
-    {30'd0, (lost), (latched)}
+`define FQ_RD_REF_STATUS(win, homed, pos_valid, home_armed, abs_valid) \
+    {27'd0, (abs_valid), (home_armed), (pos_valid), (homed), (win)}
+`define FQ_RD_REF_STICKY(latched, lost, dc_err) \
+    {29'd0, (dc_err), (lost), (latched)}
+`define FQ_RD_DCODE(dc_spacing, dc_coded, dc_confirm) \
+    {7'd0, (dc_confirm), (dc_coded), (dc_spacing)}
+`define FQ_RD_ABS_COUNT(abs_count) \
+    {(abs_count)}
 `endif
 
 // fq_write_ok(a, d, options...): a write of d to word a is taken: the register
@@ -564,7 +604,7 @@ localparam [0:0] FQ_REF_STICKY_LOST_RESET = 1'h0;
 // the registers' checks share: most registers' free bits are those above their
 // top field).
 /* verilator lint_off UNUSEDSIGNAL */
-function automatic fq_write_ok(input [5:0] a, input [31:0] d, input opt_harmonic, input opt_jump, input opt_monitor, input opt_tunable);
+function automatic fq_write_ok(input [5:0] a, input [31:0] d, input opt_dcode, input opt_harmonic, input opt_jump, input opt_monitor, input opt_tunable);
     reg z31, z30, z29, z28, z27, z26, z25, z24, z23, z22, z21, z20, z19, z18, z17, z16, z15, z14, z13, z12, z11, z10, z9, z8, z7, z6, z5, z4, z3, z2, o31, o30, o29, o28, o27, o26, o25, o24, o23, o22, o21, o20, o19, o18, o17, o16, o15;
     begin
         z31 = ~d[31];
@@ -639,12 +679,13 @@ function automatic fq_write_ok(input [5:0] a, input [31:0] d, input opt_harmonic
             FQ_MONITOR: fq_write_ok = opt_tunable && opt_monitor && z24 && (d & 32'h0000f0f0) == 32'd0 && d[11:8] <= 4'd8;
             FQ_REF: fq_write_ok = z25 && (d & 32'h00f0f800) == 32'd0 && d[10:0] <= 11'd2043;
             FQ_HOME: fq_write_ok = 1'b1;
-            FQ_REF_STICKY: fq_write_ok = z2;
+            FQ_REF_STICKY: fq_write_ok = z3;
+            FQ_DCODE: fq_write_ok = opt_dcode && z25 && d[11:0] <= 12'd4094;
             default: fq_write_ok = 1'b0;
         endcase
     end
 endfunction
 /* verilator lint_on UNUSEDSIGNAL */
 `ifndef FQ_WRITE_OK
-`define FQ_WRITE_OK(a, d) fq_write_ok(a, d, OPT_HARMONIC, OPT_JUMP, OPT_MONITOR, OPT_TUNABLE)
+`define FQ_WRITE_OK(a, d) fq_write_ok(a, d, OPT_DCODE, OPT_HARMONIC, OPT_JUMP, OPT_MONITOR, OPT_TUNABLE)
 `endif

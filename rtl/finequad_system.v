@@ -54,6 +54,8 @@ module finequad_system #(
     // OPT_JUMP)
     parameter [0:0] OPT_MONITOR = 1'b1,
     parameter [0:0] OPT_JUMP = 1'b1,
+    // distance-coded reference marks (rtl/finequad_core.v OPT_DCODE)
+    parameter [0:0] OPT_DCODE = 1'b1,
     // ADC front end: clocks per SCLK half period, CS_N to first SCLK falling, per sample
     parameter ADC_SCLK_HALF = 1,
     parameter ADC_CS_SETUP = 1,
@@ -173,7 +175,7 @@ module finequad_system #(
                     .OPT_HARMONIC(OPT_HARMONIC), .OPT_DISTRAM(OPT_DISTRAM),
                     .OPT_PHASE_4K(OPT_PHASE_4K), .OPT_ECP5_MULT(OPT_ECP5_MULT),
                     .OPT_PULSE_ADDR(OPT_PULSE_ADDR),
-                    .OPT_MONITOR(OPT_MONITOR), .OPT_JUMP(OPT_JUMP)) u_core (
+                    .OPT_MONITOR(OPT_MONITOR), .OPT_JUMP(OPT_JUMP), .OPT_DCODE(OPT_DCODE)) u_core (
         .clk(clk), .rst(rst),
         .s_valid(s_valid), .s_u1(s_u1), .s_u2(s_u2), .s_ref(s_ref),
         .reg_we(reg_we), .reg_re(reg_re), .reg_addr(reg_addr), .reg_wdata(reg_wdata),

@@ -40,7 +40,10 @@
 // (home_arm_i, REF.home): the next latch sets off = HOME - x first, so the count
 // (m_count = raw count + off) reads HOME at the reference, REF_COUNT = HOME, and
 // pos_valid = 1; the pins keep counting as before (a controller homes its own count on
-// Z). m_count changes with off on t + 10 of the homing sample, without m_valid.
+// Z). m_count changes with off on t + 10 of the homing sample, without m_valid. With
+// distance-coded marks (dc_en_i, rtl/dcode.v) a latch does not home: the decode that sets
+// abs_valid does (dc_home_i, off = HOME + ABS_COUNT - x, REF_COUNT = HOME + ABS_COUNT),
+// on its last edge. cross_o, cdir_o, mark_o, x_o and inv_o feed the decoder.
 //
 // Z with the Eq. 12 pulses on the pins (ABGEN.ab_src = 1): the pins are the pulses one
 // edge late (pa_o, pb_o: registered on t + 10 like the paced pins), and zp_o is high while
@@ -100,6 +103,16 @@ module refmark #(
     input  wire                      home_arm_i, // a pulse: home at the next latch
     input  wire signed [COUNT_W-1:0] home_i,     // HOME
     input  wire                      inval_i,    // a pulse: the count lost its scale
+    // distance-coded marks (rtl/dcode.v)
+    input  wire                      dc_en_i,    // DCODE on: homing waits for dc_home_i
+    input  wire                      dc_home_i,  // the decode sets abs_valid: home now
+    input  wire signed [COUNT_W-1:0] dc_off_i,   // with it: HOME + ABS_COUNT - x
+    input  wire signed [COUNT_W-1:0] dc_ref_i,   // with it: HOME + ABS_COUNT
+    output reg                       cross_o,    // t + 9: the sample crossed a reference point
+    output reg                       cdir_o,     // (1: back)
+    output wire                      mark_o,     // t + 9: the sample latches (latch_o's source)
+    output wire signed [COUNT_W-1:0] x_o,        // its count
+    output wire                      inv_o,      // t + 9: the count lost its scale
     output reg  signed [COUNT_W-1:0] off_o,      // the homing offset (m_count = count + off)
     output reg  signed [COUNT_W-1:0] ref_count_o,
     output reg                       win_o,      // the window (the filtered reference)
@@ -165,6 +178,7 @@ module refmark #(
         target_o <= count_i;
         lat1 <= 1'b0;
         inv1 <= 1'b0;
+        cross_o <= 1'b0;
         if (cv_i) begin
             cp <= count_i[11:0];
             primed <= (primed || !held_i) && !mode_i;
@@ -174,6 +188,8 @@ module refmark #(
             lat1 <= lat_n;
             inv1 <= held_i || ovs_i;
             x_q <= x;
+            cross_o <= hit;
+            cdir_o <= rev;
             kf1 <= kf;
             qlo1 <= qlo;
             zok1 <= zok;
@@ -197,6 +213,8 @@ module refmark #(
             lat1 <= 1'b0;
             inv1 <= 1'b0;
             x_q <= 0;
+            cross_o <= 1'b0;
+            cdir_o <= 1'b0;
             kf1 <= 12'd0;
             qlo1 <= 2'd0;
             zok1 <= 1'b0;
@@ -204,6 +222,10 @@ module refmark #(
             z_at_o <= 0;
         end
     end
+
+    assign mark_o = lat1;
+    assign x_o = x_q;
+    assign inv_o = inv1 || inval_i;
 
     // ---- t + 10: the Eq. 12 pins and their Z ------------------------------------------------------
     wire [1:0]  pq = {~pb_i, pa_i ^ pb_i};       // quadrant codes (rtl/counter.v)
@@ -230,15 +252,22 @@ module refmark #(
         lost_o <= pos_valid_o && (inv1 || inval_i);
         if (lat1) begin
             homed_o <= 1'b1;
-            if (home_armed_o) begin
+            if (home_armed_o && !dc_en_i) begin
                 pos_valid_o <= 1'b1;
                 off_o <= home_i - x_q;
                 ref_count_o <= home_i;
             end else
                 ref_count_o <= x_q + off_o;
         end
-        if (lat1 && home_armed_o)
+        if (lat1 && home_armed_o && !dc_en_i)
             home_armed_o <= 1'b0;
+        // distance-coded homing (never with lat1 or an invalidation: rtl/dcode.v)
+        if (dc_home_i && home_armed_o) begin
+            off_o <= dc_off_i;
+            ref_count_o <= dc_ref_i;
+            pos_valid_o <= 1'b1;
+            home_armed_o <= 1'b0;
+        end
         if (home_arm_i)
             home_armed_o <= 1'b1;
         if (inv1 || inval_i)
@@ -256,7 +285,7 @@ module refmark #(
     initial begin
         target_o = 0; z_en_o = 1'b0; z_at_o = 0; off_o = 0; ref_count_o = 0; win_o = 1'b0;
         homed_o = 1'b0; pos_valid_o = 1'b0; home_armed_o = 1'b0; latch_o = 1'b0;
-        lost_o = 1'b0; pa_o = 1'b1; pb_o = 1'b1; zp_o = 1'b0;
+        lost_o = 1'b0; pa_o = 1'b1; pb_o = 1'b1; zp_o = 1'b0; cross_o = 1'b0; cdir_o = 1'b0;
     end
 
 `ifdef FORMAL
@@ -266,7 +295,8 @@ module refmark #(
     //  R2 a latch only inside the window, with a crossing of the sample's count step.
     //  R3 Z is armed only at a crossing inside the window, at its count x; z_at changes
     //     only then (inval_i disarms it).
-    //  R4 pos_valid rises only with a homing latch; a held or overspeed sample (or inval_i)
+    //  R4 pos_valid rises only with homing: a homing latch, or with distance-coded marks
+    //     the decode that sets abs_valid; a held or overspeed sample (or inval_i)
     //     clears it on the next edge, and lost_o pulses if it was set.
     reg f_past_valid = 1'b0, f_rst = 1'b0, f_lip = 1'b0;
     reg f_xc = 1'b0, f_lat = 1'b0, f_inv = 1'b0, f_pv = 1'b0, f_inval = 1'b0;
@@ -305,7 +335,8 @@ module refmark #(
     always @(posedge clk) begin
         if (f_past_valid && !rst && !f_rst) begin
             if (pos_valid_o && !$past(pos_valid_o))
-                assert ($past(lat1) && $past(home_armed_o));                 // R4
+                assert ($past(home_armed_o) &&                               // R4
+                        (($past(lat1) && !$past(dc_en_i)) || $past(dc_home_i)));
             if ($past(inv1) || $past(inval_i))
                 assert (!pos_valid_o && lost_o == $past(pos_valid_o));
         end

@@ -2,11 +2,11 @@
 # The builds PROFILE= selects (one finequad_core each: make rtlsim, model, lint,
 # vcdcompare) and that core's parameters in each; the board builds (make bitstream
 # BOARD=) and FuseSoC's lint targets (finequad.core).
-BUILDS_TOML_SHA256 := ab167691809ae11798b8e4945878f512a71fa234375fa5303602e610186007c6
+BUILDS_TOML_SHA256 := 618984036838a07b1fcbe88d45418275926837c890392eb1965a050fb088a0f5
 BUILDS := default up5k ecp5 icebreaker ulx3s
 BOARDS := icebreaker ulx3s
-PROFILE_KNOBS := TABLE_EXACT ADC_W ENGINE_LANES OPT_DISTRAM OPT_PHASE_4K OPT_PULSE_ADDR OPT_HARMONIC OPT_NTH_DSP OPT_TUNABLE OPT_MONITOR OPT_JUMP
-KNOBS_1BIT := TABLE_EXACT OPT_DISTRAM OPT_PHASE_4K OPT_PULSE_ADDR OPT_HARMONIC OPT_NTH_DSP OPT_TUNABLE OPT_MONITOR OPT_JUMP
+PROFILE_KNOBS := TABLE_EXACT ADC_W ENGINE_LANES OPT_DISTRAM OPT_PHASE_4K OPT_PULSE_ADDR OPT_HARMONIC OPT_NTH_DSP OPT_TUNABLE OPT_MONITOR OPT_JUMP OPT_DCODE
+KNOBS_1BIT := TABLE_EXACT OPT_DISTRAM OPT_PHASE_4K OPT_PULSE_ADDR OPT_HARMONIC OPT_NTH_DSP OPT_TUNABLE OPT_MONITOR OPT_JUMP OPT_DCODE
 KNOB_VALUES.TABLE_EXACT := 0 1
 KNOB_VALUES.ADC_W := 12 13 14 15 16
 KNOB_VALUES.ENGINE_LANES := 1 2
@@ -18,6 +18,7 @@ KNOB_VALUES.OPT_NTH_DSP := 0 1
 KNOB_VALUES.OPT_TUNABLE := 0 1
 KNOB_VALUES.OPT_MONITOR := 0 1
 KNOB_VALUES.OPT_JUMP := 0 1
+KNOB_VALUES.OPT_DCODE := 0 1
 FUSESOC_LINT := lint lint_up5k lint_ecp5 lint_icebreaker lint_ulx3s
 
 # default: the RTL's defaults: every feature, one engine lane, block RAM
@@ -32,10 +33,11 @@ BUILD.default.OPT_NTH_DSP := 1
 BUILD.default.OPT_TUNABLE := 1
 BUILD.default.OPT_MONITOR := 1
 BUILD.default.OPT_JUMP := 1
+BUILD.default.OPT_DCODE := 1
 BUILD.default.G := 
 BUILD.default.SYNTH_G := 
 
-# up5k: make report's iCE40 UP5K build: n * phase in logic (the 8 DSP blocks are taken), no harmonic compensation, the tuning registers constant, no fault checks in the signal monitor, no jump detector; the register port stays
+# up5k: make report's iCE40 UP5K build: n * phase in logic (the 8 DSP blocks are taken), no harmonic compensation, the tuning registers constant, no fault checks in the signal monitor, no jump detector, no distance-coded marks; the register port stays
 BUILD.up5k.TABLE_EXACT := 1
 BUILD.up5k.ADC_W := 16
 BUILD.up5k.ENGINE_LANES := 1
@@ -47,7 +49,8 @@ BUILD.up5k.OPT_NTH_DSP := 0
 BUILD.up5k.OPT_TUNABLE := 0
 BUILD.up5k.OPT_MONITOR := 0
 BUILD.up5k.OPT_JUMP := 0
-BUILD.up5k.G := -GOPT_NTH_DSP=1'b0 -GOPT_HARMONIC=1'b0 -GOPT_TUNABLE=1'b0 -GOPT_MONITOR=1'b0 -GOPT_JUMP=1'b0
+BUILD.up5k.OPT_DCODE := 0
+BUILD.up5k.G := -GOPT_NTH_DSP=1'b0 -GOPT_HARMONIC=1'b0 -GOPT_TUNABLE=1'b0 -GOPT_MONITOR=1'b0 -GOPT_JUMP=1'b0 -GOPT_DCODE=1'b0
 BUILD.up5k.SYNTH_G := 
 
 # ecp5: make report's ECP5 build: every feature, two engine lanes, the harmonic table in distributed RAM, the 4096-row phase table, the ratio and n-th order products' registers in DSP blocks, Eq. 12 on the sine table's address side
@@ -62,10 +65,11 @@ BUILD.ecp5.OPT_NTH_DSP := 1
 BUILD.ecp5.OPT_TUNABLE := 1
 BUILD.ecp5.OPT_MONITOR := 1
 BUILD.ecp5.OPT_JUMP := 1
+BUILD.ecp5.OPT_DCODE := 1
 BUILD.ecp5.G := -GOPT_DISTRAM=1'b1 -GOPT_PHASE_4K=1'b1 -GOPT_ECP5_MULT=1'b1 -GOPT_PULSE_ADDR=1'b1 -GENGINE_LANES=2
 BUILD.ecp5.SYNTH_G := -GOPT_ECP5_MULT=1'b1
 
-# icebreaker: the iCEBreaker (make bitstream): the core standalone with the Pmod AD1, no host link, no harmonic compensation (README, Boards)
+# icebreaker: the iCEBreaker (make bitstream): the core standalone with the Pmod AD1, no host link, no harmonic compensation, no distance-coded marks (README, Boards)
 BUILD.icebreaker.TABLE_EXACT := 1
 BUILD.icebreaker.ADC_W := 12
 BUILD.icebreaker.ENGINE_LANES := 1
@@ -77,9 +81,10 @@ BUILD.icebreaker.OPT_NTH_DSP := 0
 BUILD.icebreaker.OPT_TUNABLE := 1
 BUILD.icebreaker.OPT_MONITOR := 1
 BUILD.icebreaker.OPT_JUMP := 1
-BUILD.icebreaker.G := -GADC_W=12 -GOPT_NTH_DSP=1'b0 -GOPT_HARMONIC=1'b0
+BUILD.icebreaker.OPT_DCODE := 0
+BUILD.icebreaker.G := -GADC_W=12 -GOPT_NTH_DSP=1'b0 -GOPT_HARMONIC=1'b0 -GOPT_DCODE=1'b0
 BUILD.icebreaker.SYNTH_G := 
-BUILD.icebreaker.SYSTEM_G := -GOPT_NTH_DSP=1'b0 -GOPT_HARMONIC=1'b0 -GOPT_HOSTLINK=1'b0
+BUILD.icebreaker.SYSTEM_G := -GOPT_NTH_DSP=1'b0 -GOPT_HARMONIC=1'b0 -GOPT_HOSTLINK=1'b0 -GOPT_DCODE=1'b0
 
 # ulx3s: the ULX3S (make bitstream BOARD=ulx3s): the core with the host link (UART, AXI4-Lite registers) and the Pmod AD1
 BUILD.ulx3s.TABLE_EXACT := 1
@@ -93,6 +98,7 @@ BUILD.ulx3s.OPT_NTH_DSP := 1
 BUILD.ulx3s.OPT_TUNABLE := 1
 BUILD.ulx3s.OPT_MONITOR := 1
 BUILD.ulx3s.OPT_JUMP := 1
+BUILD.ulx3s.OPT_DCODE := 1
 BUILD.ulx3s.G := -GADC_W=12 -GOPT_DISTRAM=1'b1 -GOPT_PHASE_4K=1'b1
 BUILD.ulx3s.SYNTH_G := 
 BUILD.ulx3s.SYSTEM_G := -GOPT_NTH_DSP=1'b1 -GOPT_HARMONIC=1'b1 -GOPT_DISTRAM=1'b1 -GOPT_PHASE_4K=1'b1 -GUART_TIMEOUT=20'd283000

@@ -61,7 +61,7 @@ PLL = {
 # keeps its earlier short names beside them
 KNOBS = ("TABLE_EXACT", "ADC_W", "ENGINE_LANES", "OPT_DISTRAM", "OPT_PHASE_4K",
          "OPT_PULSE_ADDR", "OPT_HARMONIC", "OPT_NTH_DSP", "OPT_TUNABLE", "OPT_MONITOR",
-         "OPT_JUMP")
+         "OPT_JUMP", "OPT_DCODE")
 # values the core elaborates with (rtl/finequad_core.v's checks); one-bit ones by width
 KNOB_VALUES = {"ADC_W": range(12, 17), "ENGINE_LANES": (1, 2)}
 # finequad_core's parameters only synthesis reads (rtl/octant.v, rtl/lut.v: simulators run

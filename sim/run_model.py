@@ -3,7 +3,7 @@
 
     python3 -m sim.run_model --in in.csv --out out.csv [--table exact|paper] [--div D]
         [--adc-w W] [--engine-lanes L] [--opt-harmonic 0|1] [--opt-monitor 0|1]
-        [--opt-jump 0|1] [--opt-tunable 0|1] [--<setting> N ...] [--home] [--vcd ref.vcd]
+        [--opt-jump 0|1] [--opt-dcode 0|1] [--opt-tunable 0|1] [--<setting> N ...] [--home] [--vcd ref.vcd]
 
 The settings (--interp, --eps, --lambda-k, --count-mode, --ab-sep, --ref-q, ...) are the
 register fields of rtl/regs/finequad.rdl, as the RTL harness takes them; those not given
@@ -217,6 +217,8 @@ def main(argv=None):
                     help="OPT_MONITOR: 0 = a core built without the signal monitor's checks")
     ap.add_argument("--opt-jump", type=int, choices=[0, 1], default=1,
                     help="OPT_JUMP: 0 = a core built without the estimator's jump detector")
+    ap.add_argument("--opt-dcode", type=int, choices=[0, 1], default=1,
+                    help="OPT_DCODE: 0 = a core built without distance-coded marks")
     ap.add_argument("--opt-tunable", type=int, choices=[0, 1], default=1,
                     help="OPT_TUNABLE: 0 = a core whose tuning registers are constant (their "
                          "settings are refused, as that core refuses the writes)")
@@ -236,7 +238,8 @@ def main(argv=None):
             settings[f.name] = bounded(text, o, f.lo, f.hi, f"{f.reg}.{f.name}")
     refused = refused_write(settings, dict(
         OPT_TUNABLE=args.opt_tunable, OPT_HARMONIC=args.opt_harmonic,
-        OPT_MONITOR=args.opt_monitor, OPT_JUMP=args.opt_jump), args.home)
+        OPT_MONITOR=args.opt_monitor, OPT_JUMP=args.opt_jump, OPT_DCODE=args.opt_dcode),
+        args.home)
     if refused:
         die(refused)
     div = bounded(args.div, "--div", 1, DIV_MAX)
@@ -255,6 +258,7 @@ def main(argv=None):
     cfg = core.Config(TABLE=args.table, div=div, ADC_W=args.adc_w,
                       ENGINE_LANES=args.engine_lanes, OPT_HARMONIC=args.opt_harmonic,
                       OPT_MONITOR=args.opt_monitor, OPT_JUMP=args.opt_jump,
+                      OPT_DCODE=args.opt_dcode,
                       home_arm=args.home, **settings)
     res = core.run(u1, u2, cfg, trace=bool(args.vcd), ref=ref)
     try:

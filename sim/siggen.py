@@ -141,6 +141,23 @@ def reference(x, marks, width, jitter=0.0, glitches=0, seed=0):
     return r
 
 
+def distance_coded(spacing, coded, length):
+    """The marks of a scale with distance-coded reference marks (rtl/dcode.v): fixed marks
+    every `spacing` signal periods and a coded mark spacing / 2 + (j + 1) (coded - spacing)
+    after fixed mark j; their positions in signal periods from the first fixed mark, in
+    order, up to `length` periods (a coded mark only while it lies before the next fixed
+    one)."""
+    d = coded - spacing
+    out, j = [], 0
+    while j * spacing <= length:
+        out.append(j * spacing)
+        b = j * spacing + spacing // 2 + d * (j + 1)
+        if b < (j + 1) * spacing and b <= length:
+            out.append(b)
+        j += 1
+    return out
+
+
 # ---- parameter profiles -----------------------------------------------------------------
 
 def along(x, start, end):

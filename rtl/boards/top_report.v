@@ -22,6 +22,8 @@ module top_report #(
     parameter [0:0] OPT_TUNABLE = 1'b1,
     parameter [0:0] OPT_MONITOR = 1'b1,
     parameter [0:0] OPT_JUMP = 1'b1,
+    // distance-coded reference marks (rtl/finequad_core.v OPT_DCODE)
+    parameter [0:0] OPT_DCODE = 1'b1,
     parameter ENGINE_LANES = 1,
     // 1: reg_rdata is observed (the whole read-back multiplexer is kept); 0: reg_re is
     // tied low and the read-back is removed by synthesis (a reduced variant, for a
@@ -60,7 +62,7 @@ module top_report #(
                     .OPT_DISTRAM(OPT_DISTRAM), .OPT_PHASE_4K(OPT_PHASE_4K),
                     .OPT_ECP5_MULT(OPT_ECP5_MULT), .OPT_PULSE_ADDR(OPT_PULSE_ADDR),
                     .OPT_MONITOR(OPT_MONITOR),
-                    .OPT_JUMP(OPT_JUMP),
+                    .OPT_JUMP(OPT_JUMP), .OPT_DCODE(OPT_DCODE),
                     .OPT_TUNABLE(OPT_TUNABLE), .ENGINE_LANES(ENGINE_LANES)) u_core (
         .clk(clk), .rst(rst),
         .s_valid(s_valid), .s_u1(s_u1), .s_u2(s_u2), .s_ref(s_ref),

@@ -19,6 +19,8 @@ module top_report_multi #(
     parameter [0:0] OPT_TUNABLE = 1'b1,
     parameter [0:0] OPT_MONITOR = 1'b1,
     parameter [0:0] OPT_JUMP = 1'b1,
+    // distance-coded reference marks (rtl/finequad_core.v OPT_DCODE)
+    parameter [0:0] OPT_DCODE = 1'b1,
     parameter ENGINE_LANES = 1
 ) (
     input  wire clk,
@@ -51,7 +53,7 @@ module top_report_multi #(
                      .OPT_DISTRAM(OPT_DISTRAM), .OPT_PHASE_4K(OPT_PHASE_4K),
                      .OPT_ECP5_MULT(OPT_ECP5_MULT), .OPT_PULSE_ADDR(OPT_PULSE_ADDR),
                      .OPT_MONITOR(OPT_MONITOR),
-                     .OPT_JUMP(OPT_JUMP), .ENGINE_LANES(ENGINE_LANES)) u_multi (
+                     .OPT_JUMP(OPT_JUMP), .OPT_DCODE(OPT_DCODE), .ENGINE_LANES(ENGINE_LANES)) u_multi (
         .clk(clk), .rst(rst), .s_valid(s_valid), .s_u1(s_u1), .s_u2(s_u2), .s_ref(s_ref),
         .reg_we(reg_we), .reg_re(reg_re), .reg_axis(reg_axis), .reg_addr(reg_addr),
         .reg_wdata(reg_wdata), .reg_rdata(reg_rdata), .reg_err(reg_err),

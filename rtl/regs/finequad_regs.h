@@ -302,7 +302,7 @@ extern "C" {
 #define FINEQUAD__ID__ID_bm 0xffffffff
 #define FINEQUAD__ID__ID_bp 0
 #define FINEQUAD__ID__ID_bw 32
-#define FINEQUAD__ID__ID_reset 0x46510007
+#define FINEQUAD__ID__ID_reset 0x46510008
 
 // reg - finequad::REF_COUNT
 #define FINEQUAD__REF_COUNT__REF_COUNT_bm 0xffffffff
@@ -322,6 +322,9 @@ extern "C" {
 #define FINEQUAD__REF_STATUS__HOME_ARMED_bm 0x8
 #define FINEQUAD__REF_STATUS__HOME_ARMED_bp 3
 #define FINEQUAD__REF_STATUS__HOME_ARMED_bw 1
+#define FINEQUAD__REF_STATUS__ABS_VALID_bm 0x10
+#define FINEQUAD__REF_STATUS__ABS_VALID_bp 4
+#define FINEQUAD__REF_STATUS__ABS_VALID_bw 1
 
 // reg - finequad::REF_STICKY
 #define FINEQUAD__REF_STICKY__LATCHED_bm 0x1
@@ -332,6 +335,29 @@ extern "C" {
 #define FINEQUAD__REF_STICKY__LOST_bp 1
 #define FINEQUAD__REF_STICKY__LOST_bw 1
 #define FINEQUAD__REF_STICKY__LOST_reset 0x0
+#define FINEQUAD__REF_STICKY__DC_ERR_bm 0x4
+#define FINEQUAD__REF_STICKY__DC_ERR_bp 2
+#define FINEQUAD__REF_STICKY__DC_ERR_bw 1
+#define FINEQUAD__REF_STICKY__DC_ERR_reset 0x0
+
+// reg - finequad::DCODE
+#define FINEQUAD__DCODE__DC_SPACING_bm 0xfff
+#define FINEQUAD__DCODE__DC_SPACING_bp 0
+#define FINEQUAD__DCODE__DC_SPACING_bw 12
+#define FINEQUAD__DCODE__DC_SPACING_reset 0x0
+#define FINEQUAD__DCODE__DC_CODED_bm 0xfff000
+#define FINEQUAD__DCODE__DC_CODED_bp 12
+#define FINEQUAD__DCODE__DC_CODED_bw 12
+#define FINEQUAD__DCODE__DC_CODED_reset 0x0
+#define FINEQUAD__DCODE__DC_CONFIRM_bm 0x1000000
+#define FINEQUAD__DCODE__DC_CONFIRM_bp 24
+#define FINEQUAD__DCODE__DC_CONFIRM_bw 1
+#define FINEQUAD__DCODE__DC_CONFIRM_reset 0x1
+
+// reg - finequad::ABS_COUNT
+#define FINEQUAD__ABS_COUNT__ABS_COUNT_bm 0xffffffff
+#define FINEQUAD__ABS_COUNT__ABS_COUNT_bp 0
+#define FINEQUAD__ABS_COUNT__ABS_COUNT_bw 32
 
 // addrmap - finequad
 typedef struct __attribute__ ((__packed__)) {
@@ -373,6 +399,8 @@ typedef struct __attribute__ ((__packed__)) {
     uint32_t REF_COUNT;
     uint32_t REF_STATUS;
     uint32_t REF_STICKY;
+    uint32_t DCODE;
+    uint32_t ABS_COUNT;
 } finequad_t;
 
 

@@ -42,6 +42,9 @@ static const FqSetting FQ_SETTINGS[] = {
     {"ref_q", "REF", 0x1d, 0, 11, 0L, 2043L, 0L},
     {"ref_filt", "REF", 0x1d, 16, 4, 0L, 15L, 2L},
     {"home_count", "HOME", 0x1e, 0, 32, -2147483648L, 2147483647L, 0L},
+    {"dc_spacing", "DCODE", 0x23, 0, 12, 0L, 4094L, 0L},
+    {"dc_coded", "DCODE", 0x23, 12, 12, 0L, 4095L, 0L},
+    {"dc_confirm", "DCODE", 0x23, 24, 1, 0L, 1L, 1L},
 };
 static const int FQ_N_SETTINGS = (int)(sizeof FQ_SETTINGS / sizeof FQ_SETTINGS[0]);
 static const int FQ_CTRL = 0x00;
@@ -80,3 +83,5 @@ static const int FQ_ID = 0x1f;
 static const int FQ_REF_COUNT = 0x20;
 static const int FQ_REF_STATUS = 0x21;
 static const int FQ_REF_STICKY = 0x22;
+static const int FQ_DCODE = 0x23;
+static const int FQ_ABS_COUNT = 0x24;

@@ -82,6 +82,7 @@ class Config:
     OPT_MONITOR: int = 1     # 0: no fault checks (sim/model/monitor.py), RADIUS and
                              # MONITOR read 0
     OPT_JUMP: int = 1        # 0: no jump detector (as jump_off = 1), JUMPS reads 0
+    OPT_DCODE: int = 1       # 0: no distance-coded marks (DCODE refused, as dc_spacing = 0)
     ENGINE_LANES: int = 1    # lanes of the RLS engine (1 or 2): its clocks per program
     interp: int = _S["interp"].reset
     count_mode: int = _S["count_mode"].reset
@@ -116,6 +117,9 @@ class Config:
                              # reference latched homes the count to home_count
     homes: list = field(default_factory=list)   # edges w of REF.home writes during the run
                              # (each arms homing for the latches on edges >= w + 2)
+    dc_spacing: int = _S["dc_spacing"].reset   # distance-coded marks (sim/model/dcode.py)
+    dc_coded: int = _S["dc_coded"].reset
+    dc_confirm: int = _S["dc_confirm"].reset
     clip: int = _S["clip"].reset
     loss: int = _S["loss"].reset
     over: int = _S["over"].reset
@@ -215,7 +219,9 @@ class Core:
         self.ill_count = 0            # illegal A/B steps
         self.ab = abgen.Follower(cfg.ab_sep, cfg.ab_bound, cfg.COUNT_W)
         self.rm = refmark.RefMark(cfg.COUNT_W, cfg.ref_q, cfg.ref_filt, cfg.home_count,
-                                  cfg.home_arm, cfg.homes)
+                                  cfg.home_arm, cfg.homes,
+                                  cfg.dc_spacing if cfg.OPT_DCODE else 0, cfg.dc_coded,
+                                  cfg.dc_confirm)
 
     @staticmethod
     def _apply(state, delta):
@@ -358,8 +364,10 @@ class Core:
         est = self.est
         res = dict(jumps=list(est.jumps), count=count, a=a_pin, b=b_pin, fault=fault,
                    z=z_pin, ref_count=rmo["ref_count"], homed=rmo["homed"],
-                   pos_valid=rmo["pos_valid"],
+                   pos_valid=rmo["pos_valid"], abs_valid=rmo["abs_valid"],
+                   abs_count=rmo["abs_count"],
                    ref_latches=self.rm.latches, ref_losses=self.rm.losses,
+                   dc_errors=self.rm.dc.errors,
                    n_updates=est.n_updates, invalid_updates=est.n_invalid,
                    gain_held=est.n_gain_held,
                    sat=est.sat,           # the engine saturated a register (STATUS.sat)

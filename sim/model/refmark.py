@@ -14,12 +14,17 @@ rtl/refmark.v's header; this model follows them sample by sample and edge by edg
   crossing wins). A disarm earlier in the span changes no sampled Z: after it the pins
   stay strictly on one side of z_at.
 * Z after edge e: armed (before e) and the pins after e at z_at (before e).
+* Distance-coded marks (sim/model/dcode.py): each sample's crossing, latch and
+  invalidation reach the decoder on t + 10; a decode that ends between two samples'
+  t + 10 is finished before the later sample (no event in between can abandon it), and
+  its homing changes the offset on its last edge.
 * With the Eq. 12 pulses on the pins (ab_src = 1) the pins are sample j's pulses from
   t_j + 10, and Z beside them (rtl/refmark.v: the count the pulses show is ref_q, inside
   the window, or it was and the pulses have not moved).
 """
 import numpy as np
 
+from .dcode import DCode
 from .fixed import wrap
 
 QUAD = {(1, 1): 0, (0, 1): 1, (0, 0): 2, (1, 0): 3}   # quadrant code {~B, A ^ B}
@@ -29,7 +34,7 @@ class RefMark:
     """The block's state from rst; `run` takes the next samples."""
 
     def __init__(self, count_w=32, ref_q=0, ref_filt=2, home_count=0, home_arm=False,
-                 homes=()):
+                 homes=(), dc_spacing=0, dc_coded=0, dc_confirm=0):
         self.count_w = count_w
         self.ref_q, self.ref_filt = int(ref_q), int(ref_filt)
         self.home = wrap(int(home_count), count_w)
@@ -58,21 +63,41 @@ class RefMark:
         self.off_pend, self.pins_pend = [], []
         self.off_shown, self.pins_shown = 0, ((1, 1), 0)
         self.z_before, self.z_edge = (False, 0), -1
+        # distance-coded marks (sim/model/dcode.py; DCODE.dc_spacing = 0: off)
+        self.dc = DCode(count_w, dc_spacing, dc_coded, dc_confirm, home=self.home)
+
+    def arm_homes(self, edge):
+        """REF.home writes on edges w <= edge - 2 arm homing for a latch or decode on
+        `edge` (a write on w arms it on w + 1)."""
+        while self.homes and self.homes[0] <= edge - 2:
+            self.homes.pop(0)
+            self.home_armed = True
+
+    def _dc_finish(self, edge, pend):
+        """A decode ending by `edge` (no event left that could abandon it); its homing
+        changes the offset on its last edge."""
+        p = self.dc.pending
+        if p is not None and p[0] <= edge:
+            off = self.off
+            self.dc.finish(edge, self)
+            if self.off != off:
+                pend.append((p[0], self.off))
 
     def crossing(self, c, q, n, held, ovs, mode):
         """(hit, x) of one sample: does the step from the previous count to c cross a
-        count = ref_q (mod 4 n), and at which count (rtl/refmark.v)."""
+        count = ref_q (mod 4 n) (hit: +1 forwards, -1 back, 0 not), and at which count
+        (rtl/refmark.v)."""
         n4 = 4 * n
         if not self.primed or mode or held or ovs or self.ref_q >= n4:
-            return False, 0
+            return 0, 0
         kf = (q - self.ref_q) % n4
         kr = (self.ref_q - q) % n4
         dc = ((c - self.cp) + 2048) % 4096 - 2048        # 12-bit two's complement
         if dc > 0 and kf < dc:
-            return True, wrap(c - kf, self.count_w)
+            return 1, wrap(c - kf, self.count_w)
         if dc < 0 and kr < -dc:
-            return True, wrap(c + kr, self.count_w)
-        return False, 0
+            return -1, wrap(c + kr, self.count_w)
+        return 0, 0
 
     def run(self, t, count, q, n, held, ovs, ref, mode, ab, pa=None, pb=None):
         """Samples with strobe edges t, raw counts, q = prod >> 11, held, ovs, ref (per
@@ -81,11 +106,13 @@ class RefMark:
         a, b, ab_ovf (pins after t + 8), z (after t + 8), off8 (the offset after t + 8:
         m_count = count + off8), ref_count, homed, pos_valid (after t + 10); with the
         sample's Eq. 12 pulses pa, pb: the pins ep_a, ep_b and ep_z (after t + 8) when
-        they show the pulses."""
+        they show the pulses; abs_valid and abs_count (ABS_COUNT) after t + 10."""
         n_s = len(t)
         out = {k: np.zeros(n_s, np.int64) for k in
                ("a", "b", "ab_ovf", "z", "off8", "ref_count", "homed", "pos_valid",
-                "ep_a", "ep_b", "ep_z")}
+                "ep_a", "ep_b", "ep_z", "abs_valid", "abs_count")}
+        self.dc.n = n
+        dc_on = self.dc.enabled
         if pa is None:
             pa = pb = np.ones(n_s, np.int64)
         pal, pbl = [int(v) for v in pa], [int(v) for v in pb]
@@ -103,6 +130,8 @@ class RefMark:
         pend, pins_pend = self.off_pend, self.pins_pend
         for k in range(n_s):
             tk = tl[k]
+            if dc_on and self.dc.pending is not None:
+                self._dc_finish(tk + 9, pend)
             while pend and pend[0][0] <= tk + 8:
                 self.off_shown = pend.pop(0)[1]
             out["off8"][k] = self.off_shown
@@ -123,7 +152,7 @@ class RefMark:
             r = rl[k]
             flip = r != self.win and self.fc >= self.ref_filt
             win_n = r if flip else self.win
-            xc = hit and win_n == 1
+            xc = hit != 0 and win_n == 1
             arm_n = self.arm or (win_n == 1 and self.win == 0)
             lat = xc and arm_n
             if xc:
@@ -145,17 +174,17 @@ class RefMark:
             self.target = cl[k]
             ab.set(tk + 10, cl[k])
             # ---- stage 2 on t_k + 10 -----------------------------------------------------
-            # a REF.home write on edge w arms homing on w + 1: before this latch if w <= t_k + 8
-            while self.homes and self.homes[0] <= tk + 8:
-                self.homes.pop(0)
-                self.home_armed = True
+            self.arm_homes(tk + 10)
             inv = hl[k] or ol[k]
+            # a decode ending on this edge, unless this latch or inv abandons it
+            if dc_on and not lat and not inv and self.dc.pending is not None:
+                self._dc_finish(tk + 10, pend)
             if self.pos_valid and inv:
                 self.losses += 1
             if lat:
                 self.latches += 1
                 self.homed = 1
-                if self.home_armed:
+                if self.home_armed and not self.dc.enabled:
                     self.pos_valid = 1
                     self.off = wrap(self.home - x, cw)
                     self.ref_count = self.home
@@ -164,6 +193,8 @@ class RefMark:
                     self.ref_count = wrap(x + self.off, cw)
             if inv:
                 self.pos_valid = 0
+            if dc_on:                    # off: the decoder stays cleared (rtl: inv)
+                self.dc.edge(tk + 10, hit, lat, x, inv)
             pend.append((tk + 10, self.off))
             # ---- the Eq. 12 pins and their Z on t_k + 10 ------------------------------------
             pins = (pal[k], pbl[k])
@@ -178,4 +209,6 @@ class RefMark:
             out["ref_count"][k] = self.ref_count
             out["homed"][k] = self.homed
             out["pos_valid"][k] = self.pos_valid
+            out["abs_valid"][k] = self.dc.abs_valid
+            out["abs_count"][k] = self.dc.abs_count
         return out

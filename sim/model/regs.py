@@ -197,14 +197,14 @@ REGS = {
             'The count at the reference after homing (REF.home; its low COUNT_W bits).'),
     }, 'Home count', ''),
     'ID': Reg('ID', 0x1f, 0x7c, True, False, 0x00000000, 0xffffffff, 0x00000000, (), {
-        'id': Field('id', 'ID', 0, 32, 1179713543, True, False, False, False, False, 0, 4294967295, 'u32',
-            '"FQ" (0x4651) and the register map\'s version, major.minor (0x0007: 0.7).'),
+        'id': Field('id', 'ID', 0, 32, 1179713544, True, False, False, False, False, 0, 4294967295, 'u32',
+            '"FQ" (0x4651) and the register map\'s version, major.minor (0x0008: 0.8).'),
     }, 'Identification', ''),
     'REF_COUNT': Reg('REF_COUNT', 0x20, 0x80, True, False, 0x00000000, 0xffffffff, 0x00000000, (), {
         'ref_count': Field('ref_count', 'REF_COUNT', 0, 32, None, True, False, False, False, True, -2147483648, 2147483647, 's32',
             'The count at the last reference latched (one latch per pass over the mark); 0 before the first.'),
     }, 'Reference count', ''),
-    'REF_STATUS': Reg('REF_STATUS', 0x21, 0x84, True, False, 0x00000000, 0x0000000f, 0x00000000, (), {
+    'REF_STATUS': Reg('REF_STATUS', 0x21, 0x84, True, False, 0x00000000, 0x0000001f, 0x00000000, (), {
         'win': Field('win', 'REF_STATUS', 0, 1, None, True, False, False, False, False, 0, 1, '',
             'The window: the reference input after its glitch filter.'),
         'homed': Field('homed', 'REF_STATUS', 1, 1, None, True, False, False, False, False, 0, 1, '',
@@ -212,14 +212,30 @@ REGS = {
         'pos_valid': Field('pos_valid', 'REF_STATUS', 2, 1, None, True, False, False, False, False, 0, 1, '',
             'Position valid: homing (REF.home) has latched a reference and nothing since has made the count uncertain by a period (rtl/refmark.v lists what clears it: a held or overspeed sample, a change of INTERP, edge mode, rst).'),
         'home_armed': Field('home_armed', 'REF_STATUS', 3, 1, None, True, False, False, False, False, 0, 1, '',
-            'Homing is armed (REF.home): the next reference sets the count to HOME.'),
+            'Homing is armed (REF.home): the next reference sets the count to HOME (with distance-coded marks: the decode that sets abs_valid).'),
+        'abs_valid': Field('abs_valid', 'REF_STATUS', 4, 1, None, True, False, False, False, False, 0, 1, '',
+            'Absolute valid (distance-coded marks, DCODE): the distance between the last marks decoded to their position on the scale (ABS_COUNT), and nothing since has made the count uncertain (what clears pos_valid clears it; a wrong distance clears it and sets REF_STICKY.dc_err).'),
     }, 'Reference status', ''),
-    'REF_STICKY': Reg('REF_STICKY', 0x22, 0x88, True, True, 0x00000003, 0x00000003, 0x00000000, (), {
+    'REF_STICKY': Reg('REF_STICKY', 0x22, 0x88, True, True, 0x00000007, 0x00000007, 0x00000000, (), {
         'latched': Field('latched', 'REF_STICKY', 0, 1, 0, True, True, False, True, False, 0, 1, '',
             'A reference was latched.'),
         'lost': Field('lost', 'REF_STICKY', 1, 1, 0, True, True, False, True, False, 0, 1, '',
             'pos_valid fell: the count may be off by a period (home again).'),
+        'dc_err': Field('dc_err', 'REF_STICKY', 2, 1, 0, True, True, False, True, False, 0, 1, '',
+            'Distance-coded marks: a distance between two marks that the layout does not have, or that contradicts the previous decode (a missed or spurious mark), or a mark while a decode ran (rtl/dcode.v). abs_valid is 0 after it.'),
     }, 'Reference events', 'Sticky: write 1 to clear a bit (an event on the clearing edge stays set).'),
+    'DCODE': Reg('DCODE', 0x23, 0x8c, True, True, 0x01ffffff, 0x01ffffff, 0x01000000, ('OPT_DCODE',), {
+        'dc_spacing': Field('dc_spacing', 'DCODE', 0, 12, 0, True, True, False, False, False, 0, 4094, 'u12',
+            "The fixed marks' spacing in signal periods, even (0: off)."),
+        'dc_coded': Field('dc_coded', 'DCODE', 12, 12, 0, True, True, False, False, False, 0, 4095, 'u12',
+            "The coded marks' spacing in signal periods, more than dc_spacing (the increment dc_coded - dc_spacing)."),
+        'dc_confirm': Field('dc_confirm', 'DCODE', 24, 1, 1, True, True, False, False, False, 0, 1, '',
+            '1: abs_valid only after three marks crossed in one direction whose two distances agree (an extra mark can then never give a wrong position); 0: after two marks.'),
+    }, 'Distance-coded marks', 'The layout of a scale with distance-coded reference marks (rtl/dcode.v): fixed marks every dc_spacing signal periods, and between fixed marks j and j + 1 a coded mark dc_spacing / 2 + (j + 1) (dc_coded - dc_spacing) periods after mark j, so that the distance between two neighbouring marks tells where they are. Common scales: 1000 and 1001. dc_spacing = 0: marks are not distance-coded.'),
+    'ABS_COUNT': Reg('ABS_COUNT', 0x24, 0x90, True, False, 0x00000000, 0xffffffff, 0x00000000, (), {
+        'abs_count': Field('abs_count', 'ABS_COUNT', 0, 32, None, True, False, False, False, True, -2147483648, 2147483647, 's32',
+            "Distance-coded marks: the absolute count of the last mark decoded, 4 n times its position in signal periods from the scale's first fixed mark (valid while REF_STATUS.abs_valid). The absolute count now is the count - REF_COUNT + ABS_COUNT; homing (REF.home) makes the count HOME + the absolute count."),
+    }, 'Absolute count', ''),
 }
 
 CTRL = 0x00
@@ -258,14 +274,16 @@ ID = 0x1f
 REF_COUNT = 0x20
 REF_STATUS = 0x21
 REF_STICKY = 0x22
-ADDR_TOP = 0x22
+DCODE = 0x23
+ABS_COUNT = 0x24
+ADDR_TOP = 0x24
 
 SETTINGS = {f.name: f for r in REGS.values() for f in r.fields.values()
             if f.write and not f.pulse and not f.w1c}
 FAULT_BITS = {f.name: f.lsb for f in REGS['FAULT_STICKY'].fields.values()}
 FAULT_W = max(FAULT_BITS.values()) + 1
 ID_VALUE = REGS['ID'].fields['id'].reset
-OPTIONS = ('OPT_HARMONIC', 'OPT_JUMP', 'OPT_MONITOR', 'OPT_TUNABLE')   # the core parameters writes depend on
+OPTIONS = ('OPT_DCODE', 'OPT_HARMONIC', 'OPT_JUMP', 'OPT_MONITOR', 'OPT_TUNABLE')   # the core parameters writes depend on
 
 def word(reg, **fields):
     """The word a write of `reg` (a name) gives: its writable fields at their reset values,

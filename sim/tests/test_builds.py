@@ -97,7 +97,7 @@ def test_check_finds_a_stale_file_and_write_brings_it_up_to_date(tree):
 ECP5_LINE = (ROOT / "rtl/builds.toml").read_text().splitlines().index("[ecp5]") + 1
 # (what to replace in rtl/builds.toml, or in a file of the tree; the one error line)
 MISTAKES = [
-    ("OPT_JUMP = 0 }", "OPT_JUMPS = 0 }",
+    ("OPT_JUMP = 0, OPT_DCODE", "OPT_JUMPS = 0, OPT_DCODE",
      "rtl/builds.toml: [up5k] params: OPT_JUMPS is not a parameter of top_report "
      "(rtl/boards/top_report.v)"),
     ('top = "top_report"\ndevice = { family = "ice40"',
@@ -178,7 +178,8 @@ def test_profile_gives_the_builds_core_parameters(name):
     m = _make("model", f"PROFILE={name}", "IN=x", "OUT=y")
     cmd = " ".join(m.stdout.replace("\\\n", " ").split())
     for opt, k in (("engine-lanes", "ENGINE_LANES"), ("opt-harmonic", "OPT_HARMONIC"),
-                   ("opt-monitor", "OPT_MONITOR"), ("opt-jump", "OPT_JUMP")):
+                   ("opt-monitor", "OPT_MONITOR"), ("opt-jump", "OPT_JUMP"),
+                   ("opt-dcode", "OPT_DCODE")):
         assert f"--{opt} {cp[k]}" in cmd, (opt, cmd)
 
 

@@ -129,7 +129,7 @@ def test_check_names_a_stale_file_and_changes_nothing(tmp_path):
 @pytest.mark.parametrize("edit, message", [
     (("legal = \"1..511\"", "legal = \"1..512\""), "legal 1..512 outside the field's 9-bit range"),
     (("legal = \"1..511\"", "legal = \"one to 511\""), "expected \"lo..hi\""),
-    (("} REF_STICKY @ 0x88;", "} REF_STICKY @ 0x8A;"), "REF_STICKY at byte 0x8a: not word-aligned"),
+    (("} ABS_COUNT @ 0x90;", "} ABS_COUNT @ 0x92;"), "ABS_COUNT at byte 0x92: not word-aligned"),
     (("jump_min[10:0] = 41;", "eps[10:0] = 41;"), "setting 'eps' in EPS and JUMP"),
     (("glitch[10:10] = 0;", "glitch[11:11] = 0;"), "FAULT_STICKY: its fields must be single bits"),
     (("} INTERP @ 0x04;", "} INTERP @ 0x04"), "does not compile"),
