@@ -19,7 +19,8 @@ fall), arm homing again and cross two more marks. Two runs:
 Checks: every sample, count after t + 8 and ref_count, homed, pos_valid, abs_valid and
 ABS_COUNT (the decoder's outputs, read inside the core) after t + 10 equal the model's; wherever pos_valid = 1 the count is the true absolute count (the raw
 count less the count at the first fixed mark's reference point); the model's decodes give
-the layout's positions; DC errors where the recording breaks the layout; REF_STATUS,
+the layout's positions; DC errors where the recording breaks the layout, as many in the
+RTL (its dc_err pulses) as in the model; REF_STATUS,
 REF_STICKY and ABS_COUNT read back as the model ends. A third run ("gaps") repeats
 "confirm" with random gaps between strobes, so that decodes end between samples.
 """
@@ -106,6 +107,13 @@ def test_dcode(sim, run):
 import cocotb  # noqa: E402
 
 
+async def _count_pulses(sig, out):
+    from cocotb.triggers import RisingEdge
+    while True:
+        await RisingEdge(sig)
+        out.append(1)
+
+
 @cocotb.test()
 async def dcode_run(dut):
     run = fqtb.env_str("RUN")
@@ -137,6 +145,8 @@ async def dcode_run(dut):
               "reg_wdata"):
         getattr(dut, p).value = 0
     await bench.start()
+    errs = []                                # the decoder's dc_err pulses, counted
+    cocotb.start_soon(_count_pulses(u_dc.err_o, errs))
     await bench.run_samples(t, u1, u2, ref, writes, {
         core_model.LATENCY: (lambda: fqtb.sval(dut.m_count), got8),
         core_model.LATCH_AT: (lambda: (fqtb.sval(dut.m_ref_count), fqtb.uval(dut.m_homed),
@@ -180,8 +190,10 @@ async def dcode_run(dut):
     wrong = np.flatnonzero(chk & (ac != raw_ref - c0))
     assert not len(wrong), (f"{run}: ABS_COUNT wrong at samples {wrong[:5]}: "
                             f"{ac[wrong[:5]]}, marks at {raw_ref[wrong[:5]] - c0}")
-    # errors: the spurious mark and the missing one break the layout
+    # errors: the spurious mark and the missing one break the layout; the RTL flagged as
+    # many (dc_err pulses, none back to back: marks are far apart)
     assert res["dc_errors"] >= 2, res["dc_errors"]
+    assert len(errs) == res["dc_errors"], (len(errs), res["dc_errors"])
 
     # ---- registers after the run -----------------------------------------------------------------
     bad = []

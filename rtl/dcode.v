@@ -37,9 +37,15 @@
 // latched since rst or inv (the chain's start) and dp != 0; the decode ends on E + 26.
 // A latch on E + 1 .. E + 26 abandons it (err_o: an overrun, the chain restarts at that
 // mark); inv_i (a held or overspeed sample, INTERP change, edge mode) abandons it and
-// clears the chain and abs_valid. home_o (to refmark.v, on the decode's last edge): abs_valid
-// rises; with homing armed the count becomes HOME + the absolute count (off_o), REF_COUNT
-// HOME + ABS_COUNT, and pos_valid = 1. HOME and x are taken on E.
+// clears the chain and abs_valid. home_o (to refmark.v, on the decode's last edge): the
+// decode leaves abs_valid 1; with homing armed the count becomes HOME + the absolute count
+// (off_o), REF_COUNT HOME + ABS_COUNT, and pos_valid = 1. HOME and x are taken on E. A
+// write that changes DCODE's layout is an inv_i (rtl/finequad_core.v).
+//
+// ABS_COUNT and REF_COUNT: REF_COUNT takes a mark on its latch (E), ABS_COUNT on the end of
+// its decode (E + 26): in between they belong to two marks. The scale's length: coded
+// marks exist while d (j + 1) < A / 2, so a layout covers about A^2 / (2 d) periods
+// (1000 / 1001: 500 000 periods, 10 m at 20 um).
 //
 // Steps (st, the edge E + st): 1 e = m - A / 2; 2 |e|, the divisor and the product's
 // factor; 3..14 restoring division of |e| by d, adding B or A << i to xa with each
@@ -65,7 +71,7 @@ module dcode #(
     input  wire                      inv_i,      // the count lost its scale
     output reg                       abs_valid_o,
     output reg  signed [COUNT_W-1:0] abs_o,      // ABS_COUNT
-    output wire                      home_o,     // on the decode's last edge: abs_valid rises
+    output wire                      home_o,     // on the decode's last edge: abs_valid = 1
     output wire signed [COUNT_W-1:0] off_o,      // with home_o: HOME + ABS - x
     output wire signed [COUNT_W-1:0] ref_o,      // with home_o: HOME + ABS
     output reg                       err_o       // a pulse: REF_STICKY.dc_err
@@ -101,7 +107,7 @@ module dcode #(
     wire        nv = good && (!conf_i || abs_valid_o || (pv && fwd == sp));
     wire [COUNT_W-1:0] abs_n = {prod[COUNT_W-3:0], 2'b00};
     wire [31:0] xa32 = {8'd0, xa};
-    assign home_o = fin && nv && !abs_valid_o;
+    assign home_o = fin && nv;
     assign off_o = hx + abs_n;
     assign ref_o = hs + abs_n;
     always @(posedge clk) begin
@@ -207,8 +213,9 @@ module dcode #(
 
 `ifdef FORMAL
     // ---- formal properties (sim/formal/dcode.sby; every input free on every clock) ------------
-    //  D1 home_o only on a decode's last edge with no latch or inv on it, while abs_valid is 0
-    //  D2 abs_valid rises only on such an edge; inv_i clears it, the chain and the decode
+    //  D1 a decode starts only on a latch, after a mark since rst / inv, with dp != 0
+    //  D2 abs_valid rises only on a decode's last edge with no latch or inv on it and a valid
+    //     distance; inv_i clears it, the chain and the decode
     //  D3 a decode runs its LAST steps in order: st counts 1 .. LAST from a latch, and a
     //     latch during it abandons it with err_o
     //  D4 err_o only from a decode's last edge or a latch during one
@@ -217,13 +224,15 @@ module dcode #(
         f_past_valid <= 1'b1;
     always @(*) begin
         assert (st <= LAST);
-        if (home_o)
-            assert (st == LAST && !lat_i && !inv_i && !abs_valid_o);              // D1
     end
     always @(posedge clk) begin
         if (f_past_valid && !$past(rst)) begin
+            if (st == 5'd1)
+                assert ($past(st) == 0 && $past(lat_i) && !$past(inv_i) &&       // D1
+                        $past(have) && $past(dr_n) != 13'sd0);
             if (abs_valid_o && !$past(abs_valid_o))
-                assert ($past(st) == LAST && !$past(lat_i) && !$past(inv_i));    // D2
+                assert ($past(st) == LAST && !$past(lat_i) && !$past(inv_i) &&   // D2
+                        $past(ok));
             if ($past(inv_i))
                 assert (!abs_valid_o && !have && !pv && st == 0);
             if ($past(st) != 0 && $past(st) != LAST && !$past(lat_i) && !$past(inv_i))

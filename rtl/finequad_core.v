@@ -222,6 +222,7 @@ module finequad_core #(
     reg [FQ_DCODE_DC_SPACING_W-1:0] r_dc_spacing = FQ_DCODE_DC_SPACING_RESET;  // periods
     reg [FQ_DCODE_DC_CODED_W-1:0]   r_dc_coded = FQ_DCODE_DC_CODED_RESET;      // periods
     reg        r_dc_confirm = FQ_DCODE_DC_CONFIRM_RESET;
+    reg        req_dc_inval = 1'b0;             // a DCODE write changed the layout (a pulse)
     // the write the core takes: reg_we unless refused (rtl/regs/finequad.rdl, fq_write_ok)
     wire wr_take = reg_we && `FQ_WRITE_OK(reg_addr, reg_wdata);
     assign reg_err = reg_we && !wr_take;
@@ -232,6 +233,7 @@ module finequad_core #(
         r_harm_clear <= 1'b0;
         req_home <= 1'b0;
         req_inval <= 1'b0;
+        req_dc_inval <= 1'b0;
         if (wr_take) begin
             case (reg_addr)
                 FQ_CTRL: begin
@@ -253,6 +255,10 @@ module finequad_core #(
                 end
                 FQ_HOME: r_home <= reg_wdata[FQ_HOME_HOME_COUNT_MSB:FQ_HOME_HOME_COUNT_LSB];
                 FQ_DCODE: if (OPT_DCODE) begin
+                    req_dc_inval <= (reg_wdata[FQ_DCODE_DC_SPACING_MSB:FQ_DCODE_DC_SPACING_LSB] !=
+                                     r_dc_spacing) ||
+                                    (reg_wdata[FQ_DCODE_DC_CODED_MSB:FQ_DCODE_DC_CODED_LSB] !=
+                                     r_dc_coded);
                     r_dc_spacing <= reg_wdata[FQ_DCODE_DC_SPACING_MSB:FQ_DCODE_DC_SPACING_LSB];
                     r_dc_coded <= reg_wdata[FQ_DCODE_DC_CODED_MSB:FQ_DCODE_DC_CODED_LSB];
                     r_dc_confirm <= reg_wdata[FQ_DCODE_DC_CONFIRM_LSB];
@@ -334,6 +340,7 @@ module finequad_core #(
             r_dc_spacing <= FQ_DCODE_DC_SPACING_RESET;
             r_dc_coded <= FQ_DCODE_DC_CODED_RESET;
             r_dc_confirm <= FQ_DCODE_DC_CONFIRM_RESET;
+            req_dc_inval <= 1'b0;
             r_ref_q <= FQ_REF_REF_Q_RESET;
             r_ref_filt <= FQ_REF_REF_FILT_RESET;
             r_home <= FQ_HOME_HOME_COUNT_RESET;
@@ -493,7 +500,7 @@ module finequad_core #(
                 .clk(clk), .rst(rst), .a_i(r_dc_spacing), .b_i(r_dc_coded),
                 .conf_i(r_dc_confirm), .n_i(r_interp), .home_i(r_home[COUNT_W-1:0]),
                 .cross_i(rm_cross), .cdir_i(rm_cdir), .lat_i(rm_mark && dc_en), .x_i(rm_x),
-                .inv_i(rm_inv || !dc_en), .abs_valid_o(dc_abs_valid), .abs_o(dc_abs),
+                .inv_i(rm_inv || !dc_en || req_dc_inval), .abs_valid_o(dc_abs_valid), .abs_o(dc_abs),
                 .home_o(dc_home), .off_o(dc_off), .ref_o(dc_ref), .err_o(dc_err)
             );
         end else begin : g_no_dcode
@@ -504,7 +511,7 @@ module finequad_core #(
             assign dc_ref = 0;
             assign dc_abs = 0;
             wire unused_dc = &{1'b0, rm_cross, rm_cdir, rm_mark, rm_x, rm_inv, r_dc_spacing,
-                               r_dc_coded, r_dc_confirm, 1'b0};
+                               r_dc_coded, r_dc_confirm, req_dc_inval, 1'b0};
         end
     endgenerate
     assign m_count = k_count + rm_off;

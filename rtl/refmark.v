@@ -54,7 +54,7 @@
 // on a sample inside the window whose pulses show that count, and stays high while the
 // pulses stay in that state (a window closing does not cut it): one A/B state wide.
 //
-// pos_valid: 0 after rst; 1 from a homing latch; 0 again on a sample whose count may be
+// pos_valid: 0 after rst; 1 from homing (a homing latch, or the homing decode: dc_home_i); 0 again on a sample whose count may be
 // off by a period: a held sample (signal loss, stuck channel, glitch, clip with over-range: the
 // counter did not follow the travel) or an overspeed sample; and on inval_i (the core: a
 // write that changes INTERP, whose counts then mix two scales, or count_mode = 1; it

@@ -62,7 +62,7 @@ class DCode:
     def finish(self, edge, rm):
         """Completes a decode whose last edge F <= edge, on F (the caller has fed every
         event before F, and on F none that abandons it). With REF.home armed, a decode
-        that makes abs_valid rise homes rm (refmark.RefMark) on F."""
+        that leaves abs_valid 1 homes rm (refmark.RefMark) on F."""
         if self.pending is None or self.pending[0] > edge:
             return
         f, m, fwd, far, x = self.pending
@@ -78,14 +78,13 @@ class DCode:
             self.pv, self.ap, self.sp = True, xa, fwd
             return
         nv = (not self.conf) or self.abs_valid == 1 or (self.pv and fwd == self.sp)
-        rise = nv and not self.abs_valid
         self.pv, self.ap, self.sp = True, xa, fwd
         if not nv:
             return
         self.abs_valid = 1
         self.abs_count = wrap(xa * 4 * self.n, self.count_w)
         rm.arm_homes(f)
-        if rise and rm.home_armed:
+        if rm.home_armed:
             rm.off = wrap(self.home - x + self.abs_count, self.count_w)
             rm.ref_count = wrap(self.home + self.abs_count, self.count_w)
             rm.pos_valid = 1

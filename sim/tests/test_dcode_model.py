@@ -67,7 +67,7 @@ def chain(marks, confirm, per_period=40):
 
 @pytest.mark.parametrize("confirm", [0, 1])
 def test_two_or_three_marks_in_one_direction(confirm):
-    """From every fixed mark j < 40, in both directions: abs_valid after the second mark
+    """From every mark of the layout, in both directions: abs_valid after the second mark
     (dc_confirm = 0) or the third (1), at the position of the mark last crossed."""
     for j in range(0, len(LAYOUT) - 3):
         for marks in (LAYOUT[j:j + 3], LAYOUT[j:j + 3][::-1]):
@@ -103,6 +103,31 @@ def test_an_extra_mark(confirm):
                 wrong_seen += 1
     if not confirm:
         assert wrong_seen, "no spurious mark gave a plausible distance (the test is weak)"
+
+
+def test_homing_armed_while_abs_valid():
+    """REF.home written while abs_valid is already 1: the next decode homes (the count
+    becomes HOME + the absolute count there)."""
+    marks = LAYOUT[3:8]
+    rm = refmark.RefMark(home_count=77)
+    dc = dcode.DCode(32, A, B, 0, n=1, home=77)
+    e, pos = 40, marks[0]
+    dc.edge(e, 0, True, 4 * pos, False)
+    for k, m in enumerate(marks[1:]):
+        if k == 2:
+            assert dc.abs_valid == 1 and not rm.pos_valid
+            rm.home_armed = True
+        step = 1
+        while pos != m:
+            e += 40
+            dc.finish(e - 1, rm)
+            pos += step
+            dc.edge(e, step, pos == m, 4 * pos, False)
+        dc.finish(e + dcode.DC_LAT, rm)
+    assert rm.pos_valid == 1 and not rm.home_armed
+    # homed at the first decode after the write (mark 3000: x = 4 * 3000 with n = 1, its
+    # absolute count the same): off = HOME - x + ABS, REF_COUNT = HOME + ABS
+    assert rm.off == 77 and rm.ref_count == 77 + 4 * marks[3]
 
 
 def test_a_missing_mark_in_a_chain():
