@@ -9,11 +9,11 @@ cross marks forwards (homing armed: the count is set at the first decode that ma
 abs_valid rise), cross a spurious mark (a window where the scale has none) and, coming
 back, miss a real one (its window left out), lose the signal (pos_valid and abs_valid
 fall), arm homing again and cross two more marks. Two runs:
-* "two": DCODE.dc_confirm = 0, the spurious mark after homing, a strobe every 25 clocks
+* "two": DCODE.dc_confirm = 0, the spurious mark after homing, a strobe every 26 clocks
   (each decode ends one edge after the next sample's t + 10): abs_valid from the second
   mark, cleared (dc_err) where the spurious and the missing mark break the layout;
 * "confirm": dc_confirm = 1, the spurious mark between the first two real marks: homing
-  only after three marks agree, and never to a wrong position; a strobe every 26 clocks
+  only after three marks agree, and never to a wrong position; a strobe every 27 clocks
   (each decode ends on the next sample's t + 10).
 
 Checks: every sample, count after t + 8 and ref_count, homed, pos_valid, abs_valid and
@@ -44,12 +44,12 @@ DIV = 36
 HOME_COUNT = -5000
 VMAX = 0.08                    # periods per sample (the window's limit is 0.125)
 LAYOUT = siggen.distance_coded(SPACING, CODED, 200)
-# strobes every 25 and 26 clocks: a decode (DC_LAT = 26 edges) ends just after and on the
+# strobes every 26 and 27 clocks: a decode (DC_LAT = 27 edges) ends just after and on the
 # next sample's t + 10
-RUNS = {"two": dict(confirm=0, spurious=45, div=25),
-        "confirm": dict(confirm=1, spurious=5, div=26),
+RUNS = {"two": dict(confirm=0, spurious=45, div=26),
+        "confirm": dict(confirm=1, spurious=5, div=27),
         # random gaps between strobes (1 .. 30 clocks, bursts back to back): the decode's
-        # 26 edges end at any point between samples
+        # 27 edges end at any point between samples
         "gaps": dict(confirm=1, spurious=5, gaps=True)}
 MISSING = 60                   # the mark left out on the way back
 

@@ -34,8 +34,8 @@
 // agree with a real neighbour's in one direction).
 //
 // Events: a latch starts a decode on its edge E (refmark.v's t + 10) if a mark has been
-// latched since rst or inv (the chain's start) and dp != 0; the decode ends on E + 26.
-// A latch on E + 1 .. E + 26 abandons it (err_o: an overrun, the chain restarts at that
+// latched since rst or inv (the chain's start) and dp != 0; the decode ends on E + 27.
+// A latch on E + 1 .. E + 27 abandons it (err_o: an overrun, the chain restarts at that
 // mark); inv_i (a held or overspeed sample, INTERP change, edge mode) abandons it and
 // clears the chain and abs_valid. home_o (to refmark.v, on the decode's last edge): the
 // decode leaves abs_valid 1; with homing armed the count becomes HOME + the absolute count
@@ -43,14 +43,14 @@
 // write that changes DCODE's layout is an inv_i (rtl/finequad_core.v).
 //
 // ABS_COUNT and REF_COUNT: REF_COUNT takes a mark on its latch (E), ABS_COUNT on the end of
-// its decode (E + 26): in between they belong to two marks. The scale's length: coded
+// its decode (E + 27): in between they belong to two marks. The scale's length: coded
 // marks exist while d (j + 1) < A / 2, so a layout covers about A^2 / (2 d) periods
 // (1000 / 1001: 500 000 periods, 10 m at 20 um).
 //
-// Steps (st, the edge E + st): 1 e = m - A / 2; 2 |e|, the divisor and the product's
-// factor; 3..14 restoring division of |e| by d, adding B or A << i to xa with each
-// quotient bit (k B or k A); 15 xa less A / 2, 0 or A, the remainder's test; 16 fa;
-// 17..25 4 n xa (shift-add over n's 9 bits); 26 the decision.
+// Steps (st, the edge E + st; E takes dp, x and HOME): 1 m = |dp|; 2 e = m - A / 2; 3 |e|,
+// the divisor and the product's factor; 4..15 restoring division of |e| by d, adding B or
+// A << i to xa with each quotient bit (k B or k A); 16 xa less A / 2, 0 or A, the
+// remainder's test; 17 fa; 18..26 4 n xa (shift-add over n's 9 bits); 27 the decision.
 // Cost: a 13-bit distance counter, 24-bit shift registers and accumulator, a COUNT_W
 // shift-add product, three COUNT_W adders (HOME - x, the offset, HOME + ABS_COUNT).
 module dcode #(
@@ -76,7 +76,7 @@ module dcode #(
     output wire signed [COUNT_W-1:0] ref_o,      // with home_o: HOME + ABS
     output reg                       err_o       // a pulse: REF_STICKY.dc_err
 );
-    localparam LAST = 26;
+    localparam LAST = 27;
 
     // ---- the distance since the last latch ---------------------------------------------------
     reg  signed [12:0] dr = 13'sd0;
@@ -90,6 +90,7 @@ module dcode #(
     reg         have = 1'b0, pv = 1'b0, sp = 1'b0;
     reg  [23:0] ap = 24'd0;
     reg  [12:0] m = 13'd0;
+    reg  [12:0] dp = 13'd0;                      // the latch's distance (two's complement)
     reg         fwd = 1'b0, far_q = 1'b0, ok = 1'b0, selb = 1'b0;
     reg  signed [13:0] e = 14'sd0;
     reg  [12:0] rem = 13'd0;
@@ -117,12 +118,13 @@ module dcode #(
         if (busy)
             st <= (st == LAST) ? 5'd0 : st + 5'd1;
         case (st)
-            5'd1: begin
+            5'd1: m <= dp[12] ? 13'd0 - dp : dp;
+            5'd2: begin
                 e <= $signed({1'b0, m}) - $signed({3'b000, a_i[11:1]});
                 ok <= !far_q && !a_i[0] && (a_i != 12'd0) && (b_i > a_i) &&
                       ({1'b0, m} < {2'b00, a_i});
             end
-            5'd2: begin
+            5'd3: begin
                 rem <= ae;
                 ok <= ok && (e != 14'sd0);
                 selb <= (fwd == ep);
@@ -130,11 +132,11 @@ module dcode #(
                 msh <= {1'b0, (fwd == ep) ? b_i : a_i, 11'd0};
                 acc <= 24'd0;
             end
-            5'd15: begin
+            5'd16: begin
                 ok <= ok && (rem == 13'd0);
                 xa <= acc - (selb ? {13'd0, a_i[11:1]} : fwd ? 24'd0 : {12'd0, a_i});
             end
-            5'd16: begin
+            5'd17: begin
                 fa <= fwd ? xa - {11'd0, m} : xa + {11'd0, m};
                 prod <= 0;
                 xsh <= xa32[COUNT_W-1:0];
@@ -142,7 +144,7 @@ module dcode #(
             end
             default: ;
         endcase
-        if (st >= 5'd3 && st <= 5'd14) begin
+        if (st >= 5'd4 && st <= 5'd15) begin
             if (ge) begin
                 rem <= rem - dsh[12:0];
                 acc <= acc + msh;
@@ -150,7 +152,7 @@ module dcode #(
             dsh <= dsh >> 1;
             msh <= msh >> 1;
         end
-        if (st >= 5'd17 && st <= 5'd25) begin
+        if (st >= 5'd18 && st <= 5'd26) begin
             if (nsh[0])
                 prod <= prod + xsh;
             xsh <= xsh << 1;
@@ -187,14 +189,16 @@ module dcode #(
             abs_valid_o <= 1'b0;
         end else if (lat_i) begin
             have <= 1'b1;
-            if (have && dr_n != 13'sd0) begin
+            if (have && dr_n != 13'sd0)
                 st <= 5'd1;
-                m <= dr_n[12] ? 13'd0 - dr_n : dr_n;
-                fwd <= !dr_n[12];
-                far_q <= far_n;
-                hx <= home_i - x_i;
-                hs <= home_i;
-            end
+        end
+        // the latch's operands, taken on every latch not during a decode
+        if (lat_i && !busy) begin
+            dp <= dr_n;
+            fwd <= !dr_n[12];
+            far_q <= far_n;
+            hx <= home_i - x_i;
+            hs <= home_i;
         end
         if (rst) begin
             err_o <= 1'b0;

@@ -9,7 +9,7 @@ or inv on an edge E + 1 .. E + DC_LAT abandons it (a latch: an overrun, flagged)
 """
 from .fixed import wrap
 
-DC_LAT = 26          # edges from a latch's edge to its decode's result (rtl/dcode.v)
+DC_LAT = 27          # edges from a latch's edge to its decode's result (rtl/dcode.v)
 DR_FAR = 4095        # |periods since the last latch| at which the distance is too far
 
 

@@ -234,7 +234,7 @@ REGS = {
     }, 'Distance-coded marks', 'The layout of a scale with distance-coded reference marks (rtl/dcode.v): fixed marks every dc_spacing signal periods, and between fixed marks j and j + 1 a coded mark dc_spacing / 2 + (j + 1) (dc_coded - dc_spacing) periods after mark j, so that the distance between two neighbouring marks tells where they are. Common scales: 1000 and 1001. dc_spacing = 0: marks are not distance-coded. A write that changes dc_spacing or dc_coded clears abs_valid and starts the decode afresh.'),
     'ABS_COUNT': Reg('ABS_COUNT', 0x24, 0x90, True, False, 0x00000000, 0xffffffff, 0x00000000, (), {
         'abs_count': Field('abs_count', 'ABS_COUNT', 0, 32, None, True, False, False, False, True, -2147483648, 2147483647, 's32',
-            "Distance-coded marks: the absolute count of the last mark decoded, 4 n times its position in signal periods from the scale's first fixed mark (valid while REF_STATUS.abs_valid), taken 26 clocks after that mark's latch. Then, until the next latch, the absolute count now is the count - REF_COUNT + ABS_COUNT; with homing armed (REF.home) the decode makes the count HOME + the absolute count."),
+            "Distance-coded marks: the absolute count of the last mark decoded, 4 n times its position in signal periods from the scale's first fixed mark (valid while REF_STATUS.abs_valid), taken 27 clocks after that mark's latch. Then, until the next latch, the absolute count now is the count - REF_COUNT + ABS_COUNT; with homing armed (REF.home) the decode makes the count HOME + the absolute count."),
     }, 'Absolute count', ''),
 }
 
