@@ -30,10 +30,13 @@ between pulses.
     directly.
 
 Held samples (hold_i, rtl/monitor.v's verdict that the phase is not trusted) carry a
-garbage phase: in phase mode their count is the last one (0 after rst), they never flag
-overspeed, and the next sample steps from the last trusted phase (the reference's Phi
-does not move for them; the step of the next trusted sample is the motion over the whole
-outage, up to half a period); the edge mode ignores hold_i.
+garbage phase: in phase mode their count is the last one (0 after rst) and they never flag
+overspeed. Without coast_i nothing moves: the next sample steps from the last phase taken
+(the reference's Phi does not move for them; the step of the next trusted sample is the
+motion over the whole outage, up to half a period); with coast_i the counter takes line_i
+instead (the reference's Phi moves by the line's steps, B with it, the count shown does
+not), and the next trusted sample steps from the line. Overspeed is armed by the first
+trusted sample after rst, not by a coast. The edge mode ignores hold_i.
 
 Stimulus: an unwrapped integer phase Phi (u13 units, 8192 per period) with steps in
 [-4096, 4095]; phase_i = Phi mod 8192. After rst Phi starts in [-4096, 4095] (so it
@@ -103,6 +106,7 @@ class PhaseRef:
 
     def reset(self, b0=0):
         self.phi = None          # unwrapped phase of the last sample (None: none since rst)
+        self.primed = False      # a trusted sample since rst (overspeed is armed)
         self.last = 0            # the last count (count_o after rst: 0)
         self.b0 = b0
         self.b = b0              # 4 n W summed over the period steps of Phi (+ b0)
@@ -128,7 +132,8 @@ class PhaseRef:
         self.b += 4 * n * (w - self.w_prev)
         self.w_prev = w
         count = self.b + (n * (phi % 8192)) // 2048
-        ovs = abs(dphi) >= 3072 and not first
+        ovs = abs(dphi) >= 3072 and self.primed
+        self.primed = True
         self.pure_n = n if self.pure_n in (None, n) else False
         self.phi = phi
         direct = wrap_s(self.b0 + (4 * n * phi) // 8192, self.w) if self.pure_n else None
@@ -137,6 +142,18 @@ class PhaseRef:
 
     def held(self):
         """(count, ovs, direct) of a held sample: nothing moves."""
+        return self.last, 0, None
+
+    def coast(self, phi, n):
+        """(count, ovs, direct) of a held sample that follows the line to phi: Phi and B
+        move, the count shown does not."""
+        dphi = phi - (0 if self.phi is None else self.phi)
+        assert -4096 <= dphi <= 4095, dphi
+        w = phi // 8192
+        self.b += 4 * n * (w - self.w_prev)
+        self.w_prev = w
+        self.pure_n = n if self.pure_n in (None, n) else False
+        self.phi = phi
         return self.last, 0, None
 
 
@@ -178,14 +195,20 @@ def mix_step(rng, n):
 
 
 def segment_steps(rng, kind, n, mode, length):
-    """Per sample (phase step, n, mode, forced (A, B) or None, hold) of one segment; a
-    held sample's step is ignored (the next trusted sample's step is the whole motion)."""
+    """Per sample (phase step, n, mode, forced (A, B) or None, hold) of one segment; hold:
+    False, True (a held sample: its step is ignored, the next trusted sample's step is the
+    whole motion) or "coast" (held, the count follows the line: its step moves Phi)."""
     if kind == "hold":
-        # outages of 1..6 samples between trusted samples, steps up to half a period
+        # outages of 1..6 samples between trusted samples, steps up to half a period;
+        # some coast (each sample a line step), some not
         out = []
         while len(out) < length:
             if rng.random() < 0.3:
-                out += [(0, n, mode, None, True)] * rng.randint(1, 6)
+                if rng.random() < 0.5:
+                    out += [(0, n, mode, None, True)] * rng.randint(1, 6)
+                else:
+                    out += [(mix_step(rng, n), n, mode, None, "coast")
+                            for _ in range(rng.randint(1, 6))]
             out.append((mix_step(rng, n), n, mode, None, False))
         return out
     return [st + (False,) for st in _segment_steps(rng, kind, n, mode, length)]
@@ -271,9 +294,14 @@ def build(plan, count_w, rng):
             ri += 1
         # lost: sampled on the rst edge or on the edge before it (its count is due on rst)
         lost = ri < len(resets) and resets[ri] in (e_ph, e_ph + 1)
+        line = rng.randint(0, 8191)
         if lost:
             phi = rng.randint(0, 8191)
             cnt = ovs = direct = None
+        elif hold == "coast":        # a garbage phase; the line moves Phi
+            phi = ref.start_phi() if ref.phi is None else ref.phi + step
+            cnt, ovs, direct = ref.coast(phi, n)
+            line, phi = phi % 8192, rng.randint(0, 8191)
         elif hold:                   # a garbage phase; nothing moves
             phi = rng.randint(0, 8191)
             cnt, ovs, direct = ref.held()
@@ -283,7 +311,8 @@ def build(plan, count_w, rng):
         ab = ab or AB[((phi * n) % 8192) >> 11]
         samples.append(dict(t=ts_, seg=si, kind=kind, idx=i, phase=phi % 8192, n=n,
                             mode=mode, a=ab[0], b=ab[1], lost=lost, count_ph=cnt, ovs=ovs,
-                            direct=direct, hold=hold, phi=None if lost or hold else phi))
+                            direct=direct, hold=bool(hold), coast=hold == "coast",
+                            line=line, phi=None if lost or hold else phi))
     return samples, resets, preloads
 
 
@@ -338,8 +367,11 @@ def model_trace(samples, resets, preloads, count_w, length):
         ph = np.array([samples[k]["phase"] for k in ks], dtype=np.int64)
         n = np.array([samples[k]["n"] for k in ks], dtype=np.int64)
         hold = np.array([samples[k]["hold"] for k in ks], dtype=bool)
+        coast = np.array([samples[k]["coast"] for k in ks], dtype=bool)
+        line = np.array([samples[k]["line"] for k in ks], dtype=np.int64)
         cnt, ovs, _ = counter_m.counter(ph, ph * n, n, count_w,
-                                 state=(b0, 0, False, 0) if b0 else None, hold=hold)
+                                        state=(b0, 0, False, 0) if b0 else None, hold=hold,
+                                        coast=coast, line=line)
         tp = np.array([samples[k]["t"] for k in ps], dtype=np.int64)
         a = np.array([samples[k]["a"] for k in ps], dtype=np.int64)
         b = np.array([samples[k]["b"] for k in ps], dtype=np.int64)
@@ -461,6 +493,8 @@ async def counter_sequences(dut):
         x = ph_at.get(e)
         dut.valid_i.value = int(x is not None)
         dut.hold_i.value = int(x["hold"]) if x else rng.randint(0, 1)
+        dut.coast_i.value = int(x["coast"]) if x else rng.randint(0, 1)
+        dut.line_i.value = x["line"] if x else rng.randint(0, 8191)
         dut.phase_i.value = x["phase"] if x else rng.randint(0, 8191)
         dut.n_i.value = x["n"] if x else rng.randint(0, 511)
         x = prod_at.get(e)

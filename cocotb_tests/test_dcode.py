@@ -7,8 +7,9 @@ The scale (SPACING = 20, CODED = 21 signal periods: marks at 0, 11, 20, 32, 40, 
 n = 25 (100 counts per period), the reference point REF_Q. The recording: calibrate, then
 cross marks forwards (homing armed: the count is set at the first decode that makes
 abs_valid rise), cross a spurious mark (a window where the scale has none) and, coming
-back, miss a real one (its window left out), lose the signal (pos_valid and abs_valid
-fall), arm homing again and cross two more marks. Two runs:
+back, miss a real one (its window left out), lose the signal for 400 samples (the coast's
+uncertainty passes a quarter period: pos_valid and abs_valid fall), arm homing again and
+cross two more marks. Two runs:
 * "two": DCODE.dc_confirm = 0, the spurious mark after homing, a strobe every 26 clocks
   (each decode ends one edge after the next sample's t + 10): abs_valid from the second
   mark, cleared (dc_err) where the spurious and the missing mark break the layout;
@@ -119,7 +120,7 @@ async def dcode_run(dut):
     run = fqtb.env_str("RUN")
     x, ref, ev = recording(RUNS[run]["spurious"])
     u1, u2, _ = siggen.encode(x, PITCH, siggen.Signal(
-        noise=0.005, dropout=((ev["loss"][0] + 100, ev["loss"][0] + 300, 0.03),)), seed=5)
+        noise=0.005, dropout=((ev["loss"][0] + 100, ev["loss"][0] + 500, 0.03),)), seed=5)
     n = len(x)
     if RUNS[run].get("gaps"):
         rng = np.random.default_rng(4)

@@ -190,7 +190,7 @@ def readback(cfg, name):
     returns (the build's options zero some, rtl/regs/finequad.rdl)."""
     r = regs.REGS[name]
     if (name == "HARM" and not cfg.OPT_HARMONIC) or \
-            (name in ("RADIUS", "MONITOR") and not cfg.OPT_MONITOR):
+            (name in ("RADIUS", "MONITOR", "COAST") and not cfg.OPT_MONITOR):
         return 0
     if name == "JUMP" and not cfg.OPT_JUMP:
         return regs.word("JUMP", jump_off=1, jump_min=0)

@@ -16,11 +16,15 @@ period per sample, standstill with toggling codes (no stuck flag: no travel), a 
 frozen while the stage moves (stuck), a channel on the rail (clip), occasional clipped
 codes, the radius dropping below LOSS and rising above
 OVER (also for longer than OVER_PERSIST samples, when over-range is let in to the
-estimator again), single-sample phase glitches, the checks off (0 thresholds), radius
+estimator again), single-sample phase glitches, contiguous dropouts below COAST.floor (the count coasts:
+the stage speeding up meanwhile, so the line drifts off it; noisy steps, so the
+velocity's spread alone loses the travel; a large coast_acc, so the acceleration bound
+does), the checks off (0 thresholds), radius
 checks disarmed (ref low), and an rst in the middle. sv_i strobes each sample's bundle
 (g, c1, c2) and the code step (the stuck spans) on t, the bundle drawn per segment and
 changed now and then inside one (a new bundle takes new snapshots). Every output of every sample equals
-the model's; each fault kind must have been raised. With OPT_MONITOR = 0 (Verilator) the
+the model's (the coast and its line, lost); each fault kind, a coast and a lost travel
+must have been raised. With OPT_MONITOR = 0 (Verilator) the
 same stimulus against Monitor(enabled=False): no flag and no hold, only clipped samples
 excluded, the travel following every sample; the full model raises every flag there."""
 import math
@@ -58,7 +62,10 @@ def motion(rng, kind, length, phi0, amp):
     for i in range(length):
         if kind == "mix":
             v = max(-3600.0, min(3600.0, v + rng.gauss(0, 30)))
-        phi += v + (rng.gauss(0, 2) if kind != "creep" else 0.0)
+        if kind == "dropout_accel" and i == length // 2:
+            v *= 1.6                               # the stage speeds up while it is lost
+        phi += v + (rng.gauss(0, 20 if kind == "dropout_noisy" else 2)
+                    if kind != "creep" else 0.0)
         a = 2 * math.pi * phi / 8192
         noise = rng.gauss(0, 0.6) if kind == "stand" else rng.gauss(0, 0.3)
         r1 = int(round(amp * math.cos(a) + noise)) << ADC_SH
@@ -66,6 +73,8 @@ def motion(rng, kind, length, phi0, amp):
         rad = 1.0 + rng.gauss(0, 0.01)
         if kind == "loss" and length // 4 <= i < 3 * length // 4:
             rad = rng.uniform(0.02, 0.25)
+        if kind.startswith("dropout") and length // 3 <= i < 2 * length // 3:
+            rad = rng.uniform(0.02, 0.04)          # below floor throughout: a coast
         if kind in ("over", "over_long") and length // 8 <= i:
             rad = rng.uniform(1.45, 1.9)
         if kind.startswith("stuck") and i >= length // 5:
@@ -85,9 +94,9 @@ def motion(rng, kind, length, phi0, amp):
 
 
 def plan(scale):
-    """(kind, length, ref, registers (loss, over, glitch_k, stuck_n, code_step), before) segments;
-    before: None, 'drain' or 'rst'."""
-    d = (3277, 22118, 10, 8, 0)
+    """(kind, length, ref, registers (loss, over, glitch_k, stuck_n, code_step, floor,
+    coast_acc), before) segments; before: None, 'drain' or 'rst'."""
+    d = (3277, 22118, 10, 8, 0, 2048, 16)
     return [
         ("slow", 300 * scale, 0, d, None),          # from power-up, radius checks off
         ("mix", 400 * scale, 1, d, "drain"),
@@ -95,20 +104,25 @@ def plan(scale):
         ("stand", 400 * scale, 1, d, None),
         ("stuck1", 300 * scale, 1, d, None),
         ("slow", 100 * scale, 1, d, None),
-        ("stuck2", 300 * scale, 1, (3277, 22118, 10, 3, 0), "drain"),
-        ("stuck1_wide", 300 * scale, 1, (3277, 22118, 10, 8, 8), "drain"),  # span 8128
+        ("stuck2", 300 * scale, 1, (3277, 22118, 10, 3, 0, 2048, 16), "drain"),
+        ("stuck1_wide", 300 * scale, 1, (3277, 22118, 10, 8, 8, 2048, 16), "drain"),  # span 8128
+        ("loss", 300 * scale, 1, (3277, 22118, 10, 8, 0, 4000, 4095), "drain"),  # lost soon
+        ("loss", 200 * scale, 1, (3277, 22118, 10, 8, 0, 0, 0), "drain"),  # counted through
+        ("dropout_accel", 300 * scale, 1, d, "drain"),       # the line drifts off the stage
+        ("dropout_noisy", 400 * scale, 1, (3277, 22118, 10, 8, 0, 2048, 0), "drain"),
+        ("dropout", 300 * scale, 1, (3277, 22118, 10, 8, 0, 2048, 4095), "drain"),
         ("stuck2_rebase", 300 * scale, 1, d, "drain"),   # a new bundle after the freeze
         ("glitch", 400 * scale, 1, d, None),
         ("rail", 300 * scale, 1, d, None),
         ("over", 300 * scale, 1, d, None),
         ("fast", 300 * scale, 1, d, None),
         ("over_long", 4500 + 200 * scale, 1, d, None),
-        ("glitch", 300 * scale, 1, (0, 65535, 0, 0, 8), "drain"),     # every check off
+        ("glitch", 300 * scale, 1, (0, 65535, 0, 0, 8, 0, 0), "drain"),  # every check off
         ("loss", 200 * scale, 0, d, "drain"),                       # disarmed
-        ("creep", 300 * scale, 1, (8000, 20000, 8, 255, 4), "rst"),
-        ("glitch", 300 * scale, 1, (5000, 19000, 11, 1, 2), "drain"),
-        ("glitch", 200 * scale, 1, (5000, 19000, 12, 1, 6), "drain"),     # K >= 12: off
-        ("glitch", 200 * scale, 1, (5000, 19000, 1, 1, 8), "drain"),
+        ("creep", 300 * scale, 1, (8000, 20000, 8, 255, 4, 3000, 100), "rst"),
+        ("glitch", 300 * scale, 1, (5000, 19000, 11, 1, 2, 2048, 16), "drain"),
+        ("glitch", 200 * scale, 1, (5000, 19000, 12, 1, 6, 2048, 16), "drain"),  # K >= 12
+        ("glitch", 200 * scale, 1, (5000, 19000, 1, 1, 8, 2048, 16), "drain"),
         ("mix", 300 * scale, 1, d, None),
     ]
 
@@ -156,7 +170,8 @@ def build(scale, seed=5):
 
 
 def model(samples, resets, enabled=True, span=None, rebase=True):
-    """Per sample (hold, excl, loss, over, stuck, glitch, travel) from sim.model.monitor,
+    """Per sample (hold, excl, loss, over, stuck, glitch, travel, coast, line, lost) from
+    sim.model.monitor,
     epoch by epoch (rst restarts the state); enabled: OPT_MONITOR. span (every span
     forced to it) and rebase=False are mutations: the stimulus must tell them apart."""
     from sim.model.monitor import Monitor, MonitorRegs, stuck_span
@@ -167,17 +182,17 @@ def model(samples, resets, enabled=True, span=None, rebase=True):
         while ri < len(resets) and resets[ri] < x["t"] + T_RAW:
             mon = Monitor(enabled)
             ri += 1
-        loss, over, glitch_k, stuck_n, code_step = x["regs"]
-        regs = MonitorRegs(loss=loss, over=over, glitch_k=glitch_k, stuck_n=stuck_n)
+        loss, over, glitch_k, stuck_n, code_step, floor, coast_acc = x["regs"]
+        regs = MonitorRegs(loss=loss, over=over, glitch_k=glitch_k, stuck_n=stuck_n,
+                           floor=floor, coast_acc=coast_acc)
         g, c1, c2 = x["bundle"]
         sh = 16 - ADC_W + code_step + g
-        lo, ov, st, gl, hold, excl = mon.step(x["r1"], x["r2"], x["ax"], x["ay"], x["xn"],
-                                              x["yn"], x["phase"], x["ref"], x["clip"],
-                                              regs, (span, span) if span else
-                                              (stuck_span(c1, sh), stuck_span(c2, sh)),
-                                              x["bundle"] if rebase else (0, 0, 0))
-        out.append((int(hold), int(excl), int(lo), int(ov), int(st), int(gl),
-                    mon.travel()))
+        f = mon.step(x["r1"], x["r2"], x["ax"], x["ay"], x["xn"], x["yn"], x["phase"],
+                     x["ref"], x["clip"], regs, (span, span) if span else
+                     (stuck_span(c1, sh), stuck_span(c2, sh)),
+                     x["bundle"] if rebase else (0, 0, 0))
+        out.append((int(f.hold), int(f.excl), int(f.loss), int(f.over), int(f.stuck),
+                    int(f.glitch), mon.travel(), int(f.coast), f.line, int(f.lost)))
     return out
 
 
@@ -195,7 +210,9 @@ def test_stimulus_makes_spans_and_rebase_visible(scale):
 # ---- cocotb side ------------------------------------------------------------------------
 import cocotb  # noqa: E402
 
-NAMES = ("hold", "excl", "loss", "over", "stuck", "glitch", "travel")
+NAMES = ("hold", "excl", "loss", "over", "stuck", "glitch", "travel", "coast", "line",
+         "lost")
+RAISED = ("hold", "excl", "loss", "over", "stuck", "glitch", "coast", "lost")
 
 
 @cocotb.test()
@@ -225,6 +242,7 @@ async def monitor_stream(dut):
         dut.loss_th_i.value, dut.over_th_i.value = regs[0], regs[1]
         dut.glitch_k_i.value, dut.stuck_n_i.value = regs[2], regs[3]
         dut.code_step_i.value = regs[4]
+        dut.floor_th_i.value, dut.coast_acc_i.value = regs[5], regs[6]
         k = at[T_REF].get(e)
         dut.ref_i.value = samples[k]["ref"] if k is not None else rng.randint(0, 1)
         dut.sv_i.value = int(k is not None)
@@ -246,14 +264,16 @@ async def monitor_stream(dut):
         dut.phase_i.value = samples[k]["phase"] if k is not None else rng.randint(0, 8191)
         await bench.settle()
         comb = (fqtb.uval(dut.hold_o), fqtb.uval(dut.excl_o))
-        if k is None and comb != (0, 0):
-            bad.append(f"edge {e}: (hold_o, excl_o) = {comb} without a sample")
+        line = (fqtb.uval(dut.coast_o), fqtb.uval(dut.line_o))
+        if k is None and comb + line[:1] != (0, 0, 0):
+            bad.append(f"edge {e}: (hold_o, excl_o, coast_o) = {comb + line[:1]} without "
+                       "a sample")
         await bench.step()
         # ---- outputs after edge e
         if k is not None:
             got[k] = comb + (fqtb.uval(dut.loss_o), fqtb.uval(dut.over_o),
                              fqtb.uval(dut.stuck_o), fqtb.uval(dut.glitch_o),
-                             fqtb.uval(dut.travel_o))
+                             fqtb.uval(dut.travel_o)) + line + (fqtb.uval(dut.lost_o),)
     for k, (g, w) in enumerate(zip(got, want)):
         if g != w:
             x = samples[k]
@@ -264,13 +284,13 @@ async def monitor_stream(dut):
                        f"{x['phase']}, ref {x['ref']}, regs {x['regs']}): {diff}")
     assert not bad, f"{len(bad)} mismatches, first:\n" + "\n".join(bad[:12])
     full = want if opt else model(samples, resets)
-    counts = {nm: sum(w[i] for w in full) for i, nm in enumerate(NAMES[:6])}
+    counts = {nm: sum(w[NAMES.index(nm)] for w in full) for nm in RAISED}
     for nm, c in counts.items():
         assert c > 0, f"no sample raised {nm}: the stimulus misses it"
     # over-range let in again once it lasted OVER_PERSIST samples
     assert any(w[3] and not w[1] for w in full), "persistent over-range never let in"
     if not opt:
-        assert not any(any(w[i] for i in (0, 2, 3, 4, 5)) for w in want)
+        assert not any(any(w[i] for i in (0, 2, 3, 4, 5, 7, 8, 9)) for w in want)
         assert [w[1] for w in want] == [int(x["clip"]) for x in samples]
     dut._log.info("monitor: %d samples equal to the model; flags raised %s", len(samples),
                   counts)

@@ -8,8 +8,9 @@ crosses a reference mark (a window of half a period around the mark's centre, fr
 comparator whose threshold chatters, plus single-sample glitches away from the mark)
 PASSES times, alternating direction, at peak speeds from creep (0.0002 period per sample)
 to the paced pins' limit (div / ab_sep counts per sample), then dithers on the mark, rests
-on it, moves off, loses the signal for a moment (amplitude x 0.03: the counter holds,
-pos_valid falls) and crosses the mark once more. Homing is armed from the start (REF.home,
+on it, moves off, loses the signal for 400 samples while creeping (amplitude x 0.03: the
+count coasts, and with this noise its uncertainty passes a quarter period: pos_valid
+falls) and crosses the mark once more. Homing is armed from the start (REF.home,
 HOME = HOME_COUNT) and again (a REF.home write during the run) before that last pass. Three runs: 0.5 % noise with uniform strobes; 2 % noise with random
 gaps between strobes (1 .. 30 clocks, bursts back to back); the Eq. 12 pulses on the pins
 (ABGEN.ab_src = 1, 0.5 % noise, passes up to 0.4 counts per sample, as fast as the pulses
@@ -120,7 +121,8 @@ def homing_recording(noise, passes=PASSES, creep=0.0002, dwell=1.0, vmax=None, s
     add("dither", xc - 0.5 * PITCH / (4 * INTERP) + 0.03 * PITCH * np.sin(2 * np.pi * k / 200))
     add("rest", np.full(int(1000 * dwell), xc - 0.5 * PITCH / (4 * INTERP)))
     add("leave", _pass(xc - 0.5 * PITCH / (4 * INTERP), xc + 3 * PITCH, min(0.01, vmax) * PITCH))
-    # creep during a signal loss (the counter holds; pos_valid falls)
+    # creep during a signal loss (the count coasts until its uncertainty passes a quarter
+    # period: pos_valid falls)
     add("loss", xc + 3 * PITCH + 0.0005 * PITCH * np.arange(600))
     add("final", _pass(xc + 3 * PITCH + 0.3 * PITCH, xc - half, min(0.02, vmax) * PITCH))
     x = np.concatenate(parts)
@@ -130,7 +132,7 @@ def homing_recording(noise, passes=PASSES, creep=0.0002, dwell=1.0, vmax=None, s
     rng = np.random.default_rng(seed + 1)
     far = np.flatnonzero(np.abs(x - xc) > 2 * PITCH)
     ref[rng.choice(far, 20, replace=False)] ^= 1
-    sig = siggen.Signal(noise=noise, dropout=((lo + 200, lo + 400, 0.03),))
+    sig = siggen.Signal(noise=noise, dropout=((lo + 100, lo + 500, 0.03),))
     return x, ref, ev, sig
 
 

@@ -79,6 +79,10 @@ def test_uart_axil(sim):
 
 @pytest.mark.parametrize("sim", fqtb.SIMULATORS)
 def test_uart_core(sim):
+    if sim == "icarus":
+        # the same register cases through the whole core take 186 s on Icarus and 25 s
+        # on Verilator (2026-11-29); Icarus runs the core in test_finequad_core.py
+        pytest.skip("uart_core runs on Verilator (CI time)")
     fqtb.run_block(sim, "tb_uart_core",
                    [fqtb.HERE / "tb_uart_core.v"]
                    + fqtb.sources("uart_axil", "uart_rx", "uart_tx", "axil_regs")

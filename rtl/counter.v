@@ -18,10 +18,12 @@
 // Overspeed (ovs_o): |dph| >= 3072 (3/4 pi or more per sample; near pi the direction of
 // the step, hence the position, becomes ambiguous); never on the first sample after rst.
 // Hold (hold_i with valid_i, rtl/monitor.v: signal loss, a stuck channel or a glitch; the
-// phase is not trusted): the sample changes nothing, its count is the one before (B,
-// f_prev and count_o stay; no overspeed), so the next trusted sample steps from the last
-// trusted phase: after an outage the count is right if the stage moved less than half
-// a period meanwhile. The edge mode ignores hold_i.
+// phase is not trusted): the sample's count is the one before (count_o stays; no
+// overspeed). With coast_i the count follows the monitor's line through the fault: f_prev
+// <- line_i and B steps by the line's wraps, so the next trusted sample steps from where
+// the line has come (right while the line is within half a period of the stage: the
+// monitor clears pos_valid at a quarter); without it B and f_prev stay, and the next
+// trusted sample steps from the last trusted phase. The edge mode ignores hold_i.
 //
 // Edge mode (mode_i = 1, the paper's counter, Sec. 2.3, for comparison): an x4
 // quadrature decoder of the Eq. 12 pulses A/B (rtl/pulse.v): +1 / -1 per single-channel
@@ -46,6 +48,8 @@ module counter #(
     input  wire                      rst,
     input  wire                      valid_i,
     input  wire                      hold_i,     // with valid_i: do not count this sample
+    input  wire                      coast_i,    // with hold_i: follow line_i instead
+    input  wire [12:0]               line_i,     // u13 the monitor's line (rtl/monitor.v)
     input  wire [12:0]               phase_i,    // u13 fine phase (registered, edge e)
     input  wire [21:0]               prod_i,     // u22 n * phase_i, registered on e + 1
     input  wire [8:0]                n_i,        // u9 n, 1..511
@@ -65,7 +69,12 @@ module counter #(
     reg  [12:0] ph_prev = 13'd0;
     reg         primed = 1'b0;
     reg  signed [COUNT_W-1:0] b_acc = 0;         // B = 4 n W, s(COUNT_W), wraps
-    wire [13:0] raw = {1'b0, phase_i} - {1'b0, ph_prev};         // s14
+    // the step from the last phase taken: the sample's, or the line's on a coast (both
+    // differences side by side; hold_i only selects)
+    wire [13:0] raw_p = {1'b0, phase_i} - {1'b0, ph_prev};       // s14
+    wire [13:0] raw_l = {1'b0, line_i} - {1'b0, ph_prev};
+    wire [13:0] raw = hold_i ? raw_l : raw_p;
+    wire        take = valid_i && (!hold_i || coast_i);
     wire        back = (raw[13:12] == 2'b01);   // raw >= 4096: wrapped backwards
     wire        fwd  = (raw[13:12] == 2'b10);   // raw < -4096: wrapped forwards
     wire [12:0] dph = raw[12:0];                 // wrap13, as u13
@@ -87,9 +96,10 @@ module counter #(
         ovc1 <= primed && !hold_i;
         dph1 <= dph;
         hold1 <= hold_i;
-        if (valid_i && !hold_i) begin
-            ph_prev <= phase_i;
+        if (valid_i && !hold_i)
             primed <= 1'b1;
+        if (take) begin
+            ph_prev <= hold_i ? line_i : phase_i;
             if (back)
                 b_acc <= b_dn;
             else if (fwd)
@@ -154,39 +164,55 @@ module counter #(
 `ifdef FORMAL
     // ---- formal properties (sim/formal/counter.sby) -----------------------------------------
     // Every input is free on every clock but prod_i (the abstraction below). Ghost state f_*
-    // is rebuilt from the inputs alone (the last trusted sample, B by the wrap rule, the last
-    // pulse's A/B); invariants I1..I4 tie it to the registers (k-induction). Stage 1 = the
-    // edge sampling valid_i (B, f_prev), stage 2 = the next one (count_o, valid_o).
+    // is rebuilt from the inputs alone (the last phase taken, the last trusted sample, B by
+    // the wrap rule, the net wraps coasted since the last trusted sample, the last pulse's
+    // A/B); invariants I1..I4 tie it to the registers (k-induction). Stage 1 = the edge
+    // sampling valid_i (B, f_prev), stage 2 = the next one (count_o, valid_o). A sample
+    // (valid_i) is trusted without hold_i and coasted with hold_i && coast_i; both are
+    // taken: the trusted sample's phase_i, the coasted one's line_i becomes the last phase
+    // taken (f_prev, 0 after rst).
     //  C1 rst: count_o, valid_o, ovs_o, ill_o, ill_count_o, B, the last phase and E are 0.
     //  C2 valid_o two edges after valid_i (lost on a rst edge); count_o changes only on an
     //     edge that raises valid_o with a sample (it holds between samples).
-    //  C3 phase mode: B moves only by -4n (phase wrapped backwards: raw >= 4096), +4n
-    //     (raw < -4096) or 0, n of the sample; count_o of a trusted sample = B + prod >> 11.
-    //  C4 phase mode, the step: a trusted sample's count differs from the previous trusted
-    //     sample's by at most 2n counts (half a period of phase), in the direction of the
-    //     phase step wrap13(phase - last trusted phase) (0 for 0), when both were taken with
-    //     the same n (see "n" below); likewise for count_o when the previous one shown was
-    //     a phase-mode count.
-    //  C5 a held sample (hold_i) leaves B, the last phase and (phase mode) count_o as they
-    //     were and never flags overspeed.
-    //  C6 ovs_o == |wrap13(phase - last trusted phase)| >= 3072 of a trusted sample, only
-    //     with valid_o, never before a first trusted sample after rst.
+    //  C3 phase mode: B moves only on a sample taken, by -4n (the phase taken wrapped
+    //     backwards from the last one: raw >= 4096), +4n (raw < -4096) or 0, n of the
+    //     sample; count_o of a trusted sample = B + prod >> 11.
+    //  C4 phase mode, the step of a trusted sample's count from the previous trusted
+    //     sample's, when it, the previous one and the samples coasted between them had the
+    //     same n (see "n" below): it has the sign of the unwrapped travel along the phases
+    //     taken, P = 8192 Wd + (phase - previous trusted phase) (Wd the net wraps of the
+    //     phases taken since the previous trusted sample: the coasted lines, then the
+    //     phase; 0 for P = 0), and it is at most 2n counts (half a period) when |P| <= 4096.
+    //     With no coast between, P = wrap13(phase - previous trusted phase), in [-4096,
+    //     4095]: at most 2n in the direction of the phase step. Claimed from the first
+    //     trusted sample after rst on (coasts before it: not) while |Wd| stays <= 1 along
+    //     the path (the step then stays within 8 n: no wrap of the count; B's steps on the
+    //     coasts themselves, C3, are exact for any path); likewise for count_o when the
+    //     previous one shown was a phase-mode count.
+    //  C5 a held sample never flags overspeed and (phase mode) leaves count_o as it was;
+    //     without coast_i it leaves B and the last phase taken as they were; with coast_i,
+    //     line_i becomes the last phase and B steps by its wrap (C3).
+    //  C6 ovs_o == |wrap13(phase - last phase taken)| >= 3072 of a trusted sample, only
+    //     with valid_o, never before a first trusted sample after rst (coasts do not prime
+    //     it).
     //  C7 edge mode: E moves only with a pulse, by +1 / -1 (a single-channel step, x4
     //     direction: A changed to != B, or B changed to == A, is up) or 0 (none, or both:
     //     illegal, never counted); an illegal step after the first pulse since rst raises
     //     ill_o on the next edge and adds 1 to ill_count_o (mod 2^16); count_o of an
     //     edge-mode sample is E.
     // n: B keeps the factors it was built with (the header: change n at standstill), so
-    // across a change of n the count may jump; C4 is claimed for consecutive trusted
-    // samples with the same n only (n free otherwise, every other property for any n).
+    // across a change of n the count may jump; C4 is claimed for trusted samples (and the
+    // coasts between them) with the same n only (n free otherwise, every other property
+    // for any n).
     // prod_i: the counter trusts rtl/lut.v for prod = n * phase of the sample (registered
     // one edge after the phase, i.e. on stage 2; lut.v forms it on every edge from the same
     // n and phase nets, core wiring). An exact `*` in the proof leaves z3 on two 9x13
     // products for longer than 10 minutes, so the product is abstracted ZipCPU-style: only
     // what n * phase implies for two trusted samples with the same n > 0 is assumed, for
-    // Y = prod - prod_last (= n * raw, raw = phase - phase_last, phase_last = prod_last =
-    // 0 after rst): Y compares with n*c as raw compares with c, c in {0, +-4096, +-8192};
-    // n = 0: Y = 0. Nothing else about prod (single samples, n changes) is assumed.
+    // Y = prod - prod_last (= n * raw, raw = phase - phase_last, the previous trusted
+    // sample's, whatever was coasted between; phase_last = prod_last = 0 after rst): Y
+    // compares with n*c as raw compares with c, c in {0, +-4096, +-8192}; n = 0: Y = 0.
+    // Nothing else about prod (single samples, n changes) is assumed.
 `ifdef COUNTER
 `define ASSUME assume
 `else
@@ -196,43 +222,84 @@ module counter #(
     always @(posedge clk)
         f_past_valid <= 1'b1;
 
-    // ---- stage 1 ghosts: the last trusted sample since rst, B by the wrap rule -------------
-    reg        [12:0]         f_lph = 13'd0;    // its phase (0 after rst)
+    // ---- stage 1 ghosts: the last phase taken, the last trusted sample since rst, B by the
+    // wrap rule, the net wraps since that sample ------------------------------------------
+    reg        [12:0]         f_lph = 13'd0;    // the last phase taken (0 after rst)
+    reg        [12:0]         f_tph = 13'd0;    // the last trusted sample's phase (0 after rst)
     reg        [8:0]          f_ln = 9'd0;      // its n
     reg                       f_lok = 1'b0;     // one was taken since rst
     reg signed [COUNT_W-1:0]  f_b = 0;          // B
+    reg signed [COUNT_W-1:0]  f_bt = 0;         // B after the last trusted sample
+    reg signed [2:0]          f_wd = 3'sd0;     // Wd of the coasts since it
+    reg                       f_wok = 1'b1;     // they had its n, |Wd| <= 1 (after a trusted one)
+    reg                       f_nc = 1'b1;      // no coast since it
     wire                      f_acc = valid_i && !hold_i;
-    wire signed [14:0] f_raw = $signed({2'b00, phase_i}) - $signed({2'b00, f_lph});
+    wire                      f_cst = valid_i && hold_i && coast_i;
+    wire        [12:0]        f_tk = f_acc ? phase_i : line_i;     // the phase taken
+    wire signed [14:0] f_raw = $signed({2'b00, f_tk}) - $signed({2'b00, f_lph});
     wire signed [14:0] f_dph = (f_raw >= 15'sd4096) ? f_raw - 15'sd8192
                              : (f_raw < -15'sd4096) ? f_raw + 15'sd8192 : f_raw;
+    wire signed [14:0] f_rawt = $signed({2'b00, phase_i}) - $signed({2'b00, f_tph});
     wire signed [COUNT_W-1:0] f_n4 = $signed({{(COUNT_W-11){1'b0}}, n_i, 2'b00});
     wire signed [COUNT_W-1:0] f_bstep = (f_raw >= 15'sd4096) ? -f_n4
                                       : (f_raw < -15'sd4096) ? f_n4 : 0;
+    wire signed [3:0]  f_wn = $signed({f_wd[2], f_wd}) + ((f_raw >= 15'sd4096) ? -4'sd1
+                                                        : (f_raw < -15'sd4096) ? 4'sd1 : 4'sd0);
+    wire               f_wokn = f_wok && (f_wn >= -4'sd1) && (f_wn <= 4'sd1);
     wire                      f_ovs = (f_dph >= 15'sd3072) || (f_dph <= -15'sd3072);
+    // 4 n Wd for |Wd| <= 1
+    function automatic signed [COUNT_W-1:0] f_nw(input [8:0] n, input signed [2:0] wd);
+        reg signed [COUNT_W-1:0] n4;
+        begin
+            n4 = $signed({{(COUNT_W-11){1'b0}}, n, 2'b00});
+            f_nw = (wd == 3'sd1) ? n4 : (wd == -3'sd1) ? -n4 : 0;
+        end
+    endfunction
     // stage 2 copies of the sample
     reg                       f_v1 = 1'b0, f_h1 = 1'b0, f_same1 = 1'b0, f_ovs1 = 1'b0;
+    reg                       f_wok1 = 1'b0, f_nc1 = 1'b0;
+    reg signed [2:0]          f_wd1 = 3'sd0;
     reg        [12:0]         f_ph1 = 13'd0;
     reg        [8:0]          f_n1 = 9'd0;
-    reg signed [14:0]         f_raw1 = 15'sd0;
+    reg signed [14:0]         f_rawt1 = 15'sd0;
     always @(posedge clk) begin
+        if (f_acc || f_cst) begin
+            f_lph <= f_tk;
+            f_b   <= f_b + f_bstep;
+        end
         if (f_acc) begin
-            f_lph <= phase_i;
+            f_tph <= phase_i;
             f_ln  <= n_i;
             f_lok <= 1'b1;
-            f_b   <= f_b + f_bstep;
+            f_bt  <= f_b + f_bstep;
+            f_wd  <= 3'sd0;
+            f_wok <= 1'b1;
+            f_nc  <= 1'b1;
+        end else if (f_cst) begin
+            f_wd  <= f_wn[2:0];
+            f_wok <= f_wokn && f_lok && (n_i == f_ln);
+            f_nc  <= 1'b0;
         end
         f_v1    <= valid_i && !rst;
         f_h1    <= hold_i;
         f_ph1   <= phase_i;
         f_n1    <= n_i;
-        f_raw1  <= f_raw;
+        f_rawt1 <= f_rawt;
+        f_wd1   <= f_wn[2:0];
+        f_wok1  <= f_wokn;
+        f_nc1   <= f_nc;
         f_same1 <= !f_lok || (n_i == f_ln);
         f_ovs1  <= f_acc && f_lok && f_ovs && !rst;
         if (rst) begin
             f_lph <= 13'd0;
+            f_tph <= 13'd0;
             f_ln  <= 9'd0;
             f_lok <= 1'b0;
             f_b   <= 0;
+            f_bt  <= 0;
+            f_wd  <= 3'sd0;
+            f_wok <= 1'b1;
+            f_nc  <= 1'b1;
         end
     end
 
@@ -246,11 +313,10 @@ module counter #(
     wire signed [COUNT_W-1:0] f_c = f_b + f_q;  // the phase-mode count of the sample
     wire signed [COUNT_W-1:0] f_dc = f_c - f_lc;
     wire signed [COUNT_W-1:0] f_2n = $signed({{(COUNT_W-10){1'b0}}, f_n1, 1'b0});
-    wire signed [COUNT_W-1:0] f_4n1 = $signed({{(COUNT_W-11){1'b0}}, f_n1, 2'b00});
-    wire signed [COUNT_W-1:0] f_bstep1 = (f_raw1 >= 15'sd4096) ? -f_4n1
-                                       : (f_raw1 < -15'sd4096) ? f_4n1 : 0;
-    wire signed [14:0] f_dph1 = (f_raw1 >= 15'sd4096) ? f_raw1 - 15'sd8192
-                              : (f_raw1 < -15'sd4096) ? f_raw1 + 15'sd8192 : f_raw1;
+    wire signed [14:0] f_dpt1 = (f_rawt1 >= 15'sd4096) ? f_rawt1 - 15'sd8192
+                              : (f_rawt1 < -15'sd4096) ? f_rawt1 + 15'sd8192 : f_rawt1;
+    // P = 8192 Wd + (phase - previous trusted phase) (s17)
+    wire signed [16:0] f_p1 = $signed({f_wd1[2], f_wd1, 13'd0}) + $signed({{2{f_rawt1[14]}}, f_rawt1});
     always @(posedge clk) begin
         if (f_acc1) begin
             f_lp   <= prod_i;
@@ -278,14 +344,14 @@ module counter #(
         if (f_n1 == 9'd0) begin
             `ASSUME(f_y == 0);
         end else begin
-            `ASSUME((f_raw1 >= 15'sd0)     == (f_y24 >= 24'sd0));
-            `ASSUME((f_raw1 <= 15'sd0)     == (f_y24 <= 24'sd0));
-            `ASSUME((f_raw1 >= 15'sd4096)  == (f_y24 >= f_n12));
-            `ASSUME((f_raw1 <= 15'sd4096)  == (f_y24 <= f_n12));
-            `ASSUME((f_raw1 >= -15'sd4096) == (f_y24 >= -f_n12));
-            `ASSUME((f_raw1 <= -15'sd4096) == (f_y24 <= -f_n12));
-            `ASSUME((f_raw1 >= 15'sd8192)  == (f_y24 >= f_n13));
-            `ASSUME((f_raw1 <= -15'sd8192) == (f_y24 <= -f_n13));
+            `ASSUME((f_rawt1 >= 15'sd0)     == (f_y24 >= 24'sd0));
+            `ASSUME((f_rawt1 <= 15'sd0)     == (f_y24 <= 24'sd0));
+            `ASSUME((f_rawt1 >= 15'sd4096)  == (f_y24 >= f_n12));
+            `ASSUME((f_rawt1 <= 15'sd4096)  == (f_y24 <= f_n12));
+            `ASSUME((f_rawt1 >= -15'sd4096) == (f_y24 >= -f_n12));
+            `ASSUME((f_rawt1 <= -15'sd4096) == (f_y24 <= -f_n12));
+            `ASSUME((f_rawt1 >= 15'sd8192)  == (f_y24 >= f_n13));
+            `ASSUME((f_rawt1 <= -15'sd8192) == (f_y24 <= -f_n13));
         end
     end
 
@@ -313,17 +379,25 @@ module counter #(
     always @(*) begin
         assert (b_acc == f_b);                                           // I1, C3
         assert (ph_prev == f_lph && primed == f_lok);
+        if (f_wok)
+            assert (f_wd >= -3'sd1 && f_wd <= 3'sd1 && f_b == f_bt + f_nw(f_ln, f_wd));
+        if (f_nc)
+            assert (f_wok && f_wd == 3'sd0 && f_lph == f_tph);
+        if (!f_lok)
+            assert (f_tph == 13'd0 && f_ln == 9'd0 && f_bt == 0 && (!f_wok || f_wd == 3'sd0));
         assert (v1 == f_v1 && (v1 && ovs1) == f_ovs1);                   // I2
         if (v1)
             assert (hold1 == f_h1);
         if (f_ovs1)
             assert (f_v1 && !f_h1);
         if (f_acc1) begin                                                // I3
-            assert (f_lph == f_ph1);
-            assert (f_raw1 == $signed({2'b00, f_ph1}) - $signed({2'b00, f_lph2}));
-            assert (f_b == f_lb + f_bstep1);
+            assert (f_tph == f_ph1 && f_lph == f_ph1 && f_bt == f_b);
+            assert (f_wok && f_nc && f_wd == 3'sd0);
+            assert (f_rawt1 == $signed({2'b00, f_ph1}) - $signed({2'b00, f_lph2}));
+            if (f_wok1 && f_same1)
+                assert (f_b == f_lb + f_nw(f_n1, f_wd1));
         end else begin
-            assert (f_lph == f_lph2 && f_b == f_lb);
+            assert (f_tph == f_lph2 && f_bt == f_lb);
         end
         assert (f_lc == f_lb + $signed({{(COUNT_W-11){1'b0}}, f_lp[21:11]}));
         if (f_pm)
@@ -332,19 +406,24 @@ module counter #(
     end
 
     // C4: the step of the phase-mode count between trusted samples with the same n, in
-    // terms of the sample alone (B's step + q - q_last, s15; no width dependence), and
-    // the count's step is that (the ghost counts; count_o below)
-    wire signed [14:0] f_dcl = $signed({f_bstep1[COUNT_W-1], f_bstep1[13:0]})
+    // terms of the samples alone (4 n Wd + q - q_last, s15; no width dependence), and the
+    // count's step is that (the ghost counts; count_o below)
+    wire signed [COUNT_W-1:0] f_nw1 = f_nw(f_n1, f_wd1);
+    wire signed [14:0] f_dcl = $signed({f_nw1[COUNT_W-1], f_nw1[13:0]})
                                + $signed({4'd0, prod_i[21:11]}) - $signed({4'd0, f_lp[21:11]});
     wire signed [14:0] f_2n15 = $signed({5'd0, f_n1, 1'b0});
+    wire               f_half1 = (f_p1 <= 17'sd4096) && (f_p1 >= -17'sd4096);
     always @(*) if (f_acc1) begin
-        assert (f_dc == {{(COUNT_W-15){f_dcl[14]}}, f_dcl});
-        if (f_same1) begin
-            assert (f_dcl <= f_2n15 && f_dcl >= -f_2n15);
-            if (f_dph1 >= 0)
+        if (f_nc1)                          // no coast between: the phase step
+            assert (f_wok1 && f_p1 == {{2{f_dpt1[14]}}, f_dpt1});
+        if (f_same1 && f_wok1) begin
+            assert (f_dc == {{(COUNT_W-15){f_dcl[14]}}, f_dcl});
+            if (f_p1 >= 0)
                 assert (f_dcl >= 0);
-            if (f_dph1 <= 0)
+            if (f_p1 <= 0)
                 assert (f_dcl <= 0);
+            if (f_half1)
+                assert (f_dcl <= f_2n15 && f_dcl >= -f_2n15);
         end
     end
 
@@ -368,19 +447,22 @@ module counter #(
             if ($past(f_v1) && $past(mode_i))
                 assert (count_o == $past(e_acc));
             // C4 on count_o: the step from the count shown before is the sample's step
-            // (bounded above when n is the same)
+            // (signed and bounded when n is the same)
             if ($past(f_acc1 && f_pm) && !$past(mode_i))
                 assert (f_dcount == $past(f_dc));
-            if ($past(f_acc1 && f_same1 && f_pm) && !$past(mode_i)) begin
-                assert (f_dcount <= $past(f_2n) && f_dcount >= -$past(f_2n));
-                if ($past(f_dph1) >= 0)
+            if ($past(f_acc1 && f_same1 && f_wok1 && f_pm) && !$past(mode_i)) begin
+                if ($past(f_half1))
+                    assert (f_dcount <= $past(f_2n) && f_dcount >= -$past(f_2n));
+                if ($past(f_p1) >= 0)
                     assert (f_dcount >= 0);
-                if ($past(f_dph1) <= 0)
+                if ($past(f_p1) <= 0)
                     assert (f_dcount <= 0);
             end
             // C5
-            if ($past(valid_i && hold_i))
+            if ($past(valid_i && hold_i && !coast_i))
                 assert (b_acc == $past(b_acc) && ph_prev == $past(ph_prev));
+            if ($past(valid_i && hold_i && coast_i))
+                assert (b_acc == $past(b_acc + f_bstep) && ph_prev == $past(line_i));
             if ($past(f_v1 && f_h1)) begin
                 assert (!ovs_o);
                 if (!$past(mode_i))
@@ -398,18 +480,27 @@ module counter #(
     end
 
     // ---- reachability ------------------------------------------------------------------------
+    reg  f_cst1 = 1'b0;                         // the sample in stage 2 was coasted
+    always @(posedge clk)
+        f_cst1 <= f_cst && !rst;
     always @(posedge clk) if (f_past_valid && !$past(rst)) begin
         // a backward and a forward wrap counted, the step bound reached, in phase mode
-        cover ($past(f_acc1 && !mode_i && f_raw1 >= 15'sd4096) && f_dcount == -5);
-        cover ($past(f_acc1 && !mode_i && f_raw1 < -15'sd4096) && f_dcount > 0);
+        cover ($past(f_acc1 && !mode_i && f_nc1 && f_wd1 == -3'sd1) && f_dcount == -5);
+        cover ($past(f_acc1 && !mode_i && f_nc1 && f_wd1 == 3'sd1) && f_dcount > 0);
         cover ($past(f_acc1 && f_same1 && f_pm && !mode_i && f_n1 == 9'd3)
                && f_dcount == 6);
-        // overspeed on the first trusted sample after a held one
+        // overspeed on the first trusted sample after a held one, and after a coast
         cover (ovs_o && $past(f_lok) && $past(f_v1 && f_h1, 2));
+        cover (ovs_o && $past(f_cst1, 2));
         // a held sample keeps a count; a trusted one after a held one moves it
         cover ($past(f_v1 && f_h1 && !mode_i) && $past(f_acc1 && !mode_i, 2)
                && valid_o && count_o != 0);
         cover ($past(f_acc1 && !mode_i) && $past(f_v1 && f_h1, 2) && f_dcount != 0);
+        // a coast's line wraps B; the count goes on from the coasted wrap (P > 0 though
+        // the phase is below the previous trusted one)
+        cover ($past(f_cst && !mode_i) && b_acc != $past(b_acc));
+        cover ($past(f_acc1 && f_same1 && f_wok1 && !f_nc1 && f_pm && !mode_i
+                     && f_wd1 == 3'sd1 && f_rawt1 < 0) && f_dcount > 0);
         // illegal steps counted; the edge-mode count two steps down
         cover (ill_o && ill_count_o == 16'd2);
         cover ($past(f_v1 && mode_i) && count_o == -2 && $past(e_acc, 3) == -1);

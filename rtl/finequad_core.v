@@ -23,8 +23,10 @@
 // Fault bits (m_fault): 0 clip (at or near a rail), 1 gain saturation, 2 correction
 // saturation, 3 overspeed (|phase step| >= 3/4 pi per sample), 4 not calibrated,
 // 5 estimate held (last theta invalid), 6 A/B backlog over its bound, 7 signal loss,
-// 8 over-range, 9 stuck channel, 10 glitch (rtl/monitor.v). Bits 7, 9, 10, and 0 with 8,
-// hold the counter (the sample's phase is not trusted); 0, 7, 9, 10 and a short bit 8
+// 8 over-range, 9 stuck channel, 10 glitch (rtl/monitor.v). Bits 9, 10, 0 with 8, and 7
+// below COAST.floor hold the counter (the sample's phase is not trusted: the count holds
+// while the counter follows the monitor's line, and catches up after; a coast whose
+// uncertainty reaches a quarter period clears pos_valid); 0, 7, 9, 10 and a short bit 8
 // keep the sample from the estimator. With OPT_MONITOR = 0 bits 7..10 stay 0 and
 // nothing holds the counter; clipped samples are still kept from the estimator.
 // Reference marks (rtl/refmark.v): s_ref is the reference input of the sample (a
@@ -204,6 +206,8 @@ module finequad_core #(
     reg [FQ_MONITOR_GLITCH_K_W-1:0]  r_glitch_k = FQ_MONITOR_GLITCH_K_RESET;  // 2^K
     reg [FQ_MONITOR_STUCK_N_W-1:0]   r_stuck_n = FQ_MONITOR_STUCK_N_RESET;    // samples
     reg [FQ_MONITOR_CODE_STEP_W-1:0] r_code_step = FQ_MONITOR_CODE_STEP_RESET; // 2^k LSBs
+    reg [FQ_COAST_FLOOR_W-1:0]       r_floor = FQ_COAST_FLOOR_RESET;     // s2.14 radius
+    reg [FQ_COAST_COAST_ACC_W-1:0]   r_coast_acc = FQ_COAST_COAST_ACC_RESET; // u0.12
     // staged bundle (GAIN, M1, M2, C1, C12, C2), handed to the fast path by CTRL.load
     reg [1:0]  st_gain = G_INIT;
     reg signed [15:0] st_m1 = FQ_M1_M1_RESET[15:0], st_m2 = FQ_M2_M2_RESET[15:0];
@@ -312,6 +316,10 @@ module finequad_core #(
                     r_stuck_n <= reg_wdata[FQ_MONITOR_STUCK_N_MSB:FQ_MONITOR_STUCK_N_LSB];
                     r_code_step <= reg_wdata[FQ_MONITOR_CODE_STEP_MSB:FQ_MONITOR_CODE_STEP_LSB];
                 end
+                FQ_COAST: begin
+                    r_floor <= reg_wdata[FQ_COAST_FLOOR_MSB:FQ_COAST_FLOOR_LSB];
+                    r_coast_acc <= reg_wdata[FQ_COAST_COAST_ACC_MSB:FQ_COAST_COAST_ACC_LSB];
+                end
                 default: ;
             endcase
         end
@@ -356,6 +364,8 @@ module finequad_core #(
             r_glitch_k <= FQ_MONITOR_GLITCH_K_RESET;
             r_stuck_n <= FQ_MONITOR_STUCK_N_RESET;
             r_code_step <= FQ_MONITOR_CODE_STEP_RESET;
+            r_floor <= FQ_COAST_FLOOR_RESET;
+            r_coast_acc <= FQ_COAST_COAST_ACC_RESET;
             st_gain <= G_INIT;
             st_m1 <= FQ_M1_M1_RESET[15:0];
             st_m2 <= FQ_M2_M2_RESET[15:0];
@@ -424,14 +434,17 @@ module finequad_core #(
         end
     endgenerate
     // ---- signal monitor: faults, the counter's hold (stage t+6 .. t+7), the travel ------------
-    wire mon_hold, mon_excl, mon_loss, mon_over, mon_stuck, mon_glitch;
+    wire mon_hold, mon_excl, mon_loss, mon_over, mon_stuck, mon_glitch, mon_coast, mon_lost;
+    wire [12:0] mon_line;
     wire [19:0] mon_travel;
     monitor #(.OPT_MONITOR(OPT_MONITOR), .ADC_W(ADC_W)) u_monitor (
         .clk(clk), .rst(rst), .sv_i(s_valid && !rst), .g_i(b_g), .c1_i(b_c1), .c2_i(b_c2),
         .code_step_i(r_code_step), .valid0_i(c_v0), .raw1_i(c_raw1), .raw2_i(c_raw2),
         .clip_i(c_clip), .ref_i(b_ref), .ax_i(c_ax), .ay_i(c_ay), .xn_i(c_xn), .yn_i(c_yn), .pvalid_i(h_valid), .phase_i(h_phase),
         .loss_th_i(r_loss), .over_th_i(r_over), .glitch_k_i(r_glitch_k),
-        .stuck_n_i(r_stuck_n), .hold_o(mon_hold), .excl_o(mon_excl), .loss_o(mon_loss),
+        .stuck_n_i(r_stuck_n), .floor_th_i(r_floor), .coast_acc_i(r_coast_acc),
+        .coast_o(mon_coast), .line_o(mon_line), .lost_o(mon_lost),
+        .hold_o(mon_hold), .excl_o(mon_excl), .loss_o(mon_loss),
         .over_o(mon_over), .stuck_o(mon_stuck), .glitch_o(mon_glitch),
         .travel_o(mon_travel)
     );
@@ -464,12 +477,17 @@ module finequad_core #(
     wire signed [COUNT_W-1:0] k_count;          // the count before the homing offset
     wire [15:0] k_ill_count;
     counter #(.COUNT_W(COUNT_W)) u_counter (
-        .clk(clk), .rst(rst), .valid_i(h_valid), .hold_i(mon_hold), .phase_i(h_phase_c),
+        .clk(clk), .rst(rst), .valid_i(h_valid), .hold_i(mon_hold), .coast_i(mon_coast),
+        .line_i(mon_line), .phase_i(h_phase_c),
         .prod_i(n_prod),
         .n_i(r_interp), .mode_i(r_count_mode), .pv_i(p_valid), .a_i(p_a), .b_i(p_b),
         .valid_o(m_valid), .count_o(k_count), .ovs_o(k_ovs), .ill_o(k_ill),
         .ill_count_o(k_ill_count), .held_o(k_held)
     );
+    // the monitor's verdict that a coast lost the travel (t + 7), beside the count (t + 8)
+    reg k_lost = 1'b0;
+    always @(posedge clk)
+        k_lost <= mon_lost && !r_count_mode && !rst;
     // ---- t+9 .. t+10: reference marks ----------------------------------------------------------
     wire rm_pa, rm_pb, rm_zp;
     wire rm_z_en, rm_win, rm_homed, rm_pos_valid, rm_home_armed, rm_latch, rm_lost;
@@ -483,7 +501,8 @@ module finequad_core #(
     refmark #(.COUNT_W(COUNT_W)) u_refmark (
         .clk(clk), .rst(rst), .nv_i(n_valid), .q_i(n_prod[21:11]), .n_i(r_interp),
         .ref_q_i(r_ref_q), .filt_i(r_ref_filt), .mode_i(r_count_mode),
-        .cv_i(m_valid), .count_i(k_count), .held_i(k_held), .ovs_i(k_ovs), .ref_i(fl_ref),
+        .cv_i(m_valid), .count_i(k_count), .held_i(k_held), .lost_i(k_lost), .ovs_i(k_ovs),
+        .ref_i(fl_ref),
         .pv_i(p_valid), .pa_i(p_a), .pb_i(p_b), .pa_o(rm_pa), .pb_o(rm_pb), .zp_o(rm_zp),
         .pos_i(g_pos), .target_o(rm_target), .z_en_o(rm_z_en), .z_at_o(rm_z_at),
         .home_arm_i(req_home), .home_i(r_home[COUNT_W-1:0]), .inval_i(req_inval),
@@ -669,6 +688,7 @@ module finequad_core #(
                 FQ_RADIUS: reg_rdata <= OPT_MONITOR ? `FQ_RD_RADIUS(r_loss, r_over) : 32'd0;
                 FQ_MONITOR: reg_rdata <= OPT_MONITOR ? `FQ_RD_MONITOR(r_glitch_k, r_code_step, r_stuck_n) :
                                          32'd0;
+                FQ_COAST: reg_rdata <= OPT_MONITOR ? `FQ_RD_COAST(r_floor, r_coast_acc) : 32'd0;
                 FQ_CAPTURE: reg_rdata <= `FQ_RD_CAPTURE({{(32-COUNT_W+1){r_capture[COUNT_W-1]}},
                                                         r_capture[COUNT_W-2:0]});
                 FQ_TRAVEL: reg_rdata <= `FQ_RD_TRAVEL(mon_travel);

@@ -7,7 +7,7 @@
 // `FQ_RD_<REG>(): a read's word from the field values (at the end).
 // (a module uses a part of the map: unused localparams are not findings)
 /* verilator lint_off UNUSEDPARAM */
-localparam [5:0] FQ_ADDR_TOP = 6'h24;     // the highest word
+localparam [5:0] FQ_ADDR_TOP = 6'h25;     // the highest word
 localparam integer FQ_FAULT_W = 11;     // m_fault: the fields of FAULT_STICKY
 
 // CTRL (W, byte 0x00): Control
@@ -445,7 +445,7 @@ localparam [5:0] FQ_ID = 6'h1f;
 localparam integer FQ_ID_ID_LSB = 0;
 localparam integer FQ_ID_ID_MSB = 31;
 localparam integer FQ_ID_ID_W = 32;
-localparam [31:0] FQ_ID_ID_RESET = 32'h46510008;
+localparam [31:0] FQ_ID_ID_RESET = 32'h46510009;
 
 // REF_COUNT (R, byte 0x80): Reference count
 localparam [5:0] FQ_REF_COUNT = 6'h20;
@@ -516,6 +516,23 @@ localparam [5:0] FQ_ABS_COUNT = 6'h24;
 localparam integer FQ_ABS_COUNT_ABS_COUNT_LSB = 0;
 localparam integer FQ_ABS_COUNT_ABS_COUNT_MSB = 31;
 localparam integer FQ_ABS_COUNT_ABS_COUNT_W = 32;
+
+// COAST (RW, byte 0x94): Coasting through faults
+localparam [5:0] FQ_COAST = 6'h25;
+localparam [31:0] FQ_COAST_WMASK = 32'h0fffffff;
+localparam [31:0] FQ_COAST_RESET = 32'h00100800;
+localparam integer FQ_COAST_FLOOR_LSB = 0;
+localparam integer FQ_COAST_FLOOR_MSB = 15;
+localparam integer FQ_COAST_FLOOR_W = 16;
+localparam [15:0] FQ_COAST_FLOOR_RESET = 16'h800;
+localparam [31:0] FQ_COAST_FLOOR_LO = 32'h0;
+localparam [31:0] FQ_COAST_FLOOR_HI = 32'hffff;
+localparam integer FQ_COAST_COAST_ACC_LSB = 16;
+localparam integer FQ_COAST_COAST_ACC_MSB = 27;
+localparam integer FQ_COAST_COAST_ACC_W = 12;
+localparam [11:0] FQ_COAST_COAST_ACC_RESET = 12'h10;
+localparam [31:0] FQ_COAST_COAST_ACC_LO = 32'h0;
+localparam [31:0] FQ_COAST_COAST_ACC_HI = 32'hfff;
 /* verilator lint_on UNUSEDPARAM */
 
 // `FQ_RD_<REG>(fields...): the word a read of the register returns, its readable
@@ -595,6 +612,8 @@ localparam integer FQ_ABS_COUNT_ABS_COUNT_W = 32;
     {7'd0, (dc_confirm), (dc_coded), (dc_spacing)}
 `define FQ_RD_ABS_COUNT(abs_count) \
     {(abs_count)}
+`define FQ_RD_COAST(floor, coast_acc) \
+    {4'd0, (coast_acc), (floor)}
 `endif
 
 // fq_write_ok(a, d, options...): a write of d to word a is taken: the register
@@ -681,6 +700,7 @@ function automatic fq_write_ok(input [5:0] a, input [31:0] d, input opt_dcode, i
             FQ_HOME: fq_write_ok = 1'b1;
             FQ_REF_STICKY: fq_write_ok = z3;
             FQ_DCODE: fq_write_ok = opt_dcode && z25 && d[11:0] <= 12'd4094;
+            FQ_COAST: fq_write_ok = opt_tunable && opt_monitor && z28;
             default: fq_write_ok = 1'b0;
         endcase
     end

@@ -23,39 +23,61 @@
 //          (stk_c or det_c); snap_c <= o_c, sp_c <= span_c if chg_c or rebase; stuck =
 //          stk_1 or stk_2 (as updated)
 //          r = max + min >> 2 + min >> 3           u16 radius (alpha-max-plus-beta-min)
-//   t + 5  loss = ref and r < LOSS, over = ref and r > OVER
+//   t + 5  loss = ref and r < LOSS, dead = ref and r < FLOOR, over = ref and r > OVER
+//   t + 6  per channel: the stuck latch, the code change (t + 3) and the signs (t + 2)
 //   Every per-sample recurrence (run, stk, snap, and stage H below) is one carry chain
 //   deep, so samples may come on every clock.
 //   H = the clock from t + 6 to t + 7: phase_i (u13 fine phase, before the harmonic
-//          correction) registered on t + 6 with pvalid_i
-//          glitch = K > 0, chk == 2 and wrap13(phase - pred) outside [-2^K, 2^K - 1]
-//                   (K = glitch_k_i sampled on t + 5, the edge before H: a bit test,
-//                   no compare chain)
-//          hold_o = pvalid and (loss or stuck or glitch or (clip and over))
-//                   (combinational in H: the counter keeps its count and last phase,
-//                   rtl/counter.v; a clipped code alone still counts)
-//          excl_o = hold_o or clip or over while orun < 4095      (combinational in H:
-//                   the estimator does not take the sample)
-//   t + 7  loss_o, over_o, stuck_o, glitch_o (the sample's fault bits);
+//          correction) registered on t + 6 with pvalid_i; pred = pf >> 3 (the line)
+//          glitch = K > 0, chk == 2, not rc and wrap13(phase - pred) outside
+//                   [-2^K, 2^K - 1] (K = glitch_k_i sampled on t + 5, the edge before
+//                   H: a bit test, no compare chain)
+//          hold_o = pvalid and (dead or stuck or glitch or (clip and over))
+//                   (combinational in H: the counter does not take the phase,
+//                   rtl/counter.v; a clipped code alone still counts, and so does a
+//                   weak signal between FLOOR and LOSS)
+//          coast_o = hold_o and lok and (dead or stuck or (clip and over) or a glitch
+//                   coast: grun < COAST_MAX or clipped); line_o = pred: the counter
+//                   follows the line instead of the phase
+//          excl_o = hold_o or loss or clip or over while orun < 4095  (combinational in
+//                   H: the estimator does not take the sample)
+//   t + 7  loss_o, over_o, stuck_o, glitch_o (the sample's fault bits), lost_o;
 //          orun <= over ? min(orun + 1, 4095) : 0; if accepted
 //          (not hold), with d = wrap13(phase - ph_a): ph_a <= phase; while chk < 2 (the
-//          line re-anchors) v <= 8 d, pred <= phase + d; else pred <= phase + (v >>> 3)
+//          line re-anchors) v <= 8 d, pf <= 8 phase + 8 d; else pf <= 8 phase + v
 //          (v as before the sample) and, if the sample before was accepted too (acc),
 //          v <= v + ((8 d - v) >>> 3) (s13.3, a running mean of the steps: one outlier
-//          under the threshold moves it by 1/8 of its error); chk <= min(chk + 1, 2),
+//          under the threshold moves it by 1/8 of its error) and mdev <= mdev +
+//          ((16 |8 d - v| - mdev) >>> 4) (their spread); chk <= min(chk + 1, 2), lok <=
+//          chk >= 1, rc <= 0, unc <= 0, w <= ((mdev >> 4) + 1) << 9 (mdev as before),
 //          S <= S + ((U << 5) - S) >>> 5, U <= U + d, grun <= 0 only if acc (an accept
 //          right after a coast keeps the count: a wrong line that meets the phase now
 //          and then, coasting in between, still reaches COAST_MAX), acc <= 1;
-//          coasting (held by the glitch test alone, unless grun == COAST_MAX and the
-//          sample is unclipped: 16 coast, the 17th re-anchors): pred <= pred + (v >>> 3)
-//          (the line goes on; ph_a and v stay), grun <= min(grun + 1, COAST_MAX), chk
-//          kept, acc <= 0; otherwise held: chk <= 0, grun <= 0, acc <= 0 (the next two
-//          samples re-anchor the line).
+//          coasting (coast_o): pf <= pf + v (the line goes on; ph_a and v stay; on the
+//          first sample of one stuck channel pf <= its shadow line + its velocity, v <=
+//          that velocity; else, while one channel is stuck and the signal is not dead,
+//          a sign change of the working channel re-anchors: pf <= 8 cand + v, cand the
+//          crossing (0 or 4096 for channel 2's, 2048 or 6144 for channel 1's) nearest
+//          pred, and unc <= 0), unc <= min(unc + w, 2^23), w <= w + coast_acc (below
+//          2^23), lost_o <= unc reached 2^23; a glitch coast: grun <= min(grun + 1,
+//          COAST_MAX); a coast through dead, stuck or clip with over: rc <= 1 (the next
+//          accepted sample is not tested against the line: the line may be off by up to
+//          the uncertainty), chk kept, acc <= 0; otherwise held (no line: lok = 0, or
+//          a glitch coast past COAST_MAX unclipped, the wrong line): chk <= 0, grun <= 0,
+//          acc <= 0, lok <= 0, rc <= 0, unc <= 2^23, lost_o <= 1 (the next two samples
+//          re-anchor the line).
+//          Per channel (the shadow lines sl_c, sv_c, u13.3 and s13.3): a sample whose
+//          code changed sets them to the line and velocity after it, any other moves
+//          sl_c by sv_c: the line as it would have coasted from the channel's last
+//          change, so the coast of a stuck channel starts clear of the samples distorted
+//          before the check caught it (sim/model/monitor.py).
 //          travel_o = S[24:5] (u20 phase units, wraps; the estimator's gate).
 // Formats: U u20 (wraps), S u20.5 (wraps; the difference (U << 5) - S is taken as s25,
 // and |U - S| stays below 2^19 at any speed below half a period per sample: 32 x 4096),
 // snap s17 (|o| <= 32767, the difference s18), orun u12, run u8 and grun u5 saturate,
-// pred and ph_a u13 wrap. Nothing overflows
+// ph_a u13 and pf, sl_c u13.3 wrap; unc u24 (2^-12 phase units, saturates at 2^23, a
+// quarter period), w u26 (2^-12 units per sample; at most 2^25 from mdev, stops at 2^23
+// + 4095 from coast_acc), mdev u20 (2^-7 units, at most 16 x 65535). Nothing overflows
 // (the formal properties below and sim/formal/monitor.sby, for OPT_MONITOR = 1).
 // OPT_MONITOR = 0 (a small device, e.g. the iCE40 UP5K): no fault checks: loss, over,
 // stuck and glitch are 0, hold_o never, excl_o = pvalid_i and clip (a clipped sample is
@@ -95,14 +117,19 @@ module monitor #(
     input  wire [15:0]        over_th_i,    // u16 radius above it: over-range
     input  wire [3:0]         glitch_k_i,   // max |phase acceleration| 2^K (0: off)
     input  wire [7:0]         stuck_n_i,    // u8 unchanged codes before stuck (0: off)
+    input  wire [15:0]        floor_th_i,   // u16 radius below it: the phase not trusted
+    input  wire [11:0]        coast_acc_i,  // u0.12 the coast's acceleration bound
     // stage H (combinational)
     output wire               hold_o,
     output wire               excl_o,
+    output wire               coast_o,      // with hold_o: the count follows line_o
+    output wire [12:0]        line_o,       // u13 the line at this sample (a register)
     // edge t + 7
     output reg                loss_o = 1'b0,
     output reg                over_o = 1'b0,
     output reg                stuck_o = 1'b0,
     output reg                glitch_o = 1'b0,
+    output reg                lost_o = 1'b0, // the coast's uncertainty reached 1/4 period
     output wire [19:0]        travel_o      // u20 integer part of S
 );
     localparam [11:0] OVER_PERSIST = 12'd4095;
@@ -248,10 +275,18 @@ module monitor #(
             snap1 <= 0; snap2 <= 0; sp1 <= 15'd2048; sp2 <= 15'd2048;
         end
     end
-    // the stuck flag of edge t + 4, at t + 6
+    // the stuck flag of edge t + 4, at t + 6; per channel, the latches, the code changes
+    // (t + 3) and the signs (t + 2) beside it, for the coast in H
     reg [1:0] stuck_d = 0;
-    always @(posedge clk)
+    reg [1:0] st_5 = 0, st_6 = 0, chg_4 = 0, chg_5 = 0, chg_6 = 0;
+    reg [1:0] sg_3 = 0, sg_4 = 0, sg_5 = 0, sg_6 = 0;       // {yn, xn}
+    always @(posedge clk) begin
         stuck_d <= {stuck_d[0], stuck4};
+        st_5 <= {stk2, stk1};
+        st_6 <= st_5;
+        {chg_4, chg_5, chg_6} <= {chg2_3, chg1_3, chg_4, chg_5};
+        {sg_3, sg_4, sg_5, sg_6} <= {yn_i, xn_i, sg_3, sg_4, sg_5};
+    end
     wire stuck = OPT_MONITOR && stuck_d[1];
     // the clip flag of edge t, at t + 5 (into `early`, below)
     reg [4:0] clip_d = 0;
@@ -263,12 +298,15 @@ module monitor #(
     reg [14:0] mx3 = 0, mn3 = 0;
     reg [15:0] r4 = 0;
     reg        loss5 = 1'b0, over5 = 1'b0, loss6 = 1'b0, over6 = 1'b0;
+    reg        dead5 = 1'b0, dead6 = 1'b0;
     always @(posedge clk) begin
         {ref0, ref1, ref2, ref3, ref4} <= {ref_i, ref0, ref1, ref2, ref3};
         mx3 <= (ay_i <= ax_i) ? ax_i : ay_i;
         mn3 <= (ay_i <= ax_i) ? ay_i : ax_i;
         r4 <= {1'b0, mx3} + {3'd0, mn3[14:2]} + {4'd0, mn3[14:3]};
         loss5 <= ref4 && (r4 < loss_th_i);
+        dead5 <= ref4 && (r4 < floor_th_i);
+        dead6 <= dead5;
         over5 <= ref4 && (r4 > over_th_i);
         loss6 <= loss5;
         over6 <= over5;
@@ -278,18 +316,27 @@ module monitor #(
     // (t + 6); clip alone for the estimator
     reg early = 1'b0, clip6 = 1'b0;
     always @(posedge clk) begin
-        early <= OPT_MONITOR && (loss5 || stuck_d[0] || (clip_d[4] && over5));
+        early <= OPT_MONITOR && (dead5 || stuck_d[0] || (clip_d[4] && over5));
         clip6 <= clip_d[4];
     end
 
     // ---- stage H ----------------------------------------------------------------------------
-    reg [12:0] ph_a = 0, pred = 0;
+    reg [12:0] ph_a = 0;
+    reg [15:0] pf = 0;          // u13.3 the line: the prediction of this sample's phase
     reg [1:0]  chk = 0;
     reg [19:0] u = 0;
     reg [24:0] s = 0;
     reg [11:0] orun = 0;
     reg [4:0]  grun = 0;        // glitches coasted since two samples in a row were accepted
     reg        acc = 1'b0;                                      // the sample before was accepted
+    reg        lok = 1'b0;      // the line is known: held samples coast along it
+    reg        rc = 1'b0;       // a coast through loss or a stuck channel: no glitch test next
+    reg [23:0] unc = 0;         // u24 the coast's uncertainty, 2^-12 units (2^23: lost)
+    reg [25:0] w = 0;           // u26 its growth per coasted sample
+    reg [19:0] mdev = 0;        // u20 mean |8 d - v|, 2^-7 units
+    reg [15:0] sl1 = 0, sl2 = 0, sv1 = 0, sv2 = 0;   // the shadow lines and their velocities
+    reg [1:0]  pst = 0, psg = 0;                     // the stuck latches, signs before
+    wire [12:0] pred = pf[15:3];
     wire [12:0] e = phase_i - pred;                             // s13 off the line
     // e outside [-2^K, 2^K - 1] <=> a bit of e[11:K] differs from the sign e[12]; the
     // bits K..11 as a mask (all clear for K = 0, off, or K >= 12), registered from K on the
@@ -302,17 +349,54 @@ module monitor #(
             gmask[kb] <= (glitch_k_i != 4'd0) && (kb >= glitch_k_i);
     wire        big_p = |(e[11:1] & gmask);
     wire        big_n = |(~e[11:1] & gmask);
-    wire        glitch = OPT_MONITOR && chk[1] && (e[12] ? big_n : big_p);
+    wire        glitch = OPT_MONITOR && chk[1] && !rc && (e[12] ? big_n : big_p);
     assign hold_o = pvalid_i && (early || glitch);
     // a glitch alone coasts along the line (COAST_MAX coasts since two samples in a row
     // were accepted; a clipped sample, a channel on a rail, coasts on for as long as it lasts)
-    wire        coast = glitch && !early && !(grun == COAST_MAX && !clip6);
+    wire        gco = glitch && !early && !(grun == COAST_MAX && !clip6);
+    wire        coast = OPT_MONITOR && lok && (early || gco);
+    assign coast_o = hold_o && coast;
+    assign line_o = OPT_MONITOR ? pred : 13'd0;
     reg  signed [15:0] v = 0;                                   // s13.3 the line's velocity
-    wire signed [12:0] vi = v[15:3];                            // s13 its step (floor)
-    assign excl_o = hold_o || (pvalid_i && (clip6 || (over && (orun != OVER_PERSIST))));
+    assign excl_o = hold_o || (pvalid_i && (loss || clip6 ||
+                                            (over && (orun != OVER_PERSIST))));
     wire [12:0] d = phase_i - ph_a;                             // s13 step
     wire signed [16:0] dv = $signed({d, 3'b000}) - v;            // s14.3 8 d - v
+    wire [15:0] adv = dv[16] ? -dv[15:0] : dv[15:0];             // |8 d - v| <= 65535
+    wire signed [20:0] mdd = $signed({1'b0, adv, 4'b0000}) - $signed({1'b0, mdev});
     wire [24:0] sd = {u, 5'd0} - s;                             // s25
+    // one stuck channel (st_6[0]: channel 1): its shadow line on the latch's first sample,
+    // else the working channel's zero crossing nearest the line
+    wire        one = st_6[0] ^ st_6[1];
+    wire        rise = one && (st_6[0] ? !pst[0] : !pst[1]);
+    wire        sgch = st_6[0] ? (sg_6[1] != psg[1]) : (sg_6[0] != psg[0]);
+    wire        anchor = one && !dead6 && sgch;
+    wire [12:0] p2k = pred + 13'd2048;
+    wire [12:0] cand = st_6[0] ? {p2k[12], 12'd0} : {pred[12], 1'b1, 11'd0};
+    wire [26:0] usum = {3'b000, unc} + {1'b0, w};
+    wire        acc_ok = !hold_o;
+    // the line and its velocity after the sample (the shadow lines start from them)
+    reg  [15:0] pf_n;
+    reg  signed [15:0] v_n;
+    always @(*) begin
+        pf_n = pf;
+        v_n = v;
+        if (acc_ok) begin
+            if (!chk[1])
+                v_n = {d, 3'b000};
+            else if (acc)
+                v_n = v + {{3{dv[16]}}, dv[15:3]};
+            pf_n = {phase_i, 3'b000} + (chk[1] ? v : {d, 3'b000});
+        end else if (coast) begin
+            if (rise) begin
+                pf_n = st_6[0] ? sl1 + sv1 : sl2 + sv2;
+                v_n = st_6[0] ? sv1 : sv2;
+            end else if (anchor)
+                pf_n = {cand, 3'b000} + v;
+            else
+                pf_n = pf + v;
+        end
+    end
     always @(posedge clk) begin
         if (pvalid_i) begin
             loss_o <= loss;
@@ -320,50 +404,69 @@ module monitor #(
             stuck_o <= stuck;
             glitch_o <= glitch;
             orun <= !over ? 12'd0 : (orun == OVER_PERSIST) ? orun : orun + 1'b1;
-            if (!hold_o) begin
+            pf <= pf_n;
+            v <= v_n;
+            pst <= st_6;
+            psg <= sg_6;
+            sl1 <= chg_6[0] ? pf_n : sl1 + sv1;
+            sv1 <= chg_6[0] ? v_n : sv1;
+            sl2 <= chg_6[1] ? pf_n : sl2 + sv2;
+            sv2 <= chg_6[1] ? v_n : sv2;
+            if (acc_ok) begin
+                w <= {mdev[19:4] + 17'd1, 9'd0};
+                if (chk[1] && acc)
+                    mdev <= mdev + {{3{mdd[20]}}, mdd[20:4]};
                 ph_a <= phase_i;
-                if (!chk[1]) begin
-                    pred <= phase_i + d;
-                    v <= {d, 3'b000};
-                end else begin
-                    pred <= phase_i + vi;
-                    if (acc)
-                        v <= v + {{2{dv[16]}}, dv[16:3]};
-                end
                 chk <= chk[1] ? chk : chk + 1'b1;
+                lok <= chk[1] || chk[0];
+                rc <= 1'b0;
                 s <= s + {{5{sd[24]}}, sd[24:5]};
                 u <= u + {{7{d[12]}}, d};
                 if (acc)                       // two in a row: the line holds
                     grun <= 5'd0;
                 acc <= 1'b1;
+                unc <= 24'd0;
+                lost_o <= 1'b0;
             end else if (coast) begin
-                pred <= pred + vi;
-                grun <= (grun == COAST_MAX) ? grun : grun + 1'b1;
+                unc <= (anchor && !rise) ? 24'd0 : (|usum[26:23]) ? 24'h800000 : usum[23:0];
+                lost_o <= !(anchor && !rise) && (|usum[26:23]);
+                if (w[25:23] == 3'd0)
+                    w <= w + {14'd0, coast_acc_i};
+                if (early)
+                    rc <= 1'b1;
+                else
+                    grun <= (grun == COAST_MAX) ? grun : grun + 1'b1;
                 acc <= 1'b0;
-            end else begin
+            end else begin                     // no line to coast along: the travel is lost
                 chk <= 2'd0;
                 grun <= 5'd0;
                 acc <= 1'b0;
+                lok <= 1'b0;
+                rc <= 1'b0;
+                unc <= 24'h800000;
+                lost_o <= OPT_MONITOR;
             end
         end
         if (rst) begin
             loss_o <= 1'b0; over_o <= 1'b0; stuck_o <= 1'b0; glitch_o <= 1'b0;
             orun <= 0;
-            ph_a <= 0; pred <= 0; chk <= 0; s <= 0; u <= 0; grun <= 0; v <= 0; acc <= 1'b0;
+            ph_a <= 0; pf <= 0; chk <= 0; s <= 0; u <= 0; grun <= 0; v <= 0; acc <= 1'b0;
+            lok <= 1'b0; rc <= 1'b0; unc <= 0; w <= 0; mdev <= 0; lost_o <= 1'b0;
+            sl1 <= 0; sl2 <= 0; sv1 <= 0; sv2 <= 0; pst <= 0; psg <= 0;
         end
     end
     assign travel_o = s[24:5];
-    wire unused = &{1'b0, mn3[1:0], sd[4:0], x1[10:0], x2[10:0], dv[2:0], e[0], 1'b0};
+    wire unused = &{1'b0, mn3[1:0], sd[4:0], x1[10:0], x2[10:0], dv[2:0], e[0], mdd[3:0], p2k[11:0], 1'b0};
 
 `ifdef FORMAL
     // ---- formal properties (sim/formal/monitor.sby; every input free on every clock) --------
     // Stated per edge for any inputs: a sample's values are its inputs on the edges the
     // header gives (no assumption ties the stages of one sample together; ghost delay lines
     // f_* carry them to stage H). With E the edge sampling pvalid_i (t + 7 of the header):
-    //  M1 loss (in H, loss_o after E) == ref && r < LOSS, over == ref && r > OVER for ref
-    //     sampled on E - 7, r = max + (min >> 2) + (min >> 3) of ax_i, ay_i sampled on
-    //     E - 4 (computed here in 17 bits), the thresholds sampled on E - 2; the 16-bit
-    //     radius register holds the exact sum (it never passes 16 bits).
+    //  M1 loss (in H, loss_o after E) == ref && r < LOSS, dead == ref && r < FLOOR, over ==
+    //     ref && r > OVER for ref sampled on E - 7, r = max + (min >> 2) + (min >> 3) of
+    //     ax_i, ay_i sampled on E - 4 (computed here in 17 bits), the thresholds sampled on
+    //     E - 2; the 16-bit radius register holds the exact sum (it never passes 16 bits).
     //  M2 stuck: a channel's latch, on each sample's update (v3), becomes !chg && (latch ||
     //     (run >= N > 0 && !rebase && the other channel outside [-sp, sp - 1] of its
     //     snapshot)), chg = the code changed from the previous sample, run its run of
@@ -378,33 +481,59 @@ module monitor #(
     //     functions' values are held to the model's stuck_span() by
     //     cocotb_tests/test_monitor.py, whose stimulus makes wrong spans and a missing
     //     rebase visible; not here.) Assumed: code_step_i <= 8 (the register's legal
-    //     range; with ADC_W >= 12, E <= 30 fits its 5 bits).
-    //  M3 glitch_o == K > 0 && chk == 2 && wrap13(phase - pred) outside [-2^K, 2^K - 1]
-    //     (signed compares; off for K >= 12 as the range then covers every s13);
-    //     hold_o == pvalid && (loss || stuck || (clip && over) || glitch) of the sample
-    //     (clip sampled on E - 6); excl_o == hold_o || (pvalid && (clip || over && orun <
-    //     4095)): so hold_o and excl_o only with pvalid_i, excl_o whenever hold_o.
-    //  M4 a held sample moves neither U nor S (orun and the flags follow the sample); a
-    //     coasting one (glitch alone, not the 16th in a row unless clipped) moves the line
-    //     on: pred <= pred + floor(v / 8), ph_a and v kept, chk kept, grun + 1
-    //     (saturating); any other held one: ph_a, pred, v kept, chk <= 0, grun <= 0; an
-    //     accepted one: ph_a <= phase; re-anchoring (chk < 2) pred <= 2 phase - ph_a, v <=
-    //     8 (phase - ph_a); else pred <= phase + floor(v / 8) and, if the sample before
-    //     was accepted (acc), v <= v + floor((8 d - v) / 8) (exact, d = wrap13(phase -
-    //     ph_a), in 20 bits it never leaves 16), else v kept; grun <= 0 only if acc (else
-    //     kept), acc <= 1; chk <= min(chk + 1, 2), U <= U + wrap13(phase -
-    //     ph_a), grun <= 0. No pvalid_i: nothing in H moves, the fault bits hold.
+    //     range; with ADC_W >= 12, E <= 30 fits its 5 bits). Per channel, beside the
+    //     sample in H: its latch as it stood after E - 3, its code change (chg) and its
+    //     signs (xn_i, yn_i sampled on E - 4, with ax_i and ay_i).
+    //  M3 glitch_o == K > 0 && chk == 2 && !rc && wrap13(phase - pred) outside [-2^K,
+    //     2^K - 1], pred = pf >> 3 (the line; signed compares; off for K >= 12 as the
+    //     range then covers every s13); hold_o == pvalid && (dead || stuck || (clip &&
+    //     over) || glitch) of the sample (clip sampled on E - 6; loss alone does not hold);
+    //     coast_o == hold_o && lok && (dead || stuck || (clip && over) || (glitch && (grun
+    //     < 16 || clip))); line_o == pred; excl_o == hold_o || (pvalid && (loss || clip ||
+    //     over && orun < 4095)): so hold_o and excl_o only with pvalid_i, excl_o whenever
+    //     hold_o, coast_o only with hold_o.
+    //  M4 No pvalid_i: nothing in H moves, the fault bits and lost_o hold. A held sample
+    //     moves neither U, S, ph_a nor mdev (orun and the flags follow the sample).
+    //     Coasting (coast_o): chk and lok kept, acc <= 0; the line: on the first sample
+    //     of one stuck channel (its latch set, clear for the sample before: rise) pf <=
+    //     sl + sv, v <= sv of that channel; else, with one stuck channel, the signal not
+    //     dead and the working channel's sign changed from the sample before (anchor):
+    //     pf <= 8 cand + v, cand the working channel's zero crossing (0 or 4096 for
+    //     channel 2, 2048 or 6144 for channel 1) with wrap13(pred - cand) in [-2048,
+    //     2047] (the nearest), v kept; else pf <= pf + v, v kept; unc <= 0 on an anchor
+    //     (not rise), else min(unc + w, 2^23); w <= w + coast_acc while w < 2^23, else
+    //     kept; a coast through dead, stuck or clip with over: rc <= 1, grun kept; a
+    //     glitch coast: grun <= min(grun + 1, 16), rc stays 0.
+    //     Any other held one (no line: lok = 0, or the 17th glitch coast unclipped): pf,
+    //     v, w kept; chk, grun, acc, lok, rc <= 0; unc <= 2^23 (lost_o).
+    //     An accepted one: ph_a <= phase; re-anchoring (chk < 2) pf <= 8 phase + 8 d, v
+    //     <= 8 d; else pf <= 8 phase + v and, if the sample before was accepted (acc),
+    //     v <= v + floor((8 d - v) / 8) and mdev <= mdev + floor((16 |8 d - v| - mdev) /
+    //     16) (both exact, d = wrap13(phase - ph_a): in 20 and 23 bits they never leave
+    //     s16 and [0, 16 x 65535]), else v and mdev kept; w <= (floor(mdev / 16) + 1) 2^9
+    //     (mdev before the sample); chk <= min(chk + 1, 2), lok <= chk >= 1, rc <= 0, unc
+    //     <= 0; grun <= 0 only if acc (else kept), acc <= 1; U <= U + d.
+    //     Every sample (pvalid_i): pst, psg <= its latches and signs; per channel the
+    //     shadow line: sl <= pf, sv <= v (as updated by the sample) if the channel's code
+    //     changed, else sl <= sl + sv, sv kept.
     //  M5 saturating counters never wrap: run 0..255 (+1 while unchanged, 0 on a change),
-    //     orun 0..4095 (+1 while over, 0 otherwise), chk 0..2, grun 0..16 (+1 per coast,
-    //     0 on two accepted in a row or a re-anchor).
+    //     orun 0..4095 (+1 while over, 0 otherwise), chk 0..2, grun 0..16 (+1 per glitch
+    //     coast, 0 on two accepted in a row or a re-anchor); lok == (chk == 2) (the line
+    //     is known exactly while it is anchored), rc only with lok.
     //  M6 S: the difference (U << 5) - S (s25) stays within +-2^22 (|U - S| <= 32 x 4096
     //     in U units, at any phase steps: wrap13 bounds them), so S's step never sees a
     //     wrapped difference.
-    //  M7 rst: the flags, orun, chk, U, S, ph_a, pred, the runs, latches and snapshots 0,
-    //     the spans 2048, the sampled bundles 0.
-    //  M8 OPT_MONITOR = 0 (sby task prf_m): M1..M7 with loss, over, stuck and glitch as
-    //     specified replaced by 0: hold_o never, excl_o == pvalid && clip, every sample
-    //     accepted (M4's accepted branch: U and S follow every sample).
+    //  M7 rst: the flags and lost_o, orun, chk, U, S, ph_a, pf, v, grun, acc, lok, rc,
+    //     unc, w, mdev, the shadow lines, pst, psg, the runs, latches and snapshots 0, the
+    //     spans 2048, the sampled bundles 0.
+    //  M8 OPT_MONITOR = 0 (sby task prf_m): M1..M7, M9 with loss, dead, over, stuck and
+    //     glitch as specified replaced by 0: hold_o, coast_o and lost_o never, line_o ==
+    //     0, excl_o == pvalid && clip, every sample accepted (M4's accepted branch: U and
+    //     S follow every sample).
+    //  M9 the coast's bounds: lost_o == (unc == 2^23) (after a sample: its uncertainty as
+    //     updated reached a quarter period), unc <= 2^23, w <= 2^25 (max(2^25 from mdev,
+    //     2^23 + 4094 from coast_acc): neither w (u26) nor unc + w (u27) wraps), mdev <=
+    //     16 x 65535.
     // The pipeline invariants (the RTL's stage registers against the ghost delay lines) make
     // every property inductive in two steps.
     reg f_past_valid = 1'b0;
@@ -423,36 +552,47 @@ module monitor #(
         end
     endfunction
 
-    // ghost delay lines: ax, ay (4 samples), the thresholds (2), ref (7), clip (6), and the
-    // latch's next value (3)
+    // ghost delay lines: ax, ay (4 samples), the thresholds (2), ref (7), clip (6), the
+    // latch's next value (3), the latches (2), the signs (4)
     reg [119:0] f_axy = 120'd0;
     reg [63:0]  f_th = 64'd0;
+    reg [31:0]  f_fl = 32'd0;
     reg [6:0]   f_ref = 7'd0;
     reg [5:0]   f_clip = 6'd0;
     reg [2:0]   f_stkp = 3'd0;
+    reg [3:0]   f_st = 4'd0;                                    // {stk2, stk1}
+    reg [7:0]   f_sg = 8'd0;                                    // {yn, xn}
     wire        f_stk1n, f_stk2n;
     always @(posedge clk) begin
         f_axy  <= {f_axy[89:0], ax_i, ay_i};
         f_th   <= {f_th[31:0], loss_th_i, over_th_i};
+        f_fl   <= {f_fl[15:0], floor_th_i};
         f_ref  <= {f_ref[5:0], ref_i};
         f_clip <= {f_clip[4:0], clip_i};
         f_stkp <= {f_stkp[1:0], f_stk1n || f_stk2n};
+        f_st   <= {f_st[1:0], stk2, stk1};
+        f_sg   <= {f_sg[5:0], yn_i, xn_i};
     end
     wire [16:0] f_r   = f_radius(f_axy[119:105], f_axy[104:90]);   // sampled on E - 4
     wire [16:0] f_r5  = f_radius(f_axy[89:75], f_axy[74:60]);      // one sample later
     wire [16:0] f_r4  = f_radius(f_axy[59:45], f_axy[44:30]);
     wire [16:0] f_rin = f_radius(ax_i, ay_i);
     // (the fault bits as specified exist only with OPT_MONITOR; 0 without: M8)
+    wire        f_deadr = f_ref[6] && ({1'b0, f_fl[31:16]} > f_r);
     wire        f_loss  = OPT_MONITOR && f_ref[6] && ({1'b0, f_th[63:48]} > f_r);
+    wire        f_dead  = OPT_MONITOR && f_deadr;
     wire        f_over  = OPT_MONITOR && f_ref[6] && ({1'b0, f_th[47:32]} < f_r);
     wire        f_loss5 = f_ref[5] && ({1'b0, f_th[31:16]} > f_r5);
+    wire        f_dead5 = f_ref[5] && ({1'b0, f_fl[15:0]} > f_r5);
     wire        f_over5 = f_ref[5] && ({1'b0, f_th[15:0]} < f_r5);
     wire        f_lowa  = (f_axy[29:15] >= f_axy[14:0]);
+    wire        f_stuck = OPT_MONITOR && f_stkp[2];
+    wire        f_early = f_dead || f_stuck || (f_clip[5] && f_over);
 
     // the other channel (s17) and wrap13 of the phase error / step, as integers
     wire signed [17:0] f_o1 = yn_i ? -$signed({3'b000, ay_i}) : $signed({3'b000, ay_i});
     wire signed [17:0] f_o2 = xn_i ? -$signed({3'b000, ax_i}) : $signed({3'b000, ax_i});
-    wire signed [13:0] f_e  = $signed({1'b0, phase_i}) - $signed({1'b0, pred});
+    wire signed [13:0] f_e  = $signed({1'b0, phase_i}) - $signed({1'b0, pf[15:3]});
     wire signed [13:0] f_ew = (f_e >= 14'sd4096) ? f_e - 14'sd8192
                             : (f_e < -14'sd4096) ? f_e + 14'sd8192 : f_e;
     wire signed [13:0] f_d  = $signed({1'b0, phase_i}) - $signed({1'b0, ph_a});
@@ -468,22 +608,38 @@ module monitor #(
             assert (gmask[fk] == ((f_k != 4'd0) && (fk >= f_k)));
     wire signed [17:0] f_lim = $signed(18'd1 << f_k);           // 2^K
     wire signed [17:0] f_ew18 = f_ew;
-    wire f_glitch = OPT_MONITOR && (f_k != 4'd0) && (chk == 2'd2)
-                    && ((f_ew18 < -f_lim) || (f_ew18 > f_lim - 18'sd1));
-    // v's running mean in exact arithmetic (20 bits), and its range
+    wire f_off = (f_ew18 < -f_lim) || (f_ew18 > f_lim - 18'sd1);
+    wire f_glitch = OPT_MONITOR && (f_k != 4'd0) && (chk == 2'd2) && !rc && f_off;
+    wire f_hold = pvalid_i && (f_early || f_glitch);
+    wire f_coast = OPT_MONITOR && lok
+                   && (f_early || (f_glitch && !(grun == 5'd16 && !f_clip[5])));
+    // v's running mean and the spread's in exact arithmetic (20 and 23 bits), their ranges
     wire signed [19:0] f_vn = $signed(v) + (($signed(f_dw) * 20'sd8 - $signed(v)) >>> 3);
-    always @(*)
+    wire signed [17:0] f_dv = $signed(f_dw) * 18'sd8 - $signed(v);
+    wire        [16:0] f_adv = f_dv[17] ? 17'd0 - f_dv[16:0] : f_dv[16:0];
+    wire signed [22:0] f_md0 = $signed({3'b000, mdev});
+    wire signed [22:0] f_mdn = f_md0 + (($signed({2'b00, f_adv, 4'b0000}) - f_md0) >>> 4);
+    always @(*) begin
         assert (f_vn >= -20'sd32768 && f_vn <= 20'sd32767);
-    wire f_coast = f_glitch && !(loss || stuck || (f_clip[5] && over))
-                   && !(grun == 5'd16 && !f_clip[5]);
+        assert (f_mdn >= 23'sd0 && f_mdn <= 23'sd1048560);
+    end
+    // one stuck channel (f_st[2]: channel 1), the first sample of its latch (rise), the
+    // working channel's sign change (anchor), as the header gives them
+    wire        f_one = f_st[2] != f_st[3];
+    wire        f_rise = f_one && (f_st[2] ? !pst[0] : !pst[1]);
+    wire        f_anchor = f_one && !f_deadr
+                           && (f_st[2] ? (f_sg[7] != psg[1]) : (f_sg[6] != psg[0]));
+    wire [26:0] f_us = {3'b000, unc} + {1'b0, w};               // exact
 
     // stuck: the spec's chg and run >= N of the sample, carried to the latch's update edge
+    // (chg on to H)
     wire [7:0] f_run1n = (raw1_i != prev1) ? 8'd0 : (run1 == 8'hff) ? 8'hff : run1 + 1'b1;
     wire [7:0] f_run2n = (raw2_i != prev2) ? 8'd0 : (run2 == 8'hff) ? 8'hff : run2 + 1'b1;
-    reg  [2:0] f_chg1 = 3'd0, f_chg2 = 3'd0, f_rok1 = 3'd0, f_rok2 = 3'd0;
+    reg  [5:0] f_chg1 = 6'd0, f_chg2 = 6'd0;
+    reg  [2:0] f_rok1 = 3'd0, f_rok2 = 3'd0;
     always @(posedge clk) begin
-        f_chg1 <= {f_chg1[1:0], raw1_i != prev1};
-        f_chg2 <= {f_chg2[1:0], raw2_i != prev2};
+        f_chg1 <= {f_chg1[4:0], raw1_i != prev1};
+        f_chg2 <= {f_chg2[4:0], raw2_i != prev2};
         f_rok1 <= {f_rok1[1:0], (stuck_n_i != 8'd0) && (f_run1n >= stuck_n_i)};
         f_rok2 <= {f_rok2[1:0], (stuck_n_i != 8'd0) && (f_run2n >= stuck_n_i)};
     end
@@ -499,6 +655,9 @@ module monitor #(
     wire signed [24:0] f_sd = sd;
     always @(*) begin
         assert (chk <= 2'd2 && grun <= 5'd16);                                          // M5
+        assert (lok == (chk == 2'd2));
+        if (rc)
+            assert (lok);
         assert (orun <= OVER_PERSIST);
         assert (f_sd <= 25'sd4194304 && f_sd >= -25'sd4194304);          // M6
         assert (snap1 <= 17'sd32767 && snap1 >= -17'sd32767);            // M2
@@ -508,37 +667,64 @@ module monitor #(
         assert (x1 == f_x1[17:0] && x2 == f_x2[17:0]);                  // s18 exact
         assert (stk1n == f_stk1n && stk2n == f_stk2n);
         assert (sp1 >= 15'd2048 && sp2 >= 15'd2048 && sp1_3 >= 15'd2048 && sp2_3 >= 15'd2048);
-        assert (stuck == (OPT_MONITOR && f_stkp[2]));
+        assert (stuck == f_stuck);
         assert (f_rin < 17'h10000);                                      // M1
         assert ({1'b0, r4} == f_r4);
-        assert (loss == f_loss && over == f_over);
-        assert (hold_o == (pvalid_i && (loss || stuck || (f_clip[5] && over) || f_glitch)));
-        assert (excl_o == (hold_o || (pvalid_i && (f_clip[5] || (over && orun != OVER_PERSIST)))));
-        if (!pvalid_i)                                                   // M3
-            assert (!hold_o && !excl_o);
+        assert (loss == f_loss && over == f_over && dead6 == f_deadr);
+        assert (glitch == f_glitch);                                     // M3
+        assert (hold_o == f_hold);
+        assert (coast_o == (f_hold && f_coast));
+        assert (line_o == (OPT_MONITOR ? pf[15:3] : 13'd0));
+        assert (excl_o == (hold_o || (pvalid_i && (f_loss || f_clip[5]
+                                                   || (f_over && orun != OVER_PERSIST)))));
+        if (!pvalid_i)
+            assert (!hold_o && !excl_o && !coast_o);
         if (hold_o)
             assert (excl_o);
+        if (coast_o)
+            assert (hold_o);
+        assert (lost_o == (unc == 24'h800000));                          // M9
+        assert (unc <= 24'h800000);
+        assert (w <= 26'h2000000);
+        assert (mdev <= 20'd1048560);
         if (!OPT_MONITOR)                                                // M8
-            assert (!hold_o && excl_o == (pvalid_i && f_clip[5]));
+            assert (!hold_o && !coast_o && !lost_o && line_o == 13'd0
+                    && excl_o == (pvalid_i && f_clip[5]));
         // pipeline invariants
         assert (ref0 == f_ref[0] && ref1 == f_ref[1] && ref2 == f_ref[2]
                 && ref3 == f_ref[3] && ref4 == f_ref[4]);
         assert (mx3 == (f_lowa ? f_axy[29:15] : f_axy[14:0]));
         assert (mn3 == (f_lowa ? f_axy[14:0] : f_axy[29:15]));
-        assert (loss5 == f_loss5 && over5 == f_over5);
+        assert (loss5 == f_loss5 && over5 == f_over5 && dead5 == f_dead5);
         assert (clip_d == f_clip[4:0] && clip6 == f_clip[5]);
         assert ({stuck_d, stuck4} == f_stkp);
-        assert (early == (loss || stuck || (clip6 && over)));
-        assert ({chg1_3, chg1_2, chg1_1} == f_chg1 && {chg2_3, chg2_2, chg2_1} == f_chg2);
+        assert (early == f_early);
+        assert ({chg1_3, chg1_2, chg1_1} == f_chg1[2:0] && {chg2_3, chg2_2, chg2_1} == f_chg2[2:0]);
+        assert ({chg_6, chg_5, chg_4} == {f_chg2[5], f_chg1[5], f_chg2[4], f_chg1[4],
+                                          f_chg2[3], f_chg1[3]});
         assert ({rok1_3, rok1_2, rok1_1} == f_rok1 && {rok2_3, rok2_2, rok2_1} == f_rok2);
+        assert ({st_6, st_5} == f_st);
+        assert ({sg_6, sg_5, sg_4, sg_3} == f_sg);
     end
+
+    // the anchor's crossing (the line less its velocity) and its distance from pred
+    wire [15:0]        f_cpf = pf - v;
+    reg  [12:0]        f_pred = 13'd0;                          // pred before the edge
+    always @(posedge clk)
+        f_pred <= pf[15:3];
+    wire signed [13:0] f_ce = $signed({1'b0, f_pred}) - $signed({1'b0, f_cpf[15:3]});
+    wire signed [13:0] f_cwe = (f_ce >= 14'sd4096) ? f_ce - 14'sd8192
+                             : (f_ce < -14'sd4096) ? f_ce + 14'sd8192 : f_ce;
 
     // ---- per edge ----------------------------------------------------------------------------
     always @(posedge clk) if (f_past_valid) begin
         if ($past(rst)) begin                                            // M7
-            assert (!loss_o && !over_o && !stuck_o && !glitch_o);
+            assert (!loss_o && !over_o && !stuck_o && !glitch_o && !lost_o);
             assert (orun == 12'd0 && chk == 2'd0 && u == 20'd0 && s == 25'd0);
-            assert (ph_a == 13'd0 && pred == 13'd0 && grun == 5'd0 && !acc && v == 16'sd0);
+            assert (ph_a == 13'd0 && pf == 16'd0 && grun == 5'd0 && !acc && v == 16'sd0);
+            assert (!lok && !rc && unc == 24'd0 && w == 26'd0 && mdev == 20'd0);
+            assert (sl1 == 16'd0 && sl2 == 16'd0 && sv1 == 16'd0 && sv2 == 16'd0);
+            assert (pst == 2'd0 && psg == 2'd0);
             assert (run1 == 8'd0 && run2 == 8'd0 && prev1 == 0 && prev2 == 0);
             assert (!stk1 && !stk2 && snap1 == 0 && snap2 == 0 && !v1 && !v2 && !v3);
             assert (sp1 == 15'd2048 && sp2 == 15'd2048 && sc1 == 0 && sc2 == 0 && sg == 2'd0);
@@ -595,52 +781,97 @@ module monitor #(
             assert (o1 == $past(f_o1[16:0]) && o2 == $past(f_o2[16:0]));
             // the stage H state
             if (!$past(pvalid_i)) begin
-                assert (ph_a == $past(ph_a) && pred == $past(pred) && chk == $past(chk));
+                assert (ph_a == $past(ph_a) && pf == $past(pf) && chk == $past(chk));
                 assert (v == $past(v) && acc == $past(acc) && grun == $past(grun));
-                assert (grun == $past(grun));
+                assert (lok == $past(lok) && rc == $past(rc) && unc == $past(unc));
+                assert (w == $past(w) && mdev == $past(mdev));
+                assert (sl1 == $past(sl1) && sl2 == $past(sl2));
+                assert (sv1 == $past(sv1) && sv2 == $past(sv2));
+                assert (pst == $past(pst) && psg == $past(psg));
                 assert (u == $past(u) && s == $past(s) && orun == $past(orun));
                 assert (loss_o == $past(loss_o) && over_o == $past(over_o));
                 assert (stuck_o == $past(stuck_o) && glitch_o == $past(glitch_o));
+                assert (lost_o == $past(lost_o));
             end else begin
                 // M1..M3: the fault bits of the sample
                 assert (loss_o == $past(f_loss) && over_o == $past(f_over));
-                assert (stuck_o == $past(OPT_MONITOR && f_stkp[2]));
+                assert (stuck_o == $past(f_stuck));
                 assert (glitch_o == $past(f_glitch));
                 // M5: the over-range run
-                if (!$past(over))
+                if (!$past(f_over))
                     assert (orun == 12'd0);
                 else if ($past(orun) != OVER_PERSIST)
                     assert (orun == $past(orun) + 1'b1);
                 else
                     assert (orun == OVER_PERSIST);
+                // M4: every sample, its latches and signs, the shadow lines
+                assert (pst == $past(f_st[3:2]) && psg == $past(f_sg[7:6]));
+                assert (sl1 == ($past(f_chg1[5]) ? pf : $past(sl1 + sv1)));
+                assert (sv1 == ($past(f_chg1[5]) ? v : $past(sv1)));
+                assert (sl2 == ($past(f_chg2[5]) ? pf : $past(sl2 + sv2)));
+                assert (sv2 == ($past(f_chg2[5]) ? v : $past(sv2)));
+                // M9: the travel is lost after the sample
+                assert (lost_o == (unc >= 24'h800000));
                 // M4
-                if ($past(hold_o)) begin
+                if ($past(f_hold)) begin
                     assert (u == $past(u) && s == $past(s));
+                    assert (ph_a == $past(ph_a) && mdev == $past(mdev));
+                    assert (!acc);
                     if ($past(f_coast)) begin
-                        assert (ph_a == $past(ph_a) && pred == $past(pred + vi));
-                        assert (v == $past(v));
-                        assert (chk == $past(chk));
-                        assert (grun == (($past(grun) == 5'd16) ? 5'd16 : $past(grun) + 1'b1));
-                        assert (!acc);
+                        assert (chk == $past(chk) && lok == $past(lok));
+                        if ($past(f_rise)) begin
+                            assert (pf == $past(f_st[2] ? sl1 + sv1 : sl2 + sv2));
+                            assert (v == $past(f_st[2] ? sv1 : sv2));
+                        end else if ($past(f_anchor)) begin
+                            assert (v == $past(v));
+                            assert (f_cpf[2:0] == 3'd0);
+                            assert (f_cpf[14:3] == ($past(f_st[2]) ? 12'd0 : 12'd2048));
+                            assert (f_cwe >= -14'sd2048 && f_cwe <= 14'sd2047);
+                        end else begin
+                            assert (pf == $past(pf + v) && v == $past(v));
+                        end
+                        if ($past(f_anchor && !f_rise))
+                            assert (unc == 24'd0);
+                        else
+                            assert (unc == (($past(f_us) >= 27'h800000) ? 24'h800000
+                                                                          : $past(f_us[23:0])));
+                        if ($past(w) < 26'h800000)
+                            assert (w == $past(w) + $past({14'd0, coast_acc_i}));
+                        else
+                            assert (w == $past(w));
+                        if ($past(f_early)) begin
+                            assert (rc && grun == $past(grun));
+                        end else begin
+                            assert (!rc);
+                            assert (grun == (($past(grun) == 5'd16) ? 5'd16
+                                                                    : $past(grun) + 1'b1));
+                        end
                     end else begin
-                        assert (ph_a == $past(ph_a) && pred == $past(pred) && v == $past(v));
-                        assert (chk == 2'd0 && grun == 5'd0 && !acc);
+                        assert (pf == $past(pf) && v == $past(v) && w == $past(w));
+                        assert (chk == 2'd0 && grun == 5'd0 && !lok && !rc);
+                        assert (unc == 24'h800000);
                     end
                 end else begin
                     // two accepted in a row clear the coast count; one after a coast keeps it
                     assert (grun == ($past(acc) ? 5'd0 : $past(grun)) && acc);
                     assert (ph_a == $past(phase_i));
                     if (!$past(chk[1])) begin
-                        assert (pred == $past(phase_i + phase_i - ph_a));
+                        assert (pf == $past({phase_i, 3'b000} + {phase_i - ph_a, 3'b000}));
                         assert (v == $past({phase_i - ph_a, 3'b000}));
                     end else begin
-                        assert (pred == $past(phase_i + vi));
+                        assert (pf == $past({phase_i, 3'b000} + v));
                         if ($past(acc))
                             assert ($signed(v) == $past(f_vn));
                         else
                             assert (v == $past(v));
                     end
+                    if ($past(chk[1] && acc))
+                        assert ($signed({3'b000, mdev}) == $past(f_mdn));
+                    else
+                        assert (mdev == $past(mdev));
+                    assert (w == ((({6'd0, $past(mdev)} >> 4) + 26'd1) << 9));
                     assert (chk == (($past(chk) == 2'd2) ? 2'd2 : $past(chk) + 1'b1));
+                    assert (lok == ($past(chk) != 2'd0) && !rc && unc == 24'd0);
                     assert (u == $past(u + {{6{f_dw[13]}}, f_dw}));
                 end
             end
@@ -656,9 +887,20 @@ module monitor #(
         cover ($past(pvalid_i && !hold_o) && $past(pvalid_i && hold_o, 2) && chk == 2'd1);
         cover (run1 == 8'd5 && stk2);
         cover (stk1 && sp1 > 15'd8192);
-        cover ($past(hold_o) && $past(f_clip[5] && over && !loss && !stuck && !f_glitch));
+        cover ($past(hold_o) && $past(f_clip[5] && over && !dead && !stuck && !f_glitch));
         cover (grun == 5'd3);
         cover ($past(pvalid_i && !hold_o && !acc) && grun == 5'd2);
+        // a weak signal (loss, not dead) still counted; a coast through a dead signal
+        cover (loss_o && !$past(hold_o) && $past(excl_o));
+        cover ($past(coast_o && f_dead) && $past(pvalid_i && !hold_o, 2));
+        // the coast's uncertainty reaches a quarter period; the blind hold loses the travel
+        cover (lost_o && $past(coast_o) && !$past(lost_o));
+        cover (lost_o && $past(hold_o && !coast_o));
+        // a stuck channel's coast from its shadow line; a sign change re-anchors it
+        cover ($past(coast_o && f_rise) && sl1 != 16'd0);
+        cover ($past(coast_o && f_anchor && !f_rise) && $past(unc) != 24'd0);
+        // the sample after a coast through a fault is not tested against the line
+        cover ($past(pvalid_i && !hold_o && rc && f_k != 4'd0 && chk == 2'd2 && f_off));
     end
 `endif
 endmodule

@@ -14,7 +14,8 @@
 // i.e. x lies in (c', c] or [c, c'), so the pins pass x whichever way they move (a
 // decoder sees Z in the same A/B state in both directions). No crossing is taken on the
 // first trusted sample after rst or inval_i (there is no step before it), on a held
-// sample (its count does not move), on an overspeed sample (its step is ambiguous), in
+// sample (its count does not move) or the sample after it (its step may span a coast
+// through a fault: rtl/monitor.v), on an overspeed sample (its step is ambiguous), in
 // edge mode (count_mode = 1: the count is not B + q) or with ref_q >= 4 n (no count is
 // ever at it).
 //
@@ -54,9 +55,10 @@
 // on a sample inside the window whose pulses show that count, and stays high while the
 // pulses stay in that state (a window closing does not cut it): one A/B state wide.
 //
-// pos_valid: 0 after rst; 1 from homing (a homing latch, or the homing decode: dc_home_i); 0 again on a sample whose count may be
-// off by a period: a held sample (signal loss, stuck channel, glitch, clip with over-range: the
-// counter did not follow the travel) or an overspeed sample; and on inval_i (the core: a
+// pos_valid: 0 after rst; 1 from homing (a homing latch, or the homing decode: dc_home_i);
+// 0 again on a sample whose count may be off by a period: lost_i (a held sample on which
+// the monitor's coast through a fault reached a quarter period of uncertainty, or one with
+// no line to coast along: rtl/monitor.v) or an overspeed sample; and on inval_i (the core: a
 // write that changes INTERP, whose counts then mix two scales, or count_mode = 1; it
 // also disarms Z and takes no crossing on the next sample).
 // lost_o pulses when pos_valid falls (REF_STICKY.lost).
@@ -85,6 +87,7 @@ module refmark #(
     input  wire                      cv_i,
     input  wire signed [COUNT_W-1:0] count_i,    // the counter's count (before off)
     input  wire                      held_i,     // the count held (not edge mode)
+    input  wire                      lost_i,     // with cv_i: the travel lost (rtl/monitor.v)
     input  wire                      ovs_i,
     input  wire                      ref_i,
     // t + 9: the sample's Eq. 12 pulses (rtl/pulse.v)
@@ -181,12 +184,12 @@ module refmark #(
         cross_o <= 1'b0;
         if (cv_i) begin
             cp <= count_i[11:0];
-            primed <= (primed || !held_i) && !mode_i;
+            primed <= !held_i && !mode_i;
             win_o <= win_n;
             fc <= (ref_i == win_o || flip) ? 4'd0 : fc + 4'd1;
             arm <= arm_n && win_n && !lat_n;
             lat1 <= lat_n;
-            inv1 <= held_i || ovs_i;
+            inv1 <= lost_i || ovs_i;
             x_q <= x;
             cross_o <= hit;
             cdir_o <= rev;
@@ -296,9 +299,13 @@ module refmark #(
     //  R3 Z is armed only at a crossing inside the window, at its count x; z_at changes
     //     only then (inval_i disarms it).
     //  R4 pos_valid rises only with homing: a homing latch, or with distance-coded marks
-    //     the decode that sets abs_valid; a held or overspeed sample (or inval_i)
-    //     clears it on the next edge, and lost_o pulses if it was set.
-    reg f_past_valid = 1'b0, f_rst = 1'b0, f_lip = 1'b0;
+    //     the decode that sets abs_valid; a sample with lost_i or overspeed (inv1, the edge
+    //     after it) or inval_i clears it on the next edge, and lost_o pulses if it was set;
+    //     nothing else clears it (a held sample whose coast kept the travel does not).
+    //  R5 a crossing (cross_o, hence a latch or Z armed) only on a sample that is not held,
+    //     not at overspeed, in phase mode, with ref_q < 4 n, whose previous sample since rst
+    //     and inval_i was counted (not held, phase mode): its step may span a coast.
+    reg f_past_valid = 1'b0, f_rst = 1'b0, f_lip = 1'b0, f_prv = 1'b0;
     reg f_xc = 1'b0, f_lat = 1'b0, f_inv = 1'b0, f_pv = 1'b0, f_inval = 1'b0;
     reg signed [COUNT_W-1:0] f_x = 0, f_zat = 0;
     always @(posedge clk) begin
@@ -308,9 +315,13 @@ module refmark #(
         f_lat <= lat_n;
         f_x <= x;
         f_zat <= z_at_o;
-        f_inv <= cv_i && (held_i || ovs_i);
+        f_inv <= cv_i && (lost_i || ovs_i);
         f_inval <= inval_i;
         f_pv <= pos_valid_o;
+        if (rst || inval_i)
+            f_prv <= 1'b0;
+        else if (cv_i)
+            f_prv <= !held_i && !mode_i;
         if (rst || !win_o)
             f_lip <= 1'b0;
         else if (lat1)
@@ -330,7 +341,9 @@ module refmark #(
                 assert (!arm);
             if (arm)
                 assert (win_o);
+            assert (inv1 == f_inv);                                          // R4
         end
+        assert (primed == f_prv);                                            // R5
     end
     always @(posedge clk) begin
         if (f_past_valid && !rst && !f_rst) begin
@@ -339,12 +352,19 @@ module refmark #(
                         (($past(lat1) && !$past(dc_en_i)) || $past(dc_home_i)));
             if ($past(inv1) || $past(inval_i))
                 assert (!pos_valid_o && lost_o == $past(pos_valid_o));
+            if ($past(pos_valid_o) && !pos_valid_o)
+                assert ($past(inv1 || inval_i));
         end
+        if (f_past_valid && !f_rst && cross_o)                               // R5
+            assert ($past(cv_i && !held_i && !ovs_i && !mode_i && zok && f_prv));
     end
     always @(posedge clk) begin
         if (f_past_valid && !f_rst) begin
             cover (lat1 && homed_o);                 // a second pass latches again
             cover (z_en_o && !win_o && off_side);    // Z disarmed after the window
+            // a held sample keeps pos_valid (its coast kept the travel); lost_i clears it
+            cover (pos_valid_o && $past(cv_i && held_i && !lost_i));
+            cover (lost_o && $past(cv_i && lost_i && !ovs_i, 2) && !$past(inval_i));
         end
     end
 `endif

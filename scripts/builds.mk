@@ -2,7 +2,7 @@
 # The builds PROFILE= selects (one finequad_core each: make rtlsim, model, lint,
 # vcdcompare) and that core's parameters in each; the board builds (make bitstream
 # BOARD=) and FuseSoC's lint targets (finequad.core).
-BUILDS_TOML_SHA256 := 618984036838a07b1fcbe88d45418275926837c890392eb1965a050fb088a0f5
+BUILDS_TOML_SHA256 := c7278441afa7d0f53bca9813846f18e7c09590e26987e67ac936059804efef34
 BUILDS := default up5k ecp5 icebreaker ulx3s
 BOARDS := icebreaker ulx3s
 PROFILE_KNOBS := TABLE_EXACT ADC_W ENGINE_LANES OPT_DISTRAM OPT_PHASE_4K OPT_PULSE_ADDR OPT_HARMONIC OPT_NTH_DSP OPT_TUNABLE OPT_MONITOR OPT_JUMP OPT_DCODE
@@ -69,7 +69,7 @@ BUILD.ecp5.OPT_DCODE := 1
 BUILD.ecp5.G := -GOPT_DISTRAM=1'b1 -GOPT_PHASE_4K=1'b1 -GOPT_ECP5_MULT=1'b1 -GOPT_PULSE_ADDR=1'b1 -GENGINE_LANES=2
 BUILD.ecp5.SYNTH_G := -GOPT_ECP5_MULT=1'b1
 
-# icebreaker: the iCEBreaker (make bitstream): the core standalone with the Pmod AD1, no host link, no harmonic compensation, no distance-coded marks (README, Boards)
+# icebreaker: the iCEBreaker (make bitstream): the core standalone with the Pmod AD1, no host link, no harmonic compensation, no jump detector, no distance-coded marks (README, Boards)
 BUILD.icebreaker.TABLE_EXACT := 1
 BUILD.icebreaker.ADC_W := 12
 BUILD.icebreaker.ENGINE_LANES := 1
@@ -80,11 +80,11 @@ BUILD.icebreaker.OPT_HARMONIC := 0
 BUILD.icebreaker.OPT_NTH_DSP := 0
 BUILD.icebreaker.OPT_TUNABLE := 1
 BUILD.icebreaker.OPT_MONITOR := 1
-BUILD.icebreaker.OPT_JUMP := 1
+BUILD.icebreaker.OPT_JUMP := 0
 BUILD.icebreaker.OPT_DCODE := 0
-BUILD.icebreaker.G := -GADC_W=12 -GOPT_NTH_DSP=1'b0 -GOPT_HARMONIC=1'b0 -GOPT_DCODE=1'b0
+BUILD.icebreaker.G := -GADC_W=12 -GOPT_NTH_DSP=1'b0 -GOPT_HARMONIC=1'b0 -GOPT_JUMP=1'b0 -GOPT_DCODE=1'b0
 BUILD.icebreaker.SYNTH_G := 
-BUILD.icebreaker.SYSTEM_G := -GOPT_NTH_DSP=1'b0 -GOPT_HARMONIC=1'b0 -GOPT_HOSTLINK=1'b0 -GOPT_DCODE=1'b0
+BUILD.icebreaker.SYSTEM_G := -GOPT_NTH_DSP=1'b0 -GOPT_HARMONIC=1'b0 -GOPT_HOSTLINK=1'b0 -GOPT_DCODE=1'b0 -GOPT_JUMP=1'b0
 
 # ulx3s: the ULX3S (make bitstream BOARD=ulx3s): the core with the host link (UART, AXI4-Lite registers) and the Pmod AD1
 BUILD.ulx3s.TABLE_EXACT := 1

@@ -302,7 +302,7 @@ extern "C" {
 #define FINEQUAD__ID__ID_bm 0xffffffff
 #define FINEQUAD__ID__ID_bp 0
 #define FINEQUAD__ID__ID_bw 32
-#define FINEQUAD__ID__ID_reset 0x46510008
+#define FINEQUAD__ID__ID_reset 0x46510009
 
 // reg - finequad::REF_COUNT
 #define FINEQUAD__REF_COUNT__REF_COUNT_bm 0xffffffff
@@ -359,6 +359,16 @@ extern "C" {
 #define FINEQUAD__ABS_COUNT__ABS_COUNT_bp 0
 #define FINEQUAD__ABS_COUNT__ABS_COUNT_bw 32
 
+// reg - finequad::COAST
+#define FINEQUAD__COAST__FLOOR_bm 0xffff
+#define FINEQUAD__COAST__FLOOR_bp 0
+#define FINEQUAD__COAST__FLOOR_bw 16
+#define FINEQUAD__COAST__FLOOR_reset 0x800
+#define FINEQUAD__COAST__COAST_ACC_bm 0xfff0000
+#define FINEQUAD__COAST__COAST_ACC_bp 16
+#define FINEQUAD__COAST__COAST_ACC_bw 12
+#define FINEQUAD__COAST__COAST_ACC_reset 0x10
+
 // addrmap - finequad
 typedef struct __attribute__ ((__packed__)) {
     union {
@@ -401,6 +411,7 @@ typedef struct __attribute__ ((__packed__)) {
     uint32_t REF_STICKY;
     uint32_t DCODE;
     uint32_t ABS_COUNT;
+    uint32_t COAST;
 } finequad_t;
 
 

@@ -45,6 +45,8 @@ static const FqSetting FQ_SETTINGS[] = {
     {"dc_spacing", "DCODE", 0x23, 0, 12, 0L, 4094L, 0L},
     {"dc_coded", "DCODE", 0x23, 12, 12, 0L, 4095L, 0L},
     {"dc_confirm", "DCODE", 0x23, 24, 1, 0L, 1L, 1L},
+    {"floor", "COAST", 0x25, 0, 16, 0L, 65535L, 2048L},
+    {"coast_acc", "COAST", 0x25, 16, 12, 0L, 4095L, 16L},
 };
 static const int FQ_N_SETTINGS = (int)(sizeof FQ_SETTINGS / sizeof FQ_SETTINGS[0]);
 static const int FQ_CTRL = 0x00;
@@ -85,3 +87,4 @@ static const int FQ_REF_STATUS = 0x21;
 static const int FQ_REF_STICKY = 0x22;
 static const int FQ_DCODE = 0x23;
 static const int FQ_ABS_COUNT = 0x24;
+static const int FQ_COAST = 0x25;

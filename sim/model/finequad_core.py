@@ -125,6 +125,8 @@ class Config:
     over: int = _S["over"].reset
     glitch_k: int = _S["glitch_k"].reset
     stuck_n: int = _S["stuck_n"].reset
+    floor: int = _S["floor"].reset      # COAST: the radius below which the count coasts
+    coast_acc: int = _S["coast_acc"].reset   # and the machine's largest acceleration
     code_step: int = _S["code_step"].reset   # the converter's code step, 2^code_step LSBs
     loads: list = field(default_factory=list)   # [(w, (g, m1, m2, c1, c12, c2))]: a
                              # LOAD (CTRL.load) written on edge w with that bundle staged
@@ -135,7 +137,8 @@ class Config:
 
     def monitor_regs(self):
         return MonitorRegs(loss=self.loss, over=self.over, glitch_k=self.glitch_k,
-                           stuck_n=self.stuck_n)
+                           stuck_n=self.stuck_n, floor=self.floor,
+                           coast_acc=self.coast_acc)
 
 
 # The registers of the coefficient bundle: writes stage a bundle for CTRL.load (Config.loads)
@@ -310,7 +313,8 @@ class Core:
         prod, pn, cosn, sinn = self.lut.nth(phase_c, cfg.interp)
         pa, pb = pulse(cosn, sinn, cfg.eps, cfg.SIN_W, *self.pulse_ab)
         count_ph, ovs, self.cnt_state = counter(phase_c, prod, cfg.interp, cfg.COUNT_W,
-                                                state=self.cnt_state, hold=mon["hold"])
+                                                state=self.cnt_state, hold=mon["hold"],
+                                                coast=mon["coast"], line=mon["line"])
         # the x4 decoder of the pulses: E after each sample's pulses (edge t + EDGE_AT)
         steps, ill, self.edge_state = edge_steps(pa, pb, self.edge_state)
         self.ill_count += int(ill.sum())
@@ -334,7 +338,8 @@ class Core:
         # A/B pins and Z after each sample's output edge; the reference marks
         held = np.asarray(mon["hold"], bool) & (cfg.count_mode == 0)
         rmo = self.rm.run(t, count, np.asarray(prod, np.int64) >> 11, cfg.interp, held, ovs,
-                          ref, cfg.count_mode, self.ab, pa, pb)
+                          ref, cfg.count_mode, self.ab, pa, pb,
+                          lost=np.asarray(mon["lost"], bool) & (cfg.count_mode == 0))
         a_pin, b_pin, ab_ovf, z_pin = rmo["a"], rmo["b"], rmo["ab_ovf"], rmo["z"]
         wrapm = 1 << cfg.COUNT_W
         count_raw = count
@@ -380,7 +385,8 @@ class Core:
                        m2=m2, c1=c1, c12=c12, c2=c2, phase_c=phase_c, harm=self.harm,
                        count_phase=count_ph, count_raw=count_raw, ill=ill, t=t,
                        travel=mon["travel"], ref_in=ref,
-                       mon_hold=mon["hold"], excl=mon["excl"], ref=mon["ref"],
+                       mon_hold=mon["hold"], mon_coast=mon["coast"], mon_lost=mon["lost"],
+                       excl=mon["excl"], ref=mon["ref"],
                        loaded=flags[:, 2])
         return res
 
@@ -407,7 +413,9 @@ class Core:
         tl = t.tolist()
         est = self.est
         out = {f: np.zeros(n, dtype=bool) for f in ("loss", "over", "stuck", "glitch",
-                                                     "hold", "excl", "ref")}
+                                                     "hold", "excl", "ref", "coast",
+                                                     "lost")}
+        out["line"] = np.zeros(n, dtype=np.int64)
         travel = np.zeros(n, dtype=np.int64)
         blk_lo = blk_hi = 0           # the fast path of samples [blk_lo, blk_hi) under one
         blk = None                    # bundle event (computed a block at a time)
@@ -432,11 +440,12 @@ class Core:
             ph = blk[2][j]
             # ---- the monitor (every sample) ----
             s_prev = mon.travel()      # S after the previous sample (the gate's input)
-            loss, over, stuck, glitch, hold, excl = mon.step(
-                r1l[k], r2l[k], blk[0][j], blk[1][j], blk[4][j], blk[5][j], ph, blk[3],
-                clipl[k], mregs, blk[6], blk[7])
-            out["loss"][k], out["over"][k], out["stuck"][k] = loss, over, stuck
-            out["glitch"][k], out["hold"][k], out["excl"][k] = glitch, hold, excl
+            fl = mon.step(r1l[k], r2l[k], blk[0][j], blk[1][j], blk[4][j], blk[5][j], ph,
+                          blk[3], clipl[k], mregs, blk[6], blk[7])
+            for f in ("loss", "over", "stuck", "glitch", "hold", "excl", "coast", "line",
+                      "lost"):
+                out[f][k] = getattr(fl, f)
+            excl = fl.excl
             out["ref"][k] = blk[3]
             travel[k] = mon.travel()
             # ---- the estimator: the held candidate's check on an edge <= t_k ----

@@ -1,4 +1,4 @@
-"""Bit-true model of rtl/monitor.v: signal faults, the counter's hold, and the travel.
+"""Bit-true model of rtl/monitor.v: signal faults, the counter's hold and coast, the travel.
 
 Beyond the paper. The monitor watches every sample and decides whether its fine phase can
 be trusted (the counter counts it, the estimator may take it), and measures the travel
@@ -70,8 +70,11 @@ t + 6 and t + 7, when the sample's fine phase is registered and the counter deci
                  cannot change its phase velocity by 1/8 of a period per sample within
                  one sample (that is 5e5 m/s^2 at 1 MS/s on a 4 um scale); noise is far
                  below (2 % noise: sigma(e) ~ 64 units).
+                 The line is kept as pf (u13.3, pred = pf >> 3): an accepted sample sets
+                 pf = 8 phase + v (8 phase + 8 d while re-anchoring), a coast adds v, so
+                 a long coast keeps the velocity's fraction.
                  A sample held by the glitch test alone coasts: the line goes on through
-                 it (pred <- pred + (v >> 3); ph_a and v stay) and the test stays armed,
+                 it (pf <- pf + v; ph_a and v stay) and the test stays armed,
                  so a
                  burst of interference or a channel on a rail (a broken line reads full
                  scale, whatever the angle) is held for as long as it lasts, and the
@@ -83,31 +86,72 @@ t + 6 and t + 7, when the sample's fine phase is registered and the counter deci
                  a wrong line meets the phase now and then while it coasts, and a count
                  cleared by every accept never reached its limit, found in review); at
                  COAST_MAX (16) the next glitch of an unclipped sample re-anchors the
-                 line (held, chk <- 0): a line still that far off is the wrong line;
-                 clipped samples coast on.
-  hold           loss or stuck or glitch, or a clipped code (at or near an ADC rail,
+                 line (held without a line, chk <- 0): a line still that far off is the
+                 wrong line; clipped samples coast on.
+  weak, dead     loss = ref and r < LOSS only keeps the sample from the estimator (its
+                 amplitude is no longer a calibration's); dead = ref and r < FLOOR
+                 (COAST.floor) holds it. Between the two the phase is still good: a
+                 signal at 5 % of its amplitude with 0.5 % noise gives it to 0.1 rad, and
+                 the glitch test still guards it. FLOOR must sit above the noise (6
+                 sigma of the per-channel noise in the radius's units: pure noise then
+                 passes it about once in 10^8 samples), else noise would be counted.
+  hold           dead or stuck or glitch, or a clipped code (at or near an ADC rail,
                  rtl/correct.v) with the radius over-range: the sample's phase is not
-                 trusted. The counter keeps its count and its last phase (rtl/counter.v),
-                 so when the signal comes back after less than half a period of motion
-                 the count is right. A clipped code alone still counts: a slightly
+                 trusted. The count shows the last trusted sample's (rtl/counter.v). A
+                 clipped code alone still counts: a slightly
                  overdriven channel clips around its own peak, where the other channel
                  carries the angle, and holding every such sample would let the count lag
                  by the clipped arc while the stage moves; a channel stuck on a rail (a
                  broken line) reads far from its true value, which throws the radius out
                  of range. Over-range alone does not hold either (a strong signal still
                  has a good phase). Clipped samples are never estimated (excl).
-  excl           hold, or over-range while it has lasted fewer than OVER_PERSIST
+  coast          a held sample while the line is known (lok: two samples accepted in a
+                 row since it was last lost), other than a glitch past COAST_MAX
+                 unclipped: the counter follows the line (its last phase <- `line`, the
+                 line's position at this sample, and its period count by the line's
+                 wraps), so it catches up when the phase is trusted again; right while
+                 the line stays within half a period of the stage. The line moves on
+                 (pf += v). A coast through dead, stuck or clip with over-range sets rc:
+                 the next accepted sample is not tested against the line (after a long
+                 coast it may be off by up to the uncertainty) and takes the count there.
+                 One stuck channel (stk of exactly one; latched after up to 70 degrees
+                 of motion plus STUCK_N samples, during which the other channel's
+                 distorted phase was accepted): on the latch's first sample the line
+                 restarts from the channel's shadow line (sl_c: the line coasted at the
+                 velocity sv_c since the channel's code last changed) with that
+                 velocity, clear of the distorted samples; after that, while the signal
+                 is not dead, each sign change of the working channel re-anchors it to
+                 the crossing nearest the line (channel 2's zero crossings lie at phase 0
+                 and 4096, channel 1's at 2048 and 6144: the nearest is right while the
+                 line is within a quarter period, whatever the direction) and clears the
+                 uncertainty. The working channel's sign is the corrected one, whose
+                 zero crossing a stuck channel 1 shifts through c12 by a few hundredths
+                 of a period at most.
+  uncertainty    unc (u24, 2^-12 phase units): 0 on an accepted sample; each coasted
+                 sample adds w and then w grows by coast_acc (COAST.coast_acc, the
+                 machine's largest acceleration in 2^-12 units per sample^2: a coast of
+                 k samples adds coast_acc k^2 / 2). w starts, on each accepted sample,
+                 at (mdev + 1) / 8 units per sample, mdev the running mean of |8 d - v|
+                 (gain 1/16; the velocity's error after the 1/8 running mean is about
+                 0.26 sigma of the step, mean |8 d - v| / 8 about 0.83 sigma: about 3
+                 sigma of the velocity, plus its 1/8-unit resolution). unc saturates at
+                 2^23 (a quarter period): lost, and pos_valid falls (rtl/refmark.v).
+                 A hold without a line sets it there at once.
+  excl           hold, or loss, or over-range while it has lasted fewer than OVER_PERSIST
                  samples: the estimator does not take the sample. A persistent
                  over-range (the amplitude really grew) is let in again, so the estimator
                  can follow it (its jump detector fires and it re-fits; the next hand-over
                  moves the nominal radius, and the flag clears).
-  accepted       not hold: ph_a <- phase, pred and v as above; chk <- min(chk + 1, 2);
-                 grun <- 0;
+  accepted       not hold: ph_a <- phase, pf and v as above; chk <- min(chk + 1, 2);
+                 grun <- 0 (if the sample before was accepted); unc <- 0;
                  S += ((U << 5) - S) >>> 5 (u20.5 smoothed travel, wraps; the difference
                  is taken as s25; U as it was before this sample: the two sums run side
                  by side in the RTL), U += wrap13(phase - ph_a) (u20 unwrapped phase,
                  wraps). Coasting (above): the line moves on, grun <- min(grun + 1,
-                 COAST_MAX). Otherwise held: chk <- 0, grun <- 0, nothing else moves.
+                 COAST_MAX) on a glitch coast. Otherwise held (no line): chk <- 0,
+                 grun <- 0, the line is lost (lok <- 0, unc <- 2^23).
+  shadow lines   per channel, every sample: a code change sets (sl_c, sv_c) to the line
+                 and velocity after the sample; otherwise sl_c += sv_c.
   over run       orun <- over ? min(orun + 1, OVER_PERSIST) : 0 (every sample).
 
 The estimator gates its updates by S (rtl/estimator.v): the travel smoothed over 32
@@ -133,7 +177,10 @@ SPAN_K = tuple(math.ceil(16 * 6 * math.sqrt((5 + m) / 4 * 2 ** o))
                for o in (0, 1) for m in range(4))
 OVER_PERSIST = 4095      # samples of over-range before it is let in to the estimator
 COAST_MAX = 16           # glitches coasted in a row before an unclipped sample re-anchors
-V_FRAC = 3               # fraction bits of the line's velocity v (s13.3)
+V_FRAC = 3               # fraction bits of the line's velocity v (s13.3) and its position
+UNC_Q = 1 << 23          # a quarter period (2048 units) in 2^-12 units: the travel is lost
+UNC_FRAC = 12            # fraction bits of the coast's uncertainty and its growth
+MDEV_FRAC = 4            # fraction bits of the mean |8 d - v| (above the 1/8 units)
 V_SH = 3                 # v follows the phase step with a time constant of 2^V_SH samples
 S_FRAC = 5               # fraction bits of the smoothed travel S (time constant 32)
 U_W = 20                 # unwrapped phase width (wraps)
@@ -178,6 +225,24 @@ def radius(ax, ay):
 
 
 @dataclass
+class Flags:
+    """One sample's verdict (Monitor.step()): the fault flags, whether the counter takes
+    its phase (not hold), whether the estimator takes it (not excl), and for a held
+    sample whether the count follows the line (coast: the counter's last phase becomes
+    `line`, the line's position at this sample, u13) and whether the travel during the
+    fault is lost (the coast's uncertainty reached a quarter period)."""
+    loss: bool = False
+    over: bool = False
+    stuck: bool = False
+    glitch: bool = False
+    hold: bool = False
+    excl: bool = False
+    coast: bool = False
+    line: int = 0
+    lost: bool = False
+
+
+@dataclass
 class MonitorRegs:
     """Run-time settings of the monitor: the fields of RADIUS and MONITOR
     (rtl/regs/finequad.rdl), defaults their reset values."""
@@ -185,6 +250,8 @@ class MonitorRegs:
     over: int = SETTINGS["over"].reset       # radius above which it is over-range
     glitch_k: int = SETTINGS["glitch_k"].reset   # max |phase acceleration| 2^K (0: off)
     stuck_n: int = SETTINGS["stuck_n"].reset     # samples of an unchanged code (0: off)
+    floor: int = SETTINGS["floor"].reset     # radius below which the phase is not trusted
+    coast_acc: int = SETTINGS["coast_acc"].reset  # u0.12 the machine's |acceleration|
 
 
 class Monitor:
@@ -199,7 +266,18 @@ class Monitor:
         self.bkey = (0, 0, 0)     # (g, c1, c2) of the previous sample's bundle
         self.stk = [False, False]  # channel detected stuck (until its code changes)
         self.ph_a = 0             # last accepted phase
-        self.pred = 0             # u13 prediction of the next phase
+        self.pf = 0               # u13.3 the line: the prediction of the next phase
+        self.lok = False          # the line is known (two samples accepted in a row since
+                                  # it was last lost): held samples coast along it
+        self.rc = False           # a coast through loss or a stuck channel: the next
+                                  # accepted sample is not tested against the line
+        self.unc = 0              # u24 the coast's uncertainty, 2^-12 units (UNC_Q: lost)
+        self.w = 0                # u26 its growth per coasted sample, 2^-12 units
+        self.mdev = 0             # u20 mean |8 d - v| of accepted steps, 2^-7 units
+        self.sl = [0, 0]          # u13.3 per channel: the line coasted since the channel's
+        self.sv = [0, 0]          # code last changed, and the velocity it coasts with
+        self.pstk = [False, False]    # the channels' stuck latches of the sample before
+        self.psgn = (False, False)    # the signs (xn, yn) of the sample before
         self.v = 0                # s13.3 the line's velocity (smoothed phase step)
         self.chk = 0              # accepted samples in a row, 0..2
         self.grun = 0             # glitches coasted since two samples in a row were accepted
@@ -217,12 +295,11 @@ class Monitor:
         """One sample: aligned codes r1, r2 (s1.15), magnitudes ax, ay (u15) and signs
         xn, yn of the corrected signals, fine phase (u13, uncorrected), ref (the bundle
         is a calibration), clip (a code at or near a rail), the stuck spans of its bundle
-        (stuck_span() of c1 and c2) and the bundle's (g, c1, c2). Returns (loss, over,
-        stuck, glitch, hold, excl)."""
+        (stuck_span() of c1 and c2) and the bundle's (g, c1, c2). Returns a Flags."""
         if not self.enabled:
             self._travel(wrap13(phase - self.ph_a))
             self.ph_a = phase
-            return False, False, False, False, False, bool(clip)
+            return Flags(excl=bool(clip))
         # stuck channel (codes compared with the previous sample's)
         other = (-ay if yn else ay, -ax if xn else ax)     # the other channel, signed
         stuck = False
@@ -243,42 +320,84 @@ class Monitor:
         # radius
         r = radius(ax, ay)
         loss = bool(ref) and r < regs.loss
+        dead = bool(ref) and r < regs.floor
         over = bool(ref) and r > regs.over
-        # glitch: the phase against the straight-line prediction
-        e = wrap13(phase - self.pred)
+        # glitch: the phase against the line's prediction
+        pred = self.pf >> V_FRAC
+        e = wrap13(phase - pred)
         k = regs.glitch_k
-        glitch = 0 < k < 12 and self.chk >= 2 and not (-(1 << k) <= e < (1 << k))
-        early = loss or stuck or (bool(clip) and over)
+        glitch = (0 < k < 12 and self.chk >= 2 and not self.rc
+                  and not (-(1 << k) <= e < (1 << k)))
+        early = dead or stuck or (bool(clip) and over)
         hold = early or glitch
-        coast = glitch and not early and not (self.grun == COAST_MAX and not clip)
-        excl = hold or bool(clip) or (over and self.orun < OVER_PERSIST)
+        gcoast = glitch and not early and not (self.grun == COAST_MAX and not clip)
+        coast = hold and self.lok and (early or gcoast)
+        excl = hold or loss or bool(clip) or (over and self.orun < OVER_PERSIST)
         # registered at t + 7
         self.orun = min(self.orun + 1, OVER_PERSIST) if over else 0
+        # one stuck channel: the working channel's zero crossings, and the line coasted
+        # since the stuck one last changed
+        one = self.stk[0] != self.stk[1]
+        c_st = 0 if self.stk[0] else 1
+        rise = one and not self.pstk[c_st]
+        sgn = (xn, yn)
+        anchor = coast and one and not dead and sgn[1 - c_st] != self.psgn[1 - c_st]
+        self.pstk = list(self.stk)
+        self.psgn = sgn
+        pf0 = self.pf
         if not hold:
+            # the growth of a coast from here: the velocity's spread, before this sample
+            self.w = ((self.mdev >> MDEV_FRAC) + 1) << (UNC_FRAC - V_FRAC)
             d = wrap13(phase - self.ph_a)
             if self.chk < 2:              # (re-)anchoring: the first difference
-                step = d
                 self.v = d << V_FRAC
-            else:                         # the smoothed velocity, before this sample
-                step = self.v >> V_FRAC
+                self.pf = ((phase << V_FRAC) + self.v) & 0xFFFF
+            else:                         # the line's velocity before this sample
+                self.pf = ((phase << V_FRAC) + self.v) & 0xFFFF
                 if self.acc:              # (after a coast d spans several samples)
-                    self.v += ((d << V_FRAC) - self.v) >> V_SH
-            self.pred = (phase + step) & 8191
+                    dv = (d << V_FRAC) - self.v
+                    self.v += dv >> V_SH
+                    self.mdev += ((abs(dv) << MDEV_FRAC) - self.mdev) >> 4
             self.ph_a = phase
             self.chk = min(self.chk + 1, 2)
+            self.lok = self.chk == 2
+            self.rc = False
             self._travel(d)
             if self.acc:                  # two in a row: the line holds
                 self.grun = 0
             self.acc = True
+            self.unc = 0
         elif coast:
-            self.pred = (self.pred + (self.v >> V_FRAC)) & 8191
-            self.grun = min(self.grun + 1, COAST_MAX)
+            if rise:                      # the line as if it coasted since the change
+                self.pf = (self.sl[c_st] + self.sv[c_st]) & 0xFFFF
+                self.v = self.sv[c_st]
+            elif anchor:                  # the crossing nearest the line
+                cand = ((pred + 2048) & 4096) if c_st == 0 else ((pred & 4096) | 2048)
+                self.pf = ((cand << V_FRAC) + self.v) & 0xFFFF
+            else:
+                self.pf = (self.pf + self.v) & 0xFFFF
+            self.unc = 0 if anchor and not rise else min(self.unc + self.w, UNC_Q)
+            if self.w < UNC_Q:
+                self.w += regs.coast_acc
+            if early:
+                self.rc = True
+            else:
+                self.grun = min(self.grun + 1, COAST_MAX)
             self.acc = False
-        else:
+        else:                             # no line to coast along: the travel is lost
             self.chk = 0
             self.grun = 0
             self.acc = False
-        return loss, over, stuck, glitch, hold, excl
+            self.lok = False
+            self.rc = False
+            self.unc = UNC_Q
+        for c in (0, 1):                  # the shadow lines (per channel)
+            if changed[c]:
+                self.sl[c], self.sv[c] = self.pf, self.v
+            else:
+                self.sl[c] = (self.sl[c] + self.sv[c]) & 0xFFFF
+        return Flags(loss, over, stuck, glitch, hold, excl, coast, pf0 >> V_FRAC,
+                     self.unc >= UNC_Q)
 
     def _travel(self, d):
         """An accepted sample's step d (s13) into U and S (S from U before the step)."""

@@ -88,7 +88,7 @@ REGS = {
         'abovf': Field('abovf', 'FAULT_STICKY', 6, 1, 0, True, True, False, True, False, 0, 1, '',
             'The A/B backlog exceeded AB_BOUND (sticky until rst in m_fault too).'),
         'loss': Field('loss', 'FAULT_STICKY', 7, 1, 0, True, True, False, True, False, 0, 1, '',
-            'Lissajous radius below RADIUS.loss: the counter holds, the sample is not estimated.'),
+            'Lissajous radius below RADIUS.loss: the sample is not estimated (below COAST.floor the count coasts).'),
         'over': Field('over', 'FAULT_STICKY', 8, 1, 0, True, True, False, True, False, 0, 1, '',
             'Radius above RADIUS.over: counted, not estimated while it is short.'),
         'stuck': Field('stuck', 'FAULT_STICKY', 9, 1, 0, True, True, False, True, False, 0, 1, '',
@@ -164,7 +164,7 @@ REGS = {
     }, 'Clip level', ''),
     'RADIUS': Reg('RADIUS', 0x19, 0x64, True, True, 0xffffffff, 0xffffffff, 0x56660ccd, ('OPT_TUNABLE', 'OPT_MONITOR'), {
         'loss': Field('loss', 'RADIUS', 0, 16, 3277, True, True, False, False, False, 0, 65535, 'u2.14',
-            'Signal loss below this radius (3277 = 0.2).'),
+            'Signal loss below this radius (3277 = 0.2): the estimator stops; the count follows the phase down to COAST.floor.'),
         'over': Field('over', 'RADIUS', 16, 16, 22118, True, True, False, False, False, 0, 65535, 'u2.14',
             'Over-range above this radius (22118 = 1.35).'),
     }, 'Radius thresholds', 'Lissajous radius thresholds, s2.14 units (16384 = the unit circle). Reads 0 with OPT_MONITOR = 0.'),
@@ -197,8 +197,8 @@ REGS = {
             'The count at the reference after homing (REF.home; its low COUNT_W bits).'),
     }, 'Home count', ''),
     'ID': Reg('ID', 0x1f, 0x7c, True, False, 0x00000000, 0xffffffff, 0x00000000, (), {
-        'id': Field('id', 'ID', 0, 32, 1179713544, True, False, False, False, False, 0, 4294967295, 'u32',
-            '"FQ" (0x4651) and the register map\'s version, major.minor (0x0008: 0.8).'),
+        'id': Field('id', 'ID', 0, 32, 1179713545, True, False, False, False, False, 0, 4294967295, 'u32',
+            '"FQ" (0x4651) and the register map\'s version, major.minor (0x0009: 0.9).'),
     }, 'Identification', ''),
     'REF_COUNT': Reg('REF_COUNT', 0x20, 0x80, True, False, 0x00000000, 0xffffffff, 0x00000000, (), {
         'ref_count': Field('ref_count', 'REF_COUNT', 0, 32, None, True, False, False, False, True, -2147483648, 2147483647, 's32',
@@ -210,7 +210,7 @@ REGS = {
         'homed': Field('homed', 'REF_STATUS', 1, 1, None, True, False, False, False, False, 0, 1, '',
             'A reference has been latched since rst (REF_COUNT holds it).'),
         'pos_valid': Field('pos_valid', 'REF_STATUS', 2, 1, None, True, False, False, False, False, 0, 1, '',
-            'Position valid: homing (REF.home) has latched a reference and nothing since has made the count uncertain by a period (rtl/refmark.v lists what clears it: a held or overspeed sample, a change of INTERP, edge mode, rst).'),
+            'Position valid: homing (REF.home) has latched a reference and nothing since has made the count uncertain by a period (rtl/refmark.v lists what clears it: a coast through a fault whose uncertainty reached a quarter period (COAST), an overspeed sample, a change of INTERP, edge mode, rst).'),
         'home_armed': Field('home_armed', 'REF_STATUS', 3, 1, None, True, False, False, False, False, 0, 1, '',
             'Homing is armed (REF.home): the next reference sets the count to HOME (with distance-coded marks: the decode that sets abs_valid).'),
         'abs_valid': Field('abs_valid', 'REF_STATUS', 4, 1, None, True, False, False, False, False, 0, 1, '',
@@ -236,6 +236,12 @@ REGS = {
         'abs_count': Field('abs_count', 'ABS_COUNT', 0, 32, None, True, False, False, False, True, -2147483648, 2147483647, 's32',
             "Distance-coded marks: the absolute count of the last mark decoded, 4 n times its position in signal periods from the scale's first fixed mark (valid while REF_STATUS.abs_valid), taken 27 clocks after that mark's latch. Then, until the next latch, the absolute count now is the count - REF_COUNT + ABS_COUNT; with homing armed (REF.home) the decode makes the count HOME + the absolute count."),
     }, 'Absolute count', ''),
+    'COAST': Reg('COAST', 0x25, 0x94, True, True, 0x0fffffff, 0x0fffffff, 0x00100800, ('OPT_TUNABLE', 'OPT_MONITOR'), {
+        'floor': Field('floor', 'COAST', 0, 16, 2048, True, True, False, False, False, 0, 65535, 'u2.14',
+            "The radius below which the phase is not trusted (the count coasts): set it at least 6 times the noise sigma per channel in the radius's units (2048 = 1/8 of the calibrated radius: 2 % noise on a signal at its nominal amplitude; 512 for 0.5 % noise)."),
+        'coast_acc': Field('coast_acc', 'COAST', 16, 12, 16, True, True, False, False, False, 0, 4095, 'u0.12',
+            "The machine's largest acceleration, in 2^-12 phase units (8192 per signal period) per sample^2: how fast a coast's uncertainty grows beyond the velocity's spread (16: about 9.5 m/s^2 on a 20 um scale at 1 MS/s)."),
+    }, 'Coasting through faults', "What the count does while the phase is not trusted (rtl/monitor.v, sim/model/monitor.py): below RADIUS.loss the estimator stops but the count still follows the phase, down to floor; below floor, with a stuck channel, on a glitch or a channel on a rail the count follows the line (the last velocity) and catches up with the phase when it is trusted again, the line re-anchored at each zero crossing of the working channel while one channel is stuck. The coast's uncertainty grows with the velocity's measured spread and with coast_acc; at a quarter period the travel is lost and REF_STATUS.pos_valid falls. Reads 0 with OPT_MONITOR = 0."),
 }
 
 CTRL = 0x00
@@ -276,7 +282,8 @@ REF_STATUS = 0x21
 REF_STICKY = 0x22
 DCODE = 0x23
 ABS_COUNT = 0x24
-ADDR_TOP = 0x24
+COAST = 0x25
+ADDR_TOP = 0x25
 
 SETTINGS = {f.name: f for r in REGS.values() for f in r.fields.values()
             if f.write and not f.pulse and not f.w1c}

@@ -129,7 +129,7 @@ def test_check_names_a_stale_file_and_changes_nothing(tmp_path):
 @pytest.mark.parametrize("edit, message", [
     (("legal = \"1..511\"", "legal = \"1..512\""), "legal 1..512 outside the field's 9-bit range"),
     (("legal = \"1..511\"", "legal = \"one to 511\""), "expected \"lo..hi\""),
-    (("} ABS_COUNT @ 0x90;", "} ABS_COUNT @ 0x92;"), "ABS_COUNT at byte 0x92: not word-aligned"),
+    (("} COAST @ 0x94;", "} COAST @ 0x96;"), "COAST at byte 0x96: not word-aligned"),
     (("jump_min[10:0] = 41;", "eps[10:0] = 41;"), "setting 'eps' in EPS and JUMP"),
     (("glitch[10:10] = 0;", "glitch[11:11] = 0;"), "FAULT_STICKY: its fields must be single bits"),
     (("} INTERP @ 0x04;", "} INTERP @ 0x04"), "does not compile"),

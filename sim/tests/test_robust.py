@@ -235,7 +235,7 @@ def test_a_bad_re_anchor_does_not_lock_the_glitch_line(off):
     flagged = 0
     for i, p in enumerate(ph):
         # the codes change every sample (no stuck channel); ref off (no loss / over)
-        _, _, _, gl, _, _ = m.step(i & 1, (i >> 1) & 1, 10000, 0, 0, 0, p, False, 0, regs)
+        gl = m.step(i & 1, (i >> 1) & 1, 10000, 0, 0, 0, p, False, 0, regs).glitch
         flagged += (i >= 2) and gl
     assert flagged <= 2 * (16 + 1), flagged
     assert m.v >> 3 == 0 and m.grun == 0

@@ -216,8 +216,8 @@ def test_ref_column_is_read_alike_and_zero_without_it(tmp_path):
                                           (3, "--ref-q 200 --home --home-count 77 --ab-sep 2")])
 def test_reference_marks_rtlsim_equals_model(tmp_path, div, settings):
     """The reference input (the 'ref' column) through marks passed forward and back, with
-    a chattering comparator and single-sample glitches, a signal dropout (a held count:
-    pos_valid, set by homing, falls) and overspeed: the RTL's rows equal the model's in every column,
+    a chattering comparator and single-sample glitches, a signal dropout between two
+    marks long enough for the coast to lose the travel (pos_valid, set by homing, falls): the RTL's rows equal the model's in every column,
     with and without homing armed from the start (--home), also with a sample on every
     clock and every third (the harness's pending rows: ref_count, homed and pos_valid
     two edges after the count; the pins paced fast enough to reach the marks)."""
@@ -225,7 +225,7 @@ def test_reference_marks_rtlsim_equals_model(tmp_path, div, settings):
     x = siggen.s_curve(n, 1e6, 60e3, 0.03, t_start=0.003)
     x += siggen.s_curve(n, 1e6, -25e3, 0.005, t_start=0.034)
     sig = siggen.Signal(A1=0.4, A2=0.37, m1=0.01, m2=-0.008, noise=0.004,
-                        dropout=((24000, 24040, 0.0),))
+                        dropout=((20000, 21500, 0.0),))
     u1, u2, _ = siggen.encode(x, 4000.0, sig, seed=7)
     # the count within the period is 200 (of 400, INTERP 100) at the marks' centres
     ref = siggen.reference(x, [30000.0, 46000.0, 50000.0, 54000.0], 2500.0, jitter=30.0,
@@ -247,6 +247,59 @@ def test_reference_marks_rtlsim_equals_model(tmp_path, div, settings):
         home = int(settings.split("--home-count ")[1].split()[0]) if "--home-count" in settings else 0
         first = int(np.argmax(col["homed"]))
         assert col["ref_count"][first] == home
+
+
+@pytest.mark.parametrize("div", [1, 36])
+def test_ride_through_rtlsim_equals_model(tmp_path, div):
+    """The faults the count rides through (rtl/monitor.v), in one homed run at 0.02
+    periods per sample with 0.5 % noise and COAST.floor = 512: the signal at 5 % for two
+    periods (counted), lost for two (coasted), channel 1 stuck for one and channel 2 for
+    three (coasted, re-anchored at the other's zero crossings), then a long loss at creep
+    speed (the coast's uncertainty passes a quarter period: pos_valid falls). The RTL's
+    rows equal the model's in every column, also with a sample on every clock, and the
+    RTL's count stays on the truth through the first four faults with pos_valid 1."""
+    pitch, n4, v = 20.0, 100, 0.02
+    cal = siggen.s_curve(6000, 1.0, 12 * pitch, 5800.0, 100.0, 0.0)
+    ramp = siggen.s_curve(400, 1.0, 4 * pitch, 400.0, 0.0, 12 * pitch)   # to 0.02 / sample
+    cruise = ramp[-1] + v * pitch * np.arange(1, 1801)
+    creep = cruise[-1] + 0.002 * pitch * np.arange(1, 2001)
+    x = np.concatenate([cal, ramp, cruise, creep])
+    at = len(cal) + len(ramp)                     # the cruise's first sample
+    f = {"dip": at + 300, "loss": at + 500, "stuck1": at + 800, "stuck2": at + 1100}
+    sig = siggen.Signal(noise=0.005, dropout=((f["dip"], f["dip"] + 100, 0.05),
+                                              (f["loss"], f["loss"] + 100, 0.0),
+                                              (at + 1900, at + 3700, 0.0)))
+    u1, u2, _ = siggen.encode(x, pitch, sig, seed=17)
+    u1[f["stuck1"]:f["stuck1"] + 50] = u1[f["stuck1"]]
+    u2[f["stuck2"]:f["stuck2"] + 150] = u2[f["stuck2"]]
+    mark = 14.5 * pitch                           # crossed during the ramp: homing
+    write_codes(tmp_path / "in.csv", u1, u2, siggen.reference(x, [mark], 0.5 * pitch))
+    knobs = {"DIV": div, "INTERP": n4 // 4, "SETTINGS": "--floor 512 --ref-q 50 --home"}
+    r, m = _make(tmp_path, "rtlsim", knobs), _make(tmp_path, "model", knobs)
+    for i, c in enumerate(COLUMNS):
+        d = np.nonzero(r[:, i] != m[:, i])[0]
+        assert len(d) == 0, f"{c}: first difference at sample {d[0]}: rtl {r[d[0]]} model {m[d[0]]}"
+    col = {c: r[:, i] for i, c in enumerate(COLUMNS)}
+    fault = col["fault"]
+    for name, k in (("loss", f["dip"]), ("loss", f["loss"]), ("stuck", f["stuck1"] + 20),
+                    ("stuck", f["stuck2"] + 20)):
+        assert (fault[k:k + 30] >> core.FAULT_BITS[name] & 1).any(), (name, k)
+    homed = int(np.argmax(col["pos_valid"]))
+    assert 0 < homed < at, "not homed before the faults"
+    assert col["pos_valid"][homed:at + 1800].all(), "pos_valid fell while the count rode"
+    # the count on the truth after homing, but while it stands during a coast (the dip's
+    # samples are counted, so they are checked)
+    check = np.zeros(len(x), bool)
+    check[homed + 3:at + 1800] = True       # (a sample every clock: the offset two rows on)
+    for k, ln in ((f["loss"], 100), (f["stuck1"], 50), (f["stuck2"], 150)):
+        check[k:k + ln + 2] = False
+    err = col["count"] - n4 * x / pitch
+    err -= np.median(err[check])
+    dip = np.zeros(len(x), bool)
+    dip[f["dip"]:f["dip"] + 110] = True           # 5 % amplitude: sigma 0.1 rad, 1.6 counts
+    worst = np.abs(err[check & ~dip]).max(), np.abs(err[check & dip]).max()
+    assert worst[0] < 3 and worst[1] < 8, f"the count off the truth by {worst} counts"
+    assert col["pos_valid"][-1] == 0                # the long loss lost the travel
 
 
 BAD_OPTIONS = [

@@ -30,7 +30,7 @@ int main(void) {
     check(offsetof(finequad_t, ID) == 0x7c, "ID at 0x7c");
     check(offsetof(finequad_t, COUNT) == 0x20, "COUNT at 0x20");
     check(offsetof(finequad_t, CTRL_STATUS) == 0, "CTRL/STATUS at 0");
-    check(sizeof(finequad_t) == 0x94, "the block is 37 words");
+    check(sizeof(finequad_t) == 0x98, "the block is 38 words");
 
     /* a read-modify-write of a field leaves the register's other fields alone */
     fq->ABGEN = FINEQUAD__ABGEN__AB_SEP_reset << FINEQUAD__ABGEN__AB_SEP_bp;
