@@ -17,8 +17,8 @@
 // on both stages: change it at standstill (B keeps the factor it was built with).
 // Overspeed (ovs_o): |dph| >= 3072 (3/4 pi or more per sample; near pi the direction of
 // the step, hence the position, becomes ambiguous); never on the first sample after rst.
-// Hold (hold_i with valid_i, rtl/monitor.v: signal loss, a stuck channel or a glitch; the
-// phase is not trusted): the sample's count is the one before (count_o stays; no
+// Hold (hold_i with valid_i, rtl/monitor.v: a signal below COAST.floor, a stuck channel, a
+// glitch, a rail with over-range; the phase is not trusted): the sample's count is the one before (count_o stays; no
 // overspeed). With coast_i the count follows the monitor's line through the fault: f_prev
 // <- line_i and B steps by the line's wraps, so the next trusted sample steps from where
 // the line has come (right while the line is within half a period of the stage: the

@@ -36,8 +36,8 @@
 // Events: a latch starts a decode on its edge E (refmark.v's t + 10) if a mark has been
 // latched since rst or inv (the chain's start) and dp != 0; the decode ends on E + 27.
 // A latch on E + 1 .. E + 27 abandons it (err_o: an overrun, the chain restarts at that
-// mark); inv_i (a held or overspeed sample, INTERP change, edge mode) abandons it and
-// clears the chain and abs_valid. home_o (to refmark.v, on the decode's last edge): the
+// mark); inv_i (a coast that lost the travel, an overspeed sample, an INTERP change, edge
+// mode) abandons it and clears the chain and abs_valid. home_o (to refmark.v, on the decode's last edge): the
 // decode leaves abs_valid 1; with homing armed the count becomes HOME + the absolute count
 // (off_o), REF_COUNT HOME + ABS_COUNT, and pos_valid = 1. HOME and x are taken on E. A
 // write that changes DCODE's layout is an inv_i (rtl/finequad_core.v).

@@ -312,7 +312,7 @@ module monitor #(
         over6 <= over5;
     end
     wire loss = OPT_MONITOR && loss6, over = OPT_MONITOR && over6;
-    // loss, stuck or clip with over-range of the sample in H, combined on the edge before
+    // dead, stuck or clip with over-range of the sample in H, combined on the edge before
     // (t + 6); clip alone for the estimator
     reg early = 1'b0, clip6 = 1'b0;
     always @(posedge clk) begin
@@ -330,7 +330,7 @@ module monitor #(
     reg [4:0]  grun = 0;        // glitches coasted since two samples in a row were accepted
     reg        acc = 1'b0;                                      // the sample before was accepted
     reg        lok = 1'b0;      // the line is known: held samples coast along it
-    reg        rc = 1'b0;       // a coast through loss or a stuck channel: no glitch test next
+    reg        rc = 1'b0;       // a coast through dead, stuck or a rail: no glitch test next
     reg [23:0] unc = 0;         // u24 the coast's uncertainty, 2^-12 units (2^23: lost)
     reg [25:0] w = 0;           // u26 its growth per coasted sample
     reg [19:0] mdev = 0;        // u20 mean |8 d - v|, 2^-7 units

@@ -3,8 +3,8 @@ decode and its rules are in rtl/dcode.v's header; this model follows them edge b
 
 The decoder sees, on each sample's edge t + 10 (sim/model/refmark.py's stage 2): the
 sample's crossing of a reference point (+1, -1 or 0: the signed count of signal periods
-travelled), its latch (with the raw count x at the reference), and inv (a held or
-overspeed sample). A decode starts on a latch's edge E and ends on E + DC_LAT; a latch
+travelled), its latch (with the raw count x at the reference), and inv (a coast that lost
+the travel, or an overspeed sample). A decode starts on a latch's edge E and ends on E + DC_LAT; a latch
 or inv on an edge E + 1 .. E + DC_LAT abandons it (a latch: an overrun, flagged).
 """
 from .fixed import wrap

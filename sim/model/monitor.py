@@ -52,8 +52,9 @@ t + 6 and t + 7, when the sample's fine phase is registered and the counter deci
                  calibration (`ref`: the estimator has handed over, or one was loaded
                  through the registers); before that the nominal radius is unknown.
                  loss = ref and r < LOSS;  over = ref and r > OVER.
-  glitch         the phase off its line: e = wrap13(phase - pred), pred = ph_a + v the
-                 prediction from the last accepted phase and the line's velocity v
+  glitch         the phase off its line: e = wrap13(phase - pred), pred the line's
+                 prediction (the last accepted phase plus the line's velocity v, or
+                 where a coast has taken the line; pf below)
                  (s13.3): the first difference while (re-)anchoring (chk < 2), then a
                  running mean of the accepted steps, v += (8 d - v) >> 3 (not after a
                  coast, where d spans several samples), taken before the sample (so
@@ -269,7 +270,7 @@ class Monitor:
         self.pf = 0               # u13.3 the line: the prediction of the next phase
         self.lok = False          # the line is known (two samples accepted in a row since
                                   # it was last lost): held samples coast along it
-        self.rc = False           # a coast through loss or a stuck channel: the next
+        self.rc = False           # a coast through dead, stuck or a rail: the next
                                   # accepted sample is not tested against the line
         self.unc = 0              # u24 the coast's uncertainty, 2^-12 units (UNC_Q: lost)
         self.w = 0                # u26 its growth per coasted sample, 2^-12 units

@@ -99,11 +99,11 @@ class RefMark:
             return -1, wrap(c + kr, self.count_w)
         return 0, 0
 
-    def run(self, t, count, q, n, held, ovs, ref, mode, ab, pa=None, pb=None, lost=None):
+    def run(self, t, count, q, n, held, ovs, ref, mode, ab, pa=None, pb=None, *, lost):
         """Samples with strobe edges t, raw counts, q = prod >> 11, held, ovs, ref (per
         sample arrays), n, mode (count_mode), and the pins (abgen.Follower, run to no
-        later than the first sample's t + 8); lost (per sample: the monitor lost the
-        travel, sim/model/monitor.py; default: held) clears pos_valid, as ovs does. Returns per-sample arrays:
+        later than the first sample's t + 8); lost (per sample: the monitor's coast lost the
+        travel, sim/model/monitor.py) clears pos_valid, as ovs does. Returns per-sample arrays:
         a, b, ab_ovf (pins after t + 8), z (after t + 8), off8 (the offset after t + 8:
         m_count = count + off8), ref_count, homed, pos_valid (after t + 10); with the
         sample's Eq. 12 pulses pa, pb: the pins ep_a, ep_b and ep_z (after t + 8) when
@@ -122,7 +122,7 @@ class RefMark:
         cl = [int(v) for v in count]
         ql = [int(v) for v in q]
         hl = [bool(v) for v in held]
-        ll = hl if lost is None else [bool(v) for v in lost]
+        ll = [bool(v) for v in lost]
         ol = [bool(v) for v in ovs]
         rl = [int(v) for v in ref]
         cw = self.count_w
