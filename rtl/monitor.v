@@ -48,8 +48,8 @@
 //          (v as before the sample) and, if the sample before was accepted too (acc),
 //          v <= v + ((8 d - v) >>> 3) (s13.3, a running mean of the steps: one outlier
 //          under the threshold moves it by 1/8 of its error) and mdev <= mdev +
-//          ((16 |8 d - v| - mdev) >>> 4) (their spread); chk <= min(chk + 1, 2), lok <=
-//          chk >= 1, rc <= 0, unc <= 0, w <= ((mdev >> 4) + 1) << 9 (mdev as before),
+//          ((16 |8 d - v| - mdev) >>> 4) (their spread); chk <= min(chk + 1, 2) (lok =
+//          chk == 2: the line is known), rc <= 0, unc <= 0, w <= ((mdev >> 4) + 1) << 9 (mdev as before),
 //          S <= S + ((U << 5) - S) >>> 5, U <= U + d, grun <= 0 only if acc (an accept
 //          right after a coast keeps the count: a wrong line that meets the phase now
 //          and then, coasting in between, still reaches COAST_MAX), acc <= 1;
@@ -64,7 +64,7 @@
 //          accepted sample is not tested against the line: the line may be off by up to
 //          the uncertainty), chk kept, acc <= 0; otherwise held (no line: lok = 0, or
 //          a glitch coast past COAST_MAX unclipped, the wrong line): chk <= 0, grun <= 0,
-//          acc <= 0, lok <= 0, rc <= 0, unc <= 2^23, lost_o <= 1 (the next two samples
+//          acc <= 0, rc <= 0, unc <= 2^23, lost_o <= 1 (the next two samples
 //          re-anchor the line).
 //          Per channel (the shadow lines sl_c, sv_c, u13.3 and s13.3): a sample whose
 //          code changed sets them to the line and velocity after it, any other moves
@@ -329,7 +329,7 @@ module monitor #(
     reg [11:0] orun = 0;
     reg [4:0]  grun = 0;        // glitches coasted since two samples in a row were accepted
     reg        acc = 1'b0;                                      // the sample before was accepted
-    reg        lok = 1'b0;      // the line is known: held samples coast along it
+    wire       lok = chk[1];    // the line is known (anchored): held samples coast along it
     reg        rc = 1'b0;       // a coast through dead, stuck or a rail: no glitch test next
     reg [23:0] unc = 0;         // u24 the coast's uncertainty, 2^-12 units (2^23: lost)
     reg [25:0] w = 0;           // u26 its growth per coasted sample
@@ -418,7 +418,6 @@ module monitor #(
                     mdev <= mdev + {{3{mdd[20]}}, mdd[20:4]};
                 ph_a <= phase_i;
                 chk <= chk[1] ? chk : chk + 1'b1;
-                lok <= chk[1] || chk[0];
                 rc <= 1'b0;
                 s <= s + {{5{sd[24]}}, sd[24:5]};
                 u <= u + {{7{d[12]}}, d};
@@ -441,7 +440,6 @@ module monitor #(
                 chk <= 2'd0;
                 grun <= 5'd0;
                 acc <= 1'b0;
-                lok <= 1'b0;
                 rc <= 1'b0;
                 unc <= 24'h800000;
                 lost_o <= OPT_MONITOR;
@@ -451,7 +449,7 @@ module monitor #(
             loss_o <= 1'b0; over_o <= 1'b0; stuck_o <= 1'b0; glitch_o <= 1'b0;
             orun <= 0;
             ph_a <= 0; pf <= 0; chk <= 0; s <= 0; u <= 0; grun <= 0; v <= 0; acc <= 1'b0;
-            lok <= 1'b0; rc <= 1'b0; unc <= 0; w <= 0; mdev <= 0; lost_o <= 1'b0;
+            rc <= 1'b0; unc <= 0; w <= 0; mdev <= 0; lost_o <= 1'b0;
             sl1 <= 0; sl2 <= 0; sv1 <= 0; sv2 <= 0; pst <= 0; psg <= 0;
         end
     end

@@ -106,7 +106,7 @@ t + 6 and t + 7, when the sample's fine phase is registered and the counter deci
                  broken line) reads far from its true value, which throws the radius out
                  of range. Over-range alone does not hold either (a strong signal still
                  has a good phase). Clipped samples are never estimated (excl).
-  coast          a held sample while the line is known (lok: two samples accepted in a
+  coast          a held sample while the line is known (chk == 2: two samples accepted in a
                  row since it was last lost), other than a glitch past COAST_MAX
                  unclipped: the counter follows the line (its last phase <- `line`, the
                  line's position at this sample, and its period count by the line's
@@ -150,7 +150,7 @@ t + 6 and t + 7, when the sample's fine phase is registered and the counter deci
                  by side in the RTL), U += wrap13(phase - ph_a) (u20 unwrapped phase,
                  wraps). Coasting (above): the line moves on, grun <- min(grun + 1,
                  COAST_MAX) on a glitch coast. Otherwise held (no line): chk <- 0,
-                 grun <- 0, the line is lost (lok <- 0, unc <- 2^23).
+                 grun <- 0, the line is lost (unc <- 2^23).
   shadow lines   per channel, every sample: a code change sets (sl_c, sv_c) to the line
                  and velocity after the sample; otherwise sl_c += sv_c.
   over run       orun <- over ? min(orun + 1, OVER_PERSIST) : 0 (every sample).
@@ -268,8 +268,6 @@ class Monitor:
         self.stk = [False, False]  # channel detected stuck (until its code changes)
         self.ph_a = 0             # last accepted phase
         self.pf = 0               # u13.3 the line: the prediction of the next phase
-        self.lok = False          # the line is known (two samples accepted in a row since
-                                  # it was last lost): held samples coast along it
         self.rc = False           # a coast through dead, stuck or a rail: the next
                                   # accepted sample is not tested against the line
         self.unc = 0              # u24 the coast's uncertainty, 2^-12 units (UNC_Q: lost)
@@ -332,7 +330,7 @@ class Monitor:
         early = dead or stuck or (bool(clip) and over)
         hold = early or glitch
         gcoast = glitch and not early and not (self.grun == COAST_MAX and not clip)
-        coast = hold and self.lok and (early or gcoast)
+        coast = hold and self.chk == 2 and (early or gcoast)
         excl = hold or loss or bool(clip) or (over and self.orun < OVER_PERSIST)
         # registered at t + 7
         self.orun = min(self.orun + 1, OVER_PERSIST) if over else 0
@@ -361,7 +359,6 @@ class Monitor:
                     self.mdev += ((abs(dv) << MDEV_FRAC) - self.mdev) >> 4
             self.ph_a = phase
             self.chk = min(self.chk + 1, 2)
-            self.lok = self.chk == 2
             self.rc = False
             self._travel(d)
             if self.acc:                  # two in a row: the line holds
@@ -389,7 +386,6 @@ class Monitor:
             self.chk = 0
             self.grun = 0
             self.acc = False
-            self.lok = False
             self.rc = False
             self.unc = UNC_Q
         for c in (0, 1):                  # the shadow lines (per channel)
