@@ -56,7 +56,7 @@ def motion(rng, kind, length, phi0, amp):
     out = []
     phi = phi0
     v = {"slow": 3.0, "creep": 0.05, "fast": 3600.0, "stand": 0.0,
-         "stuck2_rebase": 10.0}.get(kind, 40.0)
+         "stuck2_rebase": 10.0, "stuck1_fast": 450.0}.get(kind, 40.0)
     v *= rng.choice((1, -1))
     frozen = None
     for i in range(length):
@@ -84,6 +84,8 @@ def motion(rng, kind, length, phi0, amp):
         if kind == "rail" and length // 3 <= i < 2 * length // 3:
             r1, clip = 2047 << ADC_SH, True
         ph = int(phi) % 8192
+        if kind == "stuck1_fast":                  # the phase of the codes: distorted
+            ph = int(math.atan2(r2, r1) * 8192 / (2 * math.pi)) % 8192
         if kind == "glitch" and rng.random() < 0.05:
             ph = (ph + rng.choice((1, -1)) * rng.randint(300, 4000)) % 8192
         ax = min(32767, int(round(abs(math.cos(a)) * rad * 16384)))
@@ -106,6 +108,7 @@ def plan(scale):
         ("slow", 100 * scale, 1, d, None),
         ("stuck2", 300 * scale, 1, (3277, 22118, 10, 3, 0, 2048, 16), "drain"),
         ("stuck1_wide", 300 * scale, 1, (3277, 22118, 10, 8, 8, 2048, 16), "drain"),  # span 8128
+        ("stuck1_fast", 300 * scale, 1, d, "drain"),     # the shadow line parts: lost
         ("loss", 300 * scale, 1, (3277, 22118, 10, 8, 0, 4000, 4095), "drain"),  # lost soon
         ("loss", 200 * scale, 1, (3277, 22118, 10, 8, 0, 0, 0), "drain"),  # counted through
         ("dropout_accel", 300 * scale, 1, d, "drain"),       # the line drifts off the stage
@@ -169,12 +172,20 @@ def build(scale, seed=5):
     return samples, resets
 
 
-def model(samples, resets, enabled=True, span=None, rebase=True):
+def model(samples, resets, enabled=True, span=None, rebase=True, part=True):
     """Per sample (hold, excl, loss, over, stuck, glitch, travel, coast, line, lost) from
     sim.model.monitor,
     epoch by epoch (rst restarts the state); enabled: OPT_MONITOR. span (every span
-    forced to it) and rebase=False are mutations: the stimulus must tell them apart."""
+    forced to it), rebase=False and part=False (a shadow line never parts from the line)
+    are mutations: the stimulus must tell them apart."""
+    from sim.model import monitor
     from sim.model.monitor import Monitor, MonitorRegs, stuck_span
+    if not part:
+        try:
+            monitor.PART_SH, sh0 = 16, monitor.PART_SH
+            return model(samples, resets, enabled, span, rebase)
+        finally:
+            monitor.PART_SH = sh0
     out = []
     mon = Monitor(enabled)
     ri = 0
@@ -198,12 +209,13 @@ def model(samples, resets, enabled=True, span=None, rebase=True):
 
 @pytest.mark.parametrize("scale", [1, 4])
 def test_stimulus_makes_spans_and_rebase_visible(scale):
-    """The stimulus tells the stuck spans and the rebase apart: the model's outputs change
-    when every span is 2048 (the old fixed span) or 32767, and without the rebase, so an
-    RTL with such a bug fails test_monitor."""
+    """The stimulus tells the stuck spans, the rebase and the parted shadow line apart:
+    the model's outputs change when every span is 2048 (the old fixed span) or 32767,
+    without the rebase, and when a shadow line never parts, so an RTL with such a bug
+    fails test_monitor."""
     samples, resets = build(scale)
     want = model(samples, resets)
-    for mutant in (dict(span=2048), dict(span=32767), dict(rebase=False)):
+    for mutant in (dict(span=2048), dict(span=32767), dict(rebase=False), dict(part=False)):
         assert model(samples, resets, **mutant) != want, f"{mutant} changes no output"
 
 

@@ -376,7 +376,7 @@ localparam [31:0] FQ_RADIUS_OVER_HI = 32'hffff;
 // MONITOR (RW, byte 0x68): Monitor checks
 localparam [5:0] FQ_MONITOR = 6'h1a;
 localparam [31:0] FQ_MONITOR_WMASK = 32'h00ff0f0f;
-localparam [31:0] FQ_MONITOR_RESET = 32'h0008000a;
+localparam [31:0] FQ_MONITOR_RESET = 32'h0003000a;
 localparam integer FQ_MONITOR_GLITCH_K_LSB = 0;
 localparam integer FQ_MONITOR_GLITCH_K_MSB = 3;
 localparam integer FQ_MONITOR_GLITCH_K_W = 4;
@@ -392,7 +392,7 @@ localparam [31:0] FQ_MONITOR_CODE_STEP_HI = 32'h8;
 localparam integer FQ_MONITOR_STUCK_N_LSB = 16;
 localparam integer FQ_MONITOR_STUCK_N_MSB = 23;
 localparam integer FQ_MONITOR_STUCK_N_W = 8;
-localparam [7:0] FQ_MONITOR_STUCK_N_RESET = 8'h8;
+localparam [7:0] FQ_MONITOR_STUCK_N_RESET = 8'h3;
 localparam [31:0] FQ_MONITOR_STUCK_N_LO = 32'h0;
 localparam [31:0] FQ_MONITOR_STUCK_N_HI = 32'hff;
 

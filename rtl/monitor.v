@@ -55,7 +55,8 @@
 //          and then, coasting in between, still reaches COAST_MAX), acc <= 1;
 //          coasting (coast_o): pf <= pf + v (the line goes on; ph_a and v stay; on the
 //          first sample of one stuck channel pf <= its shadow line + its velocity, v <=
-//          that velocity; else, while one channel is stuck and the signal is not dead,
+//          that velocity, and if that shadow line has parted from the line (prt_c, below)
+//          unc <= 2^23, lost; else, while one channel is stuck and the signal is not dead,
 //          a sign change of the working channel re-anchors: pf <= 8 cand + v, cand the
 //          crossing (0 or 4096 for channel 2's, 2048 or 6144 for channel 1's) nearest
 //          pred, and unc <= 0), unc <= min(unc + w, 2^23), w <= w + coast_acc (below
@@ -70,14 +71,21 @@
 //          code changed sets them to the line and velocity after it, any other moves
 //          sl_c by sv_c: the line as it would have coasted from the channel's last
 //          change, so the coast of a stuck channel starts clear of the samples distorted
-//          before the check caught it (sim/model/monitor.py).
+//          before the check caught it (sim/model/monitor.py). prt_c: the shadow line
+//          and the line (both as after the sample before) were a quarter period or more
+//          apart (s16 sl_c - pf outside [-2^14, 2^14 - 1]) on some sample since the
+//          channel's code last changed; cleared by a change.
 //          travel_o = S[24:5] (u20 phase units, wraps; the estimator's gate).
 // Formats: U u20 (wraps), S u20.5 (wraps; the difference (U << 5) - S is taken as s25,
 // and |U - S| stays below 2^19 at any speed below half a period per sample: 32 x 4096),
 // snap s17 (|o| <= 32767, the difference s18), orun u12, run u8 and grun u5 saturate,
 // ph_a u13 and pf, sl_c u13.3 wrap; unc u24 (2^-12 phase units, saturates at 2^23, a
 // quarter period), w u26 (2^-12 units per sample; at most 2^25 from mdev, stops at 2^23
-// + 4095 from coast_acc), mdev u20 (2^-7 units, at most 16 x 65535). Nothing overflows
+// + 4095 from coast_acc), mdev u20 (2^-7 units, at most 16 x 65535). w and mdev as stated
+// here are wires: their registers (w_r, mdev_r) run one sample behind with the sample
+// before's update pending, so the ECP5's longest paths (the phase through |8 d - v| into
+// mdev, the hold into w) end in a register first; the values per sample are the same.
+// Nothing overflows
 // (the formal properties below and sim/formal/monitor.sby, for OPT_MONITOR = 1).
 // OPT_MONITOR = 0 (a small device, e.g. the iCE40 UP5K): no fault checks: loss, over,
 // stuck and glitch are 0, hold_o never, excl_o = pvalid_i and clip (a clipped sample is
@@ -332,10 +340,19 @@ module monitor #(
     wire       lok = chk[1];    // the line is known (anchored): held samples coast along it
     reg        rc = 1'b0;       // a coast through dead, stuck or a rail: no glitch test next
     reg [23:0] unc = 0;         // u24 the coast's uncertainty, 2^-12 units (2^23: lost)
-    reg [25:0] w = 0;           // u26 its growth per coasted sample
-    reg [19:0] mdev = 0;        // u20 mean |8 d - v|, 2^-7 units
+    // w, the coast's growth per sample, and mdev, the mean |8 d - v| it starts from,
+    // retimed: the registers hold them one sample behind (w_r, mdev_r), with what the
+    // sample before did to them (wacc, wadd; padv, pupd), so no path runs from the phase
+    // through |8 d - v| into mdev, or from the hold into w
+    reg [25:0] w_r = 0;         // u26 w before the sample before
+    reg        wacc = 1'b0;     // the sample before was accepted
+    reg [11:0] wadd = 12'd0;    // u0.12 coast_acc if the sample before coasted, else 0
+    reg [19:0] mdev_r = 0;      // u20 mdev before the sample before (2^-7 units)
+    reg [15:0] padv = 0;        // u16 |8 d - v| of the sample before
+    reg        pupd = 1'b0;     // it updates mdev (accepted, chk == 2, acc)
     reg [15:0] sl1 = 0, sl2 = 0, sv1 = 0, sv2 = 0;   // the shadow lines and their velocities
     reg [1:0]  pst = 0, psg = 0;                     // the stuck latches, signs before
+    reg        prt1 = 1'b0, prt2 = 1'b0;             // the shadow lines have parted
     wire [12:0] pred = pf[15:3];
     wire [12:0] e = phase_i - pred;                             // s13 off the line
     // e outside [-2^K, 2^K - 1] <=> a bit of e[11:K] differs from the sign e[12]; the
@@ -363,7 +380,11 @@ module monitor #(
     wire [12:0] d = phase_i - ph_a;                             // s13 step
     wire signed [16:0] dv = $signed({d, 3'b000}) - v;            // s14.3 8 d - v
     wire [15:0] adv = dv[16] ? -dv[15:0] : dv[15:0];             // |8 d - v| <= 65535
-    wire signed [20:0] mdd = $signed({1'b0, adv, 4'b0000}) - $signed({1'b0, mdev});
+    wire signed [20:0] mdd = $signed({1'b0, padv, 4'b0000}) - $signed({1'b0, mdev_r});
+    // u26 w after the sample before: an accept starts it from mdev before that accept's
+    // update (mdev_r), a coast grows it by coast_acc below 2^23
+    wire [25:0] w = wacc ? {mdev_r[19:4] + 17'd1, 9'd0}
+                  : (w_r[25:23] == 3'd0) ? w_r + {14'd0, wadd} : w_r;
     wire [24:0] sd = {u, 5'd0} - s;                             // s25
     // one stuck channel (st_6[0]: channel 1): its shadow line on the latch's first sample,
     // else the working channel's zero crossing nearest the line
@@ -374,6 +395,15 @@ module monitor #(
     wire [12:0] p2k = pred + 13'd2048;
     wire [12:0] cand = st_6[0] ? {p2k[12], 12'd0} : {pred[12], 1'b1, 11'd0};
     wire [26:0] usum = {3'b000, unc} + {1'b0, w};
+    // the shadow lines against the line (both as after the sample before): a quarter
+    // period or more apart (s16 outside [-2^14, 2^14 - 1]: the two top bits differ), or
+    // so since the channel's code last changed
+    wire [15:0] dl1 = sl1 - pf, dl2 = sl2 - pf;
+    wire        part1 = prt1 || (dl1[15] != dl1[14]);
+    wire        part2 = prt2 || (dl2[15] != dl2[14]);
+    // the first sample of one stuck channel whose shadow line parted from the line: the
+    // count may have followed the distorted phase across a period boundary
+    wire        rlost = rise && (st_6[0] ? part1 : part2);
     wire        acc_ok = !hold_o;
     // the line and its velocity after the sample (the shadow lines start from them)
     reg  [15:0] pf_n;
@@ -408,14 +438,20 @@ module monitor #(
             v <= v_n;
             pst <= st_6;
             psg <= sg_6;
+            prt1 <= !chg_6[0] && part1;
+            prt2 <= !chg_6[1] && part2;
             sl1 <= chg_6[0] ? pf_n : sl1 + sv1;
             sv1 <= chg_6[0] ? v_n : sv1;
             sl2 <= chg_6[1] ? pf_n : sl2 + sv2;
             sv2 <= chg_6[1] ? v_n : sv2;
+            w_r <= w;
+            wacc <= acc_ok;
+            wadd <= (!acc_ok && coast) ? coast_acc_i : 12'd0;
+            if (pupd)
+                mdev_r <= mdev_r + {{3{mdd[20]}}, mdd[20:4]};
+            padv <= adv;
+            pupd <= acc_ok && chk[1] && acc;
             if (acc_ok) begin
-                w <= {mdev[19:4] + 17'd1, 9'd0};
-                if (chk[1] && acc)
-                    mdev <= mdev + {{3{mdd[20]}}, mdd[20:4]};
                 ph_a <= phase_i;
                 chk <= chk[1] ? chk : chk + 1'b1;
                 rc <= 1'b0;
@@ -427,10 +463,9 @@ module monitor #(
                 unc <= 24'd0;
                 lost_o <= 1'b0;
             end else if (coast) begin
-                unc <= (anchor && !rise) ? 24'd0 : (|usum[26:23]) ? 24'h800000 : usum[23:0];
-                lost_o <= !(anchor && !rise) && (|usum[26:23]);
-                if (w[25:23] == 3'd0)
-                    w <= w + {14'd0, coast_acc_i};
+                unc <= (anchor && !rise) ? 24'd0 : (rlost || (|usum[26:23])) ? 24'h800000
+                                                                             : usum[23:0];
+                lost_o <= !(anchor && !rise) && (rlost || (|usum[26:23]));
                 if (early)
                     rc <= 1'b1;
                 else
@@ -449,12 +484,15 @@ module monitor #(
             loss_o <= 1'b0; over_o <= 1'b0; stuck_o <= 1'b0; glitch_o <= 1'b0;
             orun <= 0;
             ph_a <= 0; pf <= 0; chk <= 0; s <= 0; u <= 0; grun <= 0; v <= 0; acc <= 1'b0;
-            rc <= 1'b0; unc <= 0; w <= 0; mdev <= 0; lost_o <= 1'b0;
+            rc <= 1'b0; unc <= 0; lost_o <= 1'b0;
+            w_r <= 0; wacc <= 1'b0; wadd <= 12'd0; mdev_r <= 0; padv <= 0; pupd <= 1'b0;
             sl1 <= 0; sl2 <= 0; sv1 <= 0; sv2 <= 0; pst <= 0; psg <= 0;
+            prt1 <= 1'b0; prt2 <= 1'b0;
         end
     end
     assign travel_o = s[24:5];
-    wire unused = &{1'b0, mn3[1:0], sd[4:0], x1[10:0], x2[10:0], dv[2:0], e[0], mdd[3:0], p2k[11:0], 1'b0};
+    wire unused = &{1'b0, mn3[1:0], sd[4:0], x1[10:0], x2[10:0], dv[2:0], e[0], mdd[3:0], p2k[11:0],
+                      dl1[13:0], dl2[13:0], 1'b0};
 
 `ifdef FORMAL
     // ---- formal properties (sim/formal/monitor.sby; every input free on every clock) --------
@@ -611,6 +649,12 @@ module monitor #(
     wire f_hold = pvalid_i && (f_early || f_glitch);
     wire f_coast = OPT_MONITOR && lok
                    && (f_early || (f_glitch && !(grun == 5'd16 && !f_clip[5])));
+    // mdev after the sample before (the retimed register with its pending update)
+    wire [19:0] mdev = pupd ? mdev_r + {{3{mdd[20]}}, mdd[20:4]} : mdev_r;
+    always @(*) begin
+        assert (w_r <= 26'h2000000 && mdev_r <= 20'd1048560 && !(wacc && wadd != 12'd0));
+        assert (mdd >= -21'sd1048560);
+    end
     // v's running mean and the spread's in exact arithmetic (20 and 23 bits), their ranges
     wire signed [19:0] f_vn = $signed(v) + (($signed(f_dw) * 20'sd8 - $signed(v)) >>> 3);
     wire signed [17:0] f_dv = $signed(f_dw) * 18'sd8 - $signed(v);
@@ -628,6 +672,12 @@ module monitor #(
     wire        f_anchor = f_one && !f_deadr
                            && (f_st[2] ? (f_sg[7] != psg[1]) : (f_sg[6] != psg[0]));
     wire [26:0] f_us = {3'b000, unc} + {1'b0, w};               // exact
+    // a shadow line a quarter period or more off the line (s16 compare), or so since its
+    // channel's code last changed; on the rise of its latch the travel is lost
+    wire signed [15:0] f_dl1 = $signed(sl1 - pf), f_dl2 = $signed(sl2 - pf);
+    wire        f_part1 = prt1 || f_dl1 < -16'sd16384 || f_dl1 >= 16'sd16384;
+    wire        f_part2 = prt2 || f_dl2 < -16'sd16384 || f_dl2 >= 16'sd16384;
+    wire        f_rlost = f_rise && (f_st[2] ? f_part1 : f_part2);
 
     // stuck: the spec's chg and run >= N of the sample, carried to the latch's update edge
     // (chg on to H)
@@ -722,7 +772,7 @@ module monitor #(
             assert (ph_a == 13'd0 && pf == 16'd0 && grun == 5'd0 && !acc && v == 16'sd0);
             assert (!lok && !rc && unc == 24'd0 && w == 26'd0 && mdev == 20'd0);
             assert (sl1 == 16'd0 && sl2 == 16'd0 && sv1 == 16'd0 && sv2 == 16'd0);
-            assert (pst == 2'd0 && psg == 2'd0);
+            assert (pst == 2'd0 && psg == 2'd0 && !prt1 && !prt2);
             assert (run1 == 8'd0 && run2 == 8'd0 && prev1 == 0 && prev2 == 0);
             assert (!stk1 && !stk2 && snap1 == 0 && snap2 == 0 && !v1 && !v2 && !v3);
             assert (sp1 == 15'd2048 && sp2 == 15'd2048 && sc1 == 0 && sc2 == 0 && sg == 2'd0);
@@ -784,6 +834,7 @@ module monitor #(
                 assert (lok == $past(lok) && rc == $past(rc) && unc == $past(unc));
                 assert (w == $past(w) && mdev == $past(mdev));
                 assert (sl1 == $past(sl1) && sl2 == $past(sl2));
+                assert (prt1 == $past(prt1) && prt2 == $past(prt2));
                 assert (sv1 == $past(sv1) && sv2 == $past(sv2));
                 assert (pst == $past(pst) && psg == $past(psg));
                 assert (u == $past(u) && s == $past(s) && orun == $past(orun));
@@ -808,6 +859,8 @@ module monitor #(
                 assert (sv1 == ($past(f_chg1[5]) ? v : $past(sv1)));
                 assert (sl2 == ($past(f_chg2[5]) ? pf : $past(sl2 + sv2)));
                 assert (sv2 == ($past(f_chg2[5]) ? v : $past(sv2)));
+                assert (prt1 == $past(!f_chg1[5] && f_part1));
+                assert (prt2 == $past(!f_chg2[5] && f_part2));
                 // M9: the travel is lost after the sample
                 assert (lost_o == (unc >= 24'h800000));
                 // M4
@@ -830,6 +883,8 @@ module monitor #(
                         end
                         if ($past(f_anchor && !f_rise))
                             assert (unc == 24'd0);
+                        else if ($past(f_rlost))
+                            assert (unc == 24'h800000);
                         else
                             assert (unc == (($past(f_us) >= 27'h800000) ? 24'h800000
                                                                           : $past(f_us[23:0])));
@@ -896,6 +951,7 @@ module monitor #(
         cover (lost_o && $past(hold_o && !coast_o));
         // a stuck channel's coast from its shadow line; a sign change re-anchors it
         cover ($past(coast_o && f_rise) && sl1 != 16'd0);
+        cover ($past(coast_o && f_rlost) && $past(prt1 || prt2) && lost_o);
         cover ($past(coast_o && f_anchor && !f_rise) && $past(unc) != 24'd0);
         // the sample after a coast through a fault is not tested against the line
         cover ($past(pvalid_i && !hold_o && rc && f_k != 4'd0 && chk == 2'd2 && f_off));

@@ -266,7 +266,7 @@ extern "C" {
 #define FINEQUAD__MONITOR__STUCK_N_bm 0xff0000
 #define FINEQUAD__MONITOR__STUCK_N_bp 16
 #define FINEQUAD__MONITOR__STUCK_N_bw 8
-#define FINEQUAD__MONITOR__STUCK_N_reset 0x8
+#define FINEQUAD__MONITOR__STUCK_N_reset 0x3
 
 // reg - finequad::CAPTURE
 #define FINEQUAD__CAPTURE__CAPTURE_bm 0xffffffff

@@ -38,7 +38,7 @@ static const FqSetting FQ_SETTINGS[] = {
     {"over", "RADIUS", 0x19, 16, 16, 0L, 65535L, 22118L},
     {"glitch_k", "MONITOR", 0x1a, 0, 4, 0L, 15L, 10L},
     {"code_step", "MONITOR", 0x1a, 8, 4, 0L, 8L, 0L},
-    {"stuck_n", "MONITOR", 0x1a, 16, 8, 0L, 255L, 8L},
+    {"stuck_n", "MONITOR", 0x1a, 16, 8, 0L, 255L, 3L},
     {"ref_q", "REF", 0x1d, 0, 11, 0L, 2043L, 0L},
     {"ref_filt", "REF", 0x1d, 16, 4, 0L, 15L, 2L},
     {"home_count", "HOME", 0x1e, 0, 32, -2147483648L, 2147483647L, 0L},

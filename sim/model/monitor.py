@@ -120,7 +120,14 @@ t + 6 and t + 7, when the sample's fine phase is registered and the counter deci
                  distorted phase was accepted): on the latch's first sample the line
                  restarts from the channel's shadow line (sl_c: the line coasted at the
                  velocity sv_c since the channel's code last changed) with that
-                 velocity, clear of the distorted samples; after that, while the signal
+                 velocity, clear of the distorted samples. If that shadow line and the
+                 line (which followed the distorted phase) have been a quarter period
+                 or more apart on any sample since the change (parted: wrap16(sl_c -
+                 pf) outside [-2^14, 2^14 - 1], in u13.3), the count may have followed
+                 the distorted phase across a period boundary, which the restart cannot
+                 repair: the travel is lost (unc <- 2^23). The count is right when the
+                 two stay within a quarter period: the restart's step is then less than
+                 half a period. After that, while the signal
                  is not dead, each sign change of the working channel re-anchors it to
                  the crossing nearest the line (channel 2's zero crossings lie at phase 0
                  and 4096, channel 1's at 2048 and 6144: the nearest is right while the
@@ -152,7 +159,9 @@ t + 6 and t + 7, when the sample's fine phase is registered and the counter deci
                  COAST_MAX) on a glitch coast. Otherwise held (no line): chk <- 0,
                  grun <- 0, the line is lost (unc <- 2^23).
   shadow lines   per channel, every sample: a code change sets (sl_c, sv_c) to the line
-                 and velocity after the sample; otherwise sl_c += sv_c.
+                 and velocity after the sample and clears parted; otherwise sl_c += sv_c
+                 and parted is kept, or set if sl_c and pf (both before the sample)
+                 are a quarter period or more apart.
   over run       orun <- over ? min(orun + 1, OVER_PERSIST) : 0 (every sample).
 
 The estimator gates its updates by S (rtl/estimator.v): the travel smoothed over 32
@@ -181,6 +190,8 @@ COAST_MAX = 16           # glitches coasted in a row before an unclipped sample 
 V_FRAC = 3               # fraction bits of the line's velocity v (s13.3) and its position
 UNC_Q = 1 << 23          # a quarter period (2048 units) in 2^-12 units: the travel is lost
 UNC_FRAC = 12            # fraction bits of the coast's uncertainty and its growth
+PART_SH = 14             # a shadow line parted from the line: a quarter period (2^14 in
+                         # u13.3) or more apart
 MDEV_FRAC = 4            # fraction bits of the mean |8 d - v| (above the 1/8 units)
 V_SH = 3                 # v follows the phase step with a time constant of 2^V_SH samples
 S_FRAC = 5               # fraction bits of the smoothed travel S (time constant 32)
@@ -217,6 +228,12 @@ def worst_motion(s):
     a_max = math.acos(max(-1.0, 1.0 - s))
     return max(a + math.acos(max(-1.0, math.cos(a) - s))
                for a in (a_max * i / 4096 for i in range(4096)))
+
+
+def _parted(x):
+    """A shadow line x = sl - pf (u13.3, wraps) off the line by 2^PART_SH or more."""
+    x = ((x + 0x8000) & 0xFFFF) - 0x8000
+    return not -(1 << PART_SH) <= x < (1 << PART_SH)
 
 
 def radius(ax, ay):
@@ -275,6 +292,7 @@ class Monitor:
         self.mdev = 0             # u20 mean |8 d - v| of accepted steps, 2^-7 units
         self.sl = [0, 0]          # u13.3 per channel: the line coasted since the channel's
         self.sv = [0, 0]          # code last changed, and the velocity it coasts with
+        self.part = [False, False]    # the shadow line has parted from the line
         self.pstk = [False, False]    # the channels' stuck latches of the sample before
         self.psgn = (False, False)    # the signs (xn, yn) of the sample before
         self.v = 0                # s13.3 the line's velocity (smoothed phase step)
@@ -344,6 +362,9 @@ class Monitor:
         self.pstk = list(self.stk)
         self.psgn = sgn
         pf0 = self.pf
+        # the shadow lines against the line (both as after the sample before): parted
+        # since the channel's code last changed
+        part = [self.part[c] or _parted(self.sl[c] - self.pf) for c in (0, 1)]
         if not hold:
             # the growth of a coast from here: the velocity's spread, before this sample
             self.w = ((self.mdev >> MDEV_FRAC) + 1) << (UNC_FRAC - V_FRAC)
@@ -374,7 +395,12 @@ class Monitor:
                 self.pf = ((cand << V_FRAC) + self.v) & 0xFFFF
             else:
                 self.pf = (self.pf + self.v) & 0xFFFF
-            self.unc = 0 if anchor and not rise else min(self.unc + self.w, UNC_Q)
+            if rise and part[c_st]:       # the count may have followed the distorted
+                self.unc = UNC_Q          # phase across a period boundary
+            elif anchor and not rise:
+                self.unc = 0
+            else:
+                self.unc = min(self.unc + self.w, UNC_Q)
             if self.w < UNC_Q:
                 self.w += regs.coast_acc
             if early:
@@ -389,6 +415,7 @@ class Monitor:
             self.rc = False
             self.unc = UNC_Q
         for c in (0, 1):                  # the shadow lines (per channel)
+            self.part[c] = part[c] and not changed[c]
             if changed[c]:
                 self.sl[c], self.sv[c] = self.pf, self.v
             else:

@@ -168,13 +168,13 @@ REGS = {
         'over': Field('over', 'RADIUS', 16, 16, 22118, True, True, False, False, False, 0, 65535, 'u2.14',
             'Over-range above this radius (22118 = 1.35).'),
     }, 'Radius thresholds', 'Lissajous radius thresholds, s2.14 units (16384 = the unit circle). Reads 0 with OPT_MONITOR = 0.'),
-    'MONITOR': Reg('MONITOR', 0x1a, 0x68, True, True, 0x00ff0f0f, 0x00ff0f0f, 0x0008000a, ('OPT_TUNABLE', 'OPT_MONITOR'), {
+    'MONITOR': Reg('MONITOR', 0x1a, 0x68, True, True, 0x00ff0f0f, 0x00ff0f0f, 0x0003000a, ('OPT_TUNABLE', 'OPT_MONITOR'), {
         'glitch_k': Field('glitch_k', 'MONITOR', 0, 4, 10, True, True, False, False, False, 0, 15, 'u4',
             'Glitch check: the largest |phase acceleration| is 2^glitch_k phase units per sample^2; 0: off.'),
         'code_step': Field('code_step', 'MONITOR', 8, 4, 0, True, True, False, False, False, 0, 8, 'u4',
             "The converter's code step as a power of two of the ADC port's LSB: the port's width minus the converter's bits (0: as wide as the port; an 8-bit converter on a 12-bit port, its codes shifted left by 4: 4). The stuck-channel check lets the other channel move by max(1/8 of the radius, about 6 sqrt(q |c|)) while a channel's code stays unchanged (q the code step after the input gain GAIN, which is added by the core; c the channel's C1 or C2), capped at the radius: a coarser setting delays the detection of a dead channel (an 8-bit converter at 12.5 % of full scale turns the check off in effect). A change takes effect at each channel's next code change (sim/model/monitor.py)."),
-        'stuck_n': Field('stuck_n', 'MONITOR', 16, 8, 8, True, True, False, False, False, 0, 255, 'u8',
-            'Stuck channel: a channel whose code stays unchanged for this many samples while the other moves; 0: off.'),
+        'stuck_n': Field('stuck_n', 'MONITOR', 16, 8, 3, True, True, False, False, False, 0, 255, 'u8',
+            "Stuck channel: a channel whose code stays unchanged for this many samples while the other moves by the stuck span; 0: off. The span alone keeps a working channel's peak from being flagged; until the check fires the count follows a distorted phase, so a fast stage needs a small value (sim/model/monitor.py)."),
     }, 'Monitor checks', 'Reads 0 with OPT_MONITOR = 0.'),
     'CAPTURE': Reg('CAPTURE', 0x1b, 0x6c, True, False, 0x00000000, 0xffffffff, 0x00000000, (), {
         'capture': Field('capture', 'CAPTURE', 0, 32, None, True, False, False, False, True, -2147483648, 2147483647, 's32',

@@ -15,13 +15,15 @@ must not report a wrong one as valid. The test covers these faults:
                   is below RADIUS.loss (loss is flagged and the estimator skips the
                   samples) but above the floor, so every sample is still counted: no
                   hold, no coast, the count stays right and pos_valid stays 1.
-  stuck channel   one channel's code freezes at various phases, at both speeds. The
-                  count coasts, with the line re-anchored at each zero crossing of the
-                  working channel. At FAST the check catches the channel only after
-                  0.4 period of travel, and the coast restarts from the line the channel
-                  left (its shadow line: without it 16 of the 40 FAST cases end a period
-                  off). Faster still the count can end a period off with pos_valid 1:
-                  test_stuck_channel_faster_than_the_check is the known failure.
+  stuck channel   one channel's code freezes at various phases, at both speeds and at
+                  0.07 and 0.09 periods per sample. The count coasts, with the line
+                  re-anchored at each zero crossing of the working channel. The check
+                  catches the channel after MONITOR.stuck_n = 3 samples (more where the
+                  other channel must first move by the stuck span), and the coast
+                  restarts from the line the channel left (its shadow line). Caught
+                  later (stuck_n = 8 at 0.06), the count may have followed the
+                  distorted phase across a period boundary: the shadow line has then
+                  parted from the line and the travel is lost.
   long slow loss  5 periods of loss at 0.002 periods per sample. The coast's uncertainty
                   reaches a quarter period, so pos_valid must fall.
 
@@ -169,15 +171,28 @@ def test_without_coast_the_count_is_wrong(monkeypatch):
     assert res["pos_valid"][-1] == 1              # and nothing says so: the criterion fails
 
 
-@pytest.mark.xfail(strict=True, reason="a stuck channel caught after more than a quarter "
-                   "period of travel: the counter's period count followed the distorted "
-                   "phase (README, Limits)")
+@pytest.mark.parametrize("travel", (0.25, 0.5, 1))
+@pytest.mark.parametrize("x0", (0.0, 0.3, 0.55, 0.8))
+@pytest.mark.parametrize("channel", (1, 2))
+@pytest.mark.parametrize("v", (0.07, 0.09))
+def test_stuck_channel_fast(v, channel, x0, travel):
+    """Faster than FAST, with faults as short as 3 samples (0.25 period at 0.09): the
+    count ends right or pos_valid is 0."""
+    res, _, _ = run(v, x0, travel, stuck=channel)
+    check_end(res, v, x0)
+
+
 @pytest.mark.parametrize("channel,x0", [(1, 0.0), (2, 0.3)])
-def test_stuck_channel_faster_than_the_check(channel, x0):
-    """At 0.06 periods per sample the stuck check (8 unchanged codes) catches the channel
-    after half a period of travel. The counter has followed the distorted phase meanwhile
-    and lost a period, which the coast's restart from the shadow line does not repair,
-    and pos_valid stays 1 (measured: -100 counts, 2026-11-29). Strict: this test fails
-    (xpass) once the core either keeps the count or clears pos_valid here."""
-    res, _, _ = run(0.06, x0, 1, stuck=channel)
+def test_stuck_channel_caught_late_loses_the_travel(channel, x0, monkeypatch):
+    """With MONITOR.stuck_n = 8 at 0.06 periods per sample the check catches the channel
+    after half a period of travel, and the count has followed the distorted phase across
+    a period boundary: the shadow line has parted from the line, so the travel is lost
+    and pos_valid falls. With the parted test switched off (PART_SH beyond any distance)
+    the same run ends a period off with pos_valid 1, so the criterion can fail here."""
+    res, lo, _ = run(0.06, x0, 1, stuck=channel, stuck_n=8)
     check_end(res, 0.06, x0)
+    assert res["mon_lost"][lo:].any() and res["pos_valid"][-1] == 0
+    monkeypatch.setattr(monitor, "PART_SH", 16)
+    res, _, _ = run(0.06, x0, 1, stuck=channel, stuck_n=8)
+    assert abs(int(res["count"][-1]) - fault_free(0.06, x0)) >= 4 * N
+    assert res["pos_valid"][-1] == 1
