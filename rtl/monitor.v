@@ -532,12 +532,14 @@ module monitor #(
     //     moves neither U, S, ph_a nor mdev (orun and the flags follow the sample).
     //     Coasting (coast_o): chk and lok kept, acc <= 0; the line: on the first sample
     //     of one stuck channel (its latch set, clear for the sample before: rise) pf <=
-    //     sl + sv, v <= sv of that channel; else, with one stuck channel, the signal not
+    //     sl + sv, v <= sv of that channel, and unc <= 2^23 if that channel's shadow
+    //     line has parted (prt, or sl - pf now outside [-2^14, 2^14 - 1] as s16); else,
+    //     with one stuck channel, the signal not
     //     dead and the working channel's sign changed from the sample before (anchor):
     //     pf <= 8 cand + v, cand the working channel's zero crossing (0 or 4096 for
     //     channel 2, 2048 or 6144 for channel 1) with wrap13(pred - cand) in [-2048,
     //     2047] (the nearest), v kept; else pf <= pf + v, v kept; unc <= 0 on an anchor
-    //     (not rise), else min(unc + w, 2^23); w <= w + coast_acc while w < 2^23, else
+    //     (not rise), else (no parted rise) min(unc + w, 2^23); w <= w + coast_acc while w < 2^23, else
     //     kept; a coast through dead, stuck or clip with over: rc <= 1, grun kept; a
     //     glitch coast: grun <= min(grun + 1, 16), rc stays 0.
     //     Any other held one (no line: lok = 0, or the 17th glitch coast unclipped): pf,
@@ -551,7 +553,8 @@ module monitor #(
     //     <= 0; grun <= 0 only if acc (else kept), acc <= 1; U <= U + d.
     //     Every sample (pvalid_i): pst, psg <= its latches and signs; per channel the
     //     shadow line: sl <= pf, sv <= v (as updated by the sample) if the channel's code
-    //     changed, else sl <= sl + sv, sv kept.
+    //     changed, else sl <= sl + sv, sv kept; prt <= 0 if the channel's code changed,
+    //     else prt or sl - pf (before the sample) outside [-2^14, 2^14 - 1].
     //  M5 saturating counters never wrap: run 0..255 (+1 while unchanged, 0 on a change),
     //     orun 0..4095 (+1 while over, 0 otherwise), chk 0..2, grun 0..16 (+1 per glitch
     //     coast, 0 on two accepted in a row or a re-anchor); lok == (chk == 2) (the line
@@ -560,7 +563,7 @@ module monitor #(
     //     in U units, at any phase steps: wrap13 bounds them), so S's step never sees a
     //     wrapped difference.
     //  M7 rst: the flags and lost_o, orun, chk, U, S, ph_a, pf, v, grun, acc, lok, rc,
-    //     unc, w, mdev, the shadow lines, pst, psg, the runs, latches and snapshots 0, the
+    //     unc, w, mdev, the shadow lines, prt, pst, psg, the runs, latches and snapshots 0, the
     //     spans 2048, the sampled bundles 0.
     //  M8 OPT_MONITOR = 0 (sby task prf_m): M1..M7, M9 with loss, dead, over, stuck and
     //     glitch as specified replaced by 0: hold_o, coast_o and lost_o never, line_o ==
@@ -940,7 +943,7 @@ module monitor #(
         cover ($past(pvalid_i && !hold_o) && $past(pvalid_i && hold_o, 2) && chk == 2'd1);
         cover (run1 == 8'd5 && stk2);
         cover (stk1 && sp1 > 15'd8192);
-        cover ($past(hold_o) && $past(f_clip[5] && over && !dead && !stuck && !f_glitch));
+        cover ($past(hold_o) && $past(f_clip[5] && over && !f_dead && !stuck && !f_glitch));
         cover (grun == 5'd3);
         cover ($past(pvalid_i && !hold_o && !acc) && grun == 5'd2);
         // a weak signal (loss, not dead) still counted; a coast through a dead signal

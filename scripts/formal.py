@@ -69,7 +69,15 @@ def run_task(sby, env, proof, task, build):
     secs = time.monotonic() - t0
     ok = r.returncode == 0 and "DONE (PASS" in r.stdout
     msg = ""
-    if not ok:
+    # `default_nettype none is only a warning to this Yosys: an undeclared name in a
+    # property would be a free net, and the property would prove nothing
+    log = work / "model" / "design.log"
+    implicit = [ln.strip() for ln in (log.read_text().splitlines() if log.exists() else [])
+                if "implicitly declared" in ln]
+    if ok and implicit:
+        ok = False
+        msg = "\n".join(implicit)
+    elif not ok:
         keep = [ln for ln in r.stdout.splitlines()
                 if re.search(r"summary:|ERROR|error|failed|trace", ln)]
         msg = "\n".join(keep[-12:]) or (r.stdout + r.stderr)[-2000:]

@@ -36,8 +36,10 @@ t + 6 and t + 7, when the sample's fine phase is registered and the counter deci
                  it starts just below its peak, rises by less than s, and must fall by
                  s from its start): 70 degrees for STUCK_SPAN_MIN, 150 for half the
                  radius (worst_motion()), then STUCK_N samples; typically far sooner.
-                 Until then the count follows a distorted phase, and it is right again
-                 once the channel works (the distorted phase does not wind). Standstill
+                 Until then the count follows a distorted phase; a channel that works
+                 again before the check fires leaves the count right while the stage
+                 moved well under half a period meanwhile (with more the distorted
+                 phase may have wound the other way: README, Limits). Standstill
                  with toggling codes is never flagged. Once detected, the channel stays
                  stuck until its code changes (stk_c). A sample whose bundle's (g, c1,
                  c2) differ from the previous sample's (a hand-over or a load: the

@@ -141,13 +141,16 @@ def test_low_amplitude_is_counted(v, travel):
 @pytest.mark.parametrize("v", (SLOW, FAST))
 def test_stuck_channel(v, channel, x0, travel):
     """One channel's code frozen from start phase x0: the count ends right or pos_valid
-    is 0. From half a period of travel on, the stuck fault is flagged. At FAST the check
-    catches the channel only after 8 samples (0.4 period): the coast restarts from the
-    line the channel left."""
+    is 0. From half a period of travel on, the stuck fault is flagged. The check catches
+    the channel after MONITOR.stuck_n = 3 samples or more: the coast restarts from the
+    line the channel left. At FAST with 2 periods of travel pos_valid stays 1 (the
+    restart and the anchors keep the position: giving up is not enough)."""
     res, lo, ns = run(v, x0, travel, stuck=channel)
     check_end(res, v, x0)
     if travel >= 0.5:
         assert bit(res, "stuck")[lo:lo + ns].any()
+    if v == FAST and travel == 2:
+        assert res["pos_valid"][lo:].all()
 
 
 def test_long_slow_loss_clears_pos_valid():
