@@ -6,6 +6,7 @@
 rtl/regs/finequad.rdl is the one hand-written source (systemrdl-compiler reads it); this
 writes:
     rtl/finequad_regs.vh         Verilog localparams, `include'd inside the RTL's modules
+    rtl/vhdl/finequad_regs_pkg.vhd   the same as a VHDL-2008 package (the VHDL edition)
     sim/model/regs.py            Python: the model, fqhost, the scripts and the tests
     sim/harness/regs.h           C++ field table of the Verilator harnesses' options
     rtl/regs/finequad_regs.h     C header for software (PeakRDL-cheader, C99)
@@ -359,6 +360,197 @@ def write_ok_function(regs):
     return out
 
 
+# ---- VHDL -----------------------------------------------------------------------------
+VHDL_RESERVED = set("""abs access after alias all and architecture array assert assume
+    attribute begin block body buffer bus case component configuration constant context
+    cover default disconnect downto else elsif end entity exit fairness file for force
+    function generate generic group guarded if impure in inertial inout is label library
+    linkage literal loop map mod nand new next nor not null of on open or others out
+    package parameter port postponed procedure process property protected pure range
+    record register reject release rem report restrict return rol ror select sequence
+    severity shared signal sla sll sra srl strong subtype then to transport type unaffected
+    units until use variable vmode vprop vunit wait when while with xnor xor""".split())
+
+
+def vlit(width, v):
+    """A sized VHDL-2008 bit-string literal of v (two's complement in `width` bits)."""
+    return f'{width}x"{v & ((1 << width) - 1):0{(width + 3) // 4}x}"'
+
+
+def vhdl_field_type(f, constrained=True):
+    """A field value's VHDL type: std_logic for one bit, else unsigned or signed."""
+    if f["width"] == 1:
+        return "std_logic"
+    t = "signed" if f["signed"] else "unsigned"
+    return f"{t}({f['width'] - 1} downto 0)" if constrained else t
+
+
+def vhdl_field_checks(f):
+    """VHDL conditions that field f of word d is within its legal values (positions and
+    values as numbers, like the Verilog's fq_write_ok)."""
+    w = f["width"]
+    sel = "d" if w == 32 else f"d({f['msb']} downto {f['lsb']})"
+    if f["signed"]:
+        if (f["lo"], f["hi"]) == (-(1 << (w - 1)), (1 << (w - 1)) - 1):
+            return []
+        return [f"signed({sel}) >= {f['lo']}", f"signed({sel}) <= {f['hi']}"]
+    if w == 1:
+        return []
+    out = []
+    if f["lo"] == 1:
+        out.append(f"unsigned({sel}) /= 0")
+    elif f["lo"] > 0:
+        out.append(f"unsigned({sel}) >= {f['lo']}")
+    if f["hi"] < (1 << w) - 1:
+        out.append(f"unsigned({sel}) <= {f['hi']}")
+    return out
+
+
+def vhdl(regs):
+    top = max(r["index"] for r in regs)
+    aw = 6
+    opts = options(regs)
+    for r in regs:
+        for f in r["fields"]:
+            if f["name"].lower() in VHDL_RESERVED:
+                raise RdlError(f"{r['name']}.{f['name']}: a VHDL reserved word (the VHDL "
+                               "package names its read functions' parameters after fields)")
+            if f["write"] and not f["pulse"] and not f["w1c"] and \
+                    not -(1 << 31) <= f["lo"] <= f["hi"] < (1 << 31):
+                raise RdlError(f"{r['name']}.{f['name']}: legal {f['lo']}..{f['hi']} does not "
+                               "fit a VHDL integer")
+    spec = [f"-- {STAMP}.",
+            "-- finequad_core's register map for the VHDL edition: the facts of",
+            "-- rtl/finequad_regs.vh, by the same names. FQ_<REG>: the word index (byte",
+            "-- address / 4). Per field: FQ_<REG>_<FIELD>_LSB, _MSB, _W its position,",
+            "-- _RESET its reset value (std_logic for one bit, else unsigned or signed),",
+            "-- _LO and _HI its legal values (integers). FQ_<REG>_WMASK: the bits a write",
+            "-- reaches; FQ_<REG>_RESET: the word at reset. fq_rd_<reg>(): a read's word from",
+            "-- the field values; fq_write_ok(): whether the core takes a write.",
+            "",
+            "library ieee;",
+            "  use ieee.std_logic_1164.all;",
+            "  use ieee.numeric_std.all;",
+            "",
+            "package finequad_regs_pkg is",
+            "",
+            f"  subtype fq_addr_t is unsigned({aw - 1} downto 0);            -- a word index",
+            "  subtype fq_word_t is std_logic_vector(31 downto 0);",
+            "",
+            f"  constant FQ_ADDR_TOP : fq_addr_t := {vlit(aw, top)};       -- the highest word",
+            f"  constant FQ_FAULT_W  : positive  := {fault_w(regs)};             "
+            f"-- m_fault: the fields of {FAULT_REG}",
+            "",
+            "  -- The core's parameters that writes depend on (rtl/regs/finequad.rdl requires):",
+            "  -- true where the parameter is 1.",
+            "  type fq_options_t is record"]
+    ow = max(len(o) for o in opts)
+    spec += [f"    {o.lower():<{ow}} : boolean;" for o in opts]
+    spec += ["  end record fq_options_t;"]
+    for r in regs:
+        n = r["name"]
+        spec += ["", f"  -- {n} ({reg_access(r)}, byte 0x{r['addr']:02x}): {r['title']}"]
+        decl = [(f"FQ_{n}", "fq_addr_t", vlit(aw, r["index"]))]
+        if r["write"]:
+            decl.append((f"FQ_{n}_WMASK", "fq_word_t", f'x"{reg_mask(r, True):08x}"'))
+            decl.append((f"FQ_{n}_RESET", "fq_word_t", f'x"{reset_word(r):08x}"'))
+        for f in r["fields"]:
+            p = f"FQ_{n}_{f['name'].upper()}"
+            decl.append((f"{p}_LSB", "natural", str(f["lsb"])))
+            decl.append((f"{p}_MSB", "natural", str(f["msb"])))
+            decl.append((f"{p}_W", "positive", str(f["width"])))
+            if f["reset"] is not None and (f["write"] or n == "ID"):
+                v = (f"'{f['reset'] & 1}'" if f["width"] == 1 else vlit(f["width"], f["reset"]))
+                decl.append((f"{p}_RESET", vhdl_field_type(f), v))
+            if f["write"] and not f["pulse"] and not f["w1c"]:
+                decl.append((f"{p}_LO", "integer", str(f["lo"])))
+                decl.append((f"{p}_HI", "integer", str(f["hi"])))
+        nw = max(len(d[0]) for d in decl)
+        tw = max(len(d[1]) for d in decl)
+        spec += [f"  constant {a:<{nw}} : {t:<{tw}} := {v};" for a, t, v in decl]
+    # read functions
+    spec += ["",
+             "  -- fq_rd_<reg>(fields...): the word a read of the register returns, its readable",
+             "  -- fields placed by position, every other bit 0 (each argument of its field's width)."]
+    body = [""]
+    for r in regs:
+        rf = [f for f in r["fields"] if f["read"]]
+        if not rf or r["name"] == "ID":
+            continue
+        n = r["name"]
+        nw = max(len(f["name"]) for f in rf)
+        params = [f"{f['name']:<{nw}} : {vhdl_field_type(f, constrained=False)}" for f in rf]
+        head = f"  function fq_rd_{n.lower()} ("
+        if len(params) == 1:
+            sig = [head + params[0] + ") return fq_word_t"]
+        else:
+            sig = [head.rstrip(" (")]
+            sig += ["    " + ("(" if i == 0 else " ") + p + (";" if i < len(params) - 1 else ")")
+                    for i, p in enumerate(params)]
+            sig[-1] += " return fq_word_t"
+        spec += [""] + [s + (";" if i == len(sig) - 1 else "") for i, s in enumerate(sig)]
+        body += [""] + [s + (" is" if i == len(sig) - 1 else "") for i, s in enumerate(sig)]
+        body += ["", "    variable w : fq_word_t := (others => '0');", "", "  begin", ""]
+        for f in rf:
+            p = f"FQ_{n}_{f['name'].upper()}"
+            if f["width"] == 1:
+                body.append(f"    w({p}_LSB) := {f['name']};")
+            else:
+                body.append(f"    w({p}_MSB downto {p}_LSB) := std_logic_vector({f['name']});")
+        body += ["    return w;", "", f"  end function fq_rd_{n.lower()};"]
+    # write check
+    spec += ["",
+             "  -- fq_write_ok(a, d, opt): a write of d to word a is taken: the register takes",
+             "  -- writes in this build (its requires, opt), no bit outside its fields is set and",
+             "  -- every field is within its legal values.",
+             "  function fq_write_ok (a : fq_addr_t; d : fq_word_t; opt : fq_options_t) "
+             "return boolean;",
+             "",
+             "end package finequad_regs_pkg;"]
+    body += ["",
+             "  -- no bit of d outside mask is set",
+             "  function free_bits_zero (d : fq_word_t; mask : fq_word_t) return boolean is",
+             "  begin",
+             "",
+             "    return (d and not mask) = (d'range => '0');",
+             "",
+             "  end function free_bits_zero;",
+             "",
+             "  function fq_write_ok (a : fq_addr_t; d : fq_word_t; opt : fq_options_t) "
+             "return boolean is",
+             "  begin",
+             "",
+             "    case a is",
+             ""]
+    for r in regs:
+        if not r["write"]:
+            continue
+        n = r["name"]
+        conds = [f"opt.{o.lower()}" for o in r["requires"]]
+        if reg_mask(r, True) != 0xFFFFFFFF:
+            conds.append(f"free_bits_zero(d, FQ_{n}_WMASK)")
+        for f in r["fields"]:
+            if f["write"]:
+                conds += vhdl_field_checks(f)
+        body.append(f"      when FQ_{n} =>")
+        if not conds:
+            body.append("        return true;")
+        else:
+            lines = [f"        return {conds[0]}"] + [f"               and {c}" for c in conds[1:]]
+            lines[-1] += ";"
+            body += lines
+        body.append("")
+    body += ["      when others =>",
+             "        return false;",
+             "",
+             "    end case;",
+             "",
+             "  end function fq_write_ok;",
+             "",
+             "end package body finequad_regs_pkg;"]
+    return "\n".join(spec + ["", "package body finequad_regs_pkg is"] + body) + "\n"
+
+
 # ---- Python ---------------------------------------------------------------------------
 PY_HELPERS = '''
 
@@ -526,7 +718,8 @@ def reference(regs):
            "Formats are in Q notation (`u0.15`: unsigned, 15 fraction bits); the Q formats of",
            "the datapath are in [rtl/README.md](../README.md).", "",
            "Generated views of the same description: `rtl/finequad_regs.vh` (Verilog),",
-           "`sim/model/regs.py` (Python), `rtl/regs/finequad_regs.h` (C, PeakRDL-cheader).",
+           "`rtl/vhdl/finequad_regs_pkg.vhd` (VHDL), `sim/model/regs.py` (Python),",
+           "`rtl/regs/finequad_regs.h` (C, PeakRDL-cheader).",
            "", "## Map", "",
            "| word | byte | register | access | reset | summary |",
            "|---:|---:|---|---|---:|---|"]
@@ -557,6 +750,7 @@ def files(path=RDL):
     regs = load(path)
     return {
         "rtl/finequad_regs.vh": verilog(regs),
+        "rtl/vhdl/finequad_regs_pkg.vhd": vhdl(regs),
         "sim/model/regs.py": python(regs),
         "sim/harness/regs.h": harness_header(regs),
         "rtl/regs/finequad_regs.h": c_header(path),

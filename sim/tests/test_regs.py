@@ -4,6 +4,10 @@
   driver-style program (sim/tests/c/regs_example.c) uses it and checks its own results;
   and a program generated here prints every register's offset and every field's macros,
   which must equal sim/model/regs.py (two generators of one description agree).
+* The VHDL package (rtl/vhdl/finequad_regs_pkg.vhd) analyses under GHDL (VHDL-2008), and
+  a bench generated here prints every register's index, every field's position, reset
+  and legal values, and fq_write_ok's verdict on boundary and random words for three
+  option sets, which must equal sim/model/regs.py (REGS, illegal()).
 * `--check` (run by `make test`) fails when a generated file is stale: on a copy of the
   tree, an edit of the description or of a generated file makes it exit 1 naming the file,
   and changes nothing; the untouched copy passes.
@@ -26,6 +30,7 @@ GEN = ROOT / "scripts" / "gen_regs.py"
 CFLAGS = ["-std=c99", "-Wall", "-Wextra", "-Werror", "-pedantic-errors",
           "-Wno-error=pedantic"]
 needs_gcc = pytest.mark.skipif(shutil.which("gcc") is None, reason="no gcc")
+needs_ghdl = pytest.mark.skipif(shutil.which("ghdl") is None, reason="no ghdl")
 
 
 def gen(*args, cwd=ROOT):
@@ -76,6 +81,92 @@ def test_c_header_agrees_with_the_python_view(tmp_path):
     assert r.stdout.split("\n")[:-1] == expect
 
 
+def _write_checks(seed=5):
+    """(index, word) pairs for fq_write_ok: every index of the port; per writable register
+    0, all ones, its reset word, each field at lo - 1, lo, hi, hi + 1 (others at reset),
+    one bit outside the fields, and random words."""
+    import random
+    rng = random.Random(seed)
+    out = []
+    for a in range(64):
+        out += [(a, 0), (a, 0xFFFFFFFF)]
+    for r in regs.REGS.values():
+        if not r.write:
+            continue
+        out.append((r.index, r.reset))
+        for f in r.fields.values():
+            m = (1 << f.width) - 1
+            for v in (f.lo - 1, f.lo, f.hi, f.hi + 1):
+                out.append((r.index, (r.reset & ~(m << f.lsb)) | ((v & m) << f.lsb)))
+        free = ~r.wmask & 0xFFFFFFFF
+        if free:
+            out.append((r.index, r.reset | (free & -free)))
+        out += [(r.index, rng.getrandbits(32)) for _ in range(6)]
+        out += [(r.index, rng.getrandbits(32) & r.wmask) for _ in range(6)]
+    return out
+
+
+VHDL_OPTION_SETS = (dict(OPT_DCODE=1, OPT_HARMONIC=1, OPT_JUMP=1, OPT_MONITOR=1, OPT_TUNABLE=1),
+                    dict(OPT_DCODE=0, OPT_HARMONIC=0, OPT_JUMP=0, OPT_MONITOR=0, OPT_TUNABLE=0),
+                    dict(OPT_DCODE=1, OPT_HARMONIC=0, OPT_JUMP=1, OPT_MONITOR=0, OPT_TUNABLE=1))
+
+
+@needs_ghdl
+def test_vhdl_package_agrees_with_the_python_view(tmp_path):
+    writable = {r.index: name for name, r in regs.REGS.items() if r.write}
+    lines = ["library ieee;", "  use ieee.std_logic_1164.all;", "  use ieee.numeric_std.all;",
+             "library std;", "  use std.textio.all;", "library work;",
+             "  use work.finequad_regs_pkg.all;", "entity agree is", "end entity agree;",
+             "architecture sim of agree is", "begin", "  process is",
+             "    variable l : line;", "  begin"]
+    expect = []
+
+    def put(expr, want):
+        lines.append(f"    write(l, {expr}); writeline(output, l);")
+        expect.append(want)
+
+    for name, r in regs.REGS.items():
+        put(f'"{name} " & to_string(to_integer(FQ_{name}))', f"{name} {r.index}")
+        for f in r.fields.values():
+            p = f"FQ_{name}_{f.name.upper()}"
+            put(f'"{name}.{f.name} " & to_string({p}_LSB) & " " & to_string({p}_MSB) & " " '
+                f'& to_string({p}_W)', f"{name}.{f.name} {f.lsb} {f.lsb + f.width - 1} {f.width}")
+            if f.reset is not None and (f.write or name == "ID"):
+                put(f'"{name}.{f.name} reset " & to_string({p}_RESET)',
+                    f"{name}.{f.name} reset {f.reset & ((1 << f.width) - 1):0{f.width}b}")
+            if f.write and not f.pulse and not f.w1c:
+                put(f'"{name}.{f.name} legal " & to_string({p}_LO) & " " & to_string({p}_HI)',
+                    f"{name}.{f.name} legal {f.lo} {f.hi}")
+        if r.write:
+            put(f'"{name} wmask " & to_hstring(FQ_{name}_WMASK) & " reset " '
+                f'& to_hstring(FQ_{name}_RESET)', f"{name} wmask {r.wmask:08X} reset {r.reset:08X}")
+    checks = _write_checks()
+    for k, opts in enumerate(VHDL_OPTION_SETS):
+        rec = ", ".join(f"{o.lower()} => {'true' if v else 'false'}" for o, v in opts.items())
+        lines.append(f"    -- options {k}")
+        for a, w in checks:
+            name = writable.get(a)
+            ok = name is not None and regs.illegal(name, w, build=opts) is None
+            put(f'"{k} {a} {w:08x} " & boolean\'image(fq_write_ok(6x"{a:02x}", x"{w:08x}", '
+                f"({rec})))", f"{k} {a} {w:08x} {'true' if ok else 'false'}")
+    lines += ["    wait;", "  end process;", "end architecture sim;"]
+    src = tmp_path / "agree.vhd"
+    src.write_text("\n".join(lines) + "\n")
+    pkg = ROOT / "rtl/vhdl/finequad_regs_pkg.vhd"
+    for cmd in (["-a", "--std=08", str(pkg), str(src)], ["-e", "--std=08", "agree"]):
+        r = subprocess.run(["ghdl", *cmd], cwd=tmp_path, capture_output=True, text=True)
+        assert r.returncode == 0, r.stderr
+    r = subprocess.run(["ghdl", "-r", "--std=08", "agree"], cwd=tmp_path, capture_output=True,
+                       text=True)
+    assert r.returncode == 0, r.stderr
+    got = r.stdout.splitlines()
+    assert len(got) == len(expect)
+    bad = [f"{g!r} != {e!r}" for g, e in zip(got, expect) if g != e]
+    assert not bad, f"{len(bad)} differ:\n" + "\n".join(bad[:20])
+    assert sum(e.endswith("true") for e in expect) > 100        # both verdicts are exercised
+    assert sum(e.endswith("false") for e in expect) > 100
+
+
 def _copy_tree(tmp_path):
     """The description and the generated files, copied to a tree of their own."""
     out = {}
@@ -111,7 +202,7 @@ def test_check_names_a_stale_file_and_changes_nothing(tmp_path):
     r = gen(*args)
     assert r.returncode == 1
     for rel in ("rtl/finequad_regs.vh", "sim/model/regs.py", "rtl/regs/finequad_regs.h",
-                "rtl/regs/README.md", "sim/harness/regs.h"):
+                "rtl/regs/README.md", "sim/harness/regs.h", "rtl/vhdl/finequad_regs_pkg.vhd"):
         assert rel in r.stderr, (rel, r.stderr)
     assert {k: p.read_bytes() for k, p in files.items()} == before   # --check wrote nothing
     # a generated file edited by hand, the description as committed
