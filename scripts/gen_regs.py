@@ -374,7 +374,7 @@ VHDL_RESERVED = set("""abs access after alias all and architecture array assert 
 
 def vlit(width, v):
     """A sized VHDL-2008 bit-string literal of v (two's complement in `width` bits)."""
-    return f'{width}x"{v & ((1 << width) - 1):0{(width + 3) // 4}x}"'
+    return f'{width}x"{v & ((1 << width) - 1):0{(width + 3) // 4}X}"'
 
 
 def vhdl_field_type(f, constrained=True):
@@ -385,24 +385,25 @@ def vhdl_field_type(f, constrained=True):
     return f"{t}({f['width'] - 1} downto 0)" if constrained else t
 
 
-def vhdl_field_checks(f):
-    """VHDL conditions that field f of word d is within its legal values (positions and
-    values as numbers, like the Verilog's fq_write_ok)."""
+def vhdl_field_checks(n, f):
+    """VHDL conditions that field f of register n in word d is within its legal values
+    (positions as numbers, like the Verilog's fq_write_ok; bounds by their constants)."""
     w = f["width"]
+    p = f"FQ_{n}_{f['name'].upper()}"
     sel = "d" if w == 32 else f"d({f['msb']} downto {f['lsb']})"
     if f["signed"]:
         if (f["lo"], f["hi"]) == (-(1 << (w - 1)), (1 << (w - 1)) - 1):
             return []
-        return [f"signed({sel}) >= {f['lo']}", f"signed({sel}) <= {f['hi']}"]
+        return [f"signed({sel}) >= {p}_LO", f"signed({sel}) <= {p}_HI"]
     if w == 1:
         return []
     out = []
     if f["lo"] == 1:
         out.append(f"unsigned({sel}) /= 0")
     elif f["lo"] > 0:
-        out.append(f"unsigned({sel}) >= {f['lo']}")
+        out.append(f"unsigned({sel}) >= {p}_LO")
     if f["hi"] < (1 << w) - 1:
-        out.append(f"unsigned({sel}) <= {f['hi']}")
+        out.append(f"unsigned({sel}) <= {p}_HI")
     return out
 
 
@@ -434,12 +435,14 @@ def vhdl(regs):
             "",
             "package finequad_regs_pkg is",
             "",
-            f"  subtype fq_addr_t is unsigned({aw - 1} downto 0);            -- a word index",
+            "  -- a word index, a word",
+            f"  subtype fq_addr_t is unsigned({aw - 1} downto 0);",
+            "",
             "  subtype fq_word_t is std_logic_vector(31 downto 0);",
             "",
-            f"  constant FQ_ADDR_TOP : fq_addr_t := {vlit(aw, top)};       -- the highest word",
-            f"  constant FQ_FAULT_W  : positive  := {fault_w(regs)};             "
-            f"-- m_fault: the fields of {FAULT_REG}",
+            "  -- the highest word; the width of m_fault: the fields of " + FAULT_REG,
+            f"  constant FQ_ADDR_TOP : fq_addr_t := {vlit(aw, top)};",
+            f"  constant FQ_FAULT_W  : positive  := {fault_w(regs)};",
             "",
             "  -- The core's parameters that writes depend on (rtl/regs/finequad.rdl requires):",
             "  -- true where the parameter is 1.",
@@ -452,8 +455,8 @@ def vhdl(regs):
         spec += ["", f"  -- {n} ({reg_access(r)}, byte 0x{r['addr']:02x}): {r['title']}"]
         decl = [(f"FQ_{n}", "fq_addr_t", vlit(aw, r["index"]))]
         if r["write"]:
-            decl.append((f"FQ_{n}_WMASK", "fq_word_t", f'x"{reg_mask(r, True):08x}"'))
-            decl.append((f"FQ_{n}_RESET", "fq_word_t", f'x"{reset_word(r):08x}"'))
+            decl.append((f"FQ_{n}_WMASK", "fq_word_t", f'x"{reg_mask(r, True):08X}"'))
+            decl.append((f"FQ_{n}_RESET", "fq_word_t", f'x"{reset_word(r):08X}"'))
         for f in r["fields"]:
             p = f"FQ_{n}_{f['name'].upper()}"
             decl.append((f"{p}_LSB", "natural", str(f["lsb"])))
@@ -472,7 +475,7 @@ def vhdl(regs):
     spec += ["",
              "  -- fq_rd_<reg>(fields...): the word a read of the register returns, its readable",
              "  -- fields placed by position, every other bit 0 (each argument of its field's width)."]
-    body = [""]
+    body = []
     for r in regs:
         rf = [f for f in r["fields"] if f["read"]]
         if not rf or r["name"] == "ID":
@@ -484,19 +487,20 @@ def vhdl(regs):
         if len(params) == 1:
             sig = [head + params[0] + ") return fq_word_t"]
         else:
-            sig = [head.rstrip(" (")]
-            sig += ["    " + ("(" if i == 0 else " ") + p + (";" if i < len(params) - 1 else ")")
-                    for i, p in enumerate(params)]
-            sig[-1] += " return fq_word_t"
-        spec += [""] + [s + (";" if i == len(sig) - 1 else "") for i, s in enumerate(sig)]
-        body += [""] + [s + (" is" if i == len(sig) - 1 else "") for i, s in enumerate(sig)]
+            sig = [head] + [f"    {p}" + (";" if i < len(params) - 1 else "")
+                            for i, p in enumerate(params)] + ["  ) return fq_word_t"]
+        spec += [""] + sig[:-1] + [sig[-1] + ";"]
+        body += [""] + sig[:-1] + [sig[-1] + " is"]
         body += ["", "    variable w : fq_word_t := (others => '0');", "", "  begin", ""]
+        assigns = []
         for f in rf:
             p = f"FQ_{n}_{f['name'].upper()}"
             if f["width"] == 1:
-                body.append(f"    w({p}_LSB) := {f['name']};")
+                assigns.append((f"w({p}_LSB)", f["name"]))
             else:
-                body.append(f"    w({p}_MSB downto {p}_LSB) := std_logic_vector({f['name']});")
+                assigns.append((f"w({p}_MSB downto {p}_LSB)", f"std_logic_vector({f['name']})"))
+        tw = max(len(t) for t, _ in assigns)
+        body += [f"    {t:<{tw}} := {v};" for t, v in assigns]
         body += ["    return w;", "", f"  end function fq_rd_{n.lower()};"]
     # write check
     spec += ["",
@@ -518,8 +522,12 @@ def vhdl(regs):
              "",
              "  function fq_write_ok (a : fq_addr_t; d : fq_word_t; opt : fq_options_t) "
              "return boolean is",
+             "",
+             "    variable ok : boolean;",
+             "",
              "  begin",
              "",
+             "    -- one condition per line",
              "    case a is",
              ""]
     for r in regs:
@@ -531,19 +539,17 @@ def vhdl(regs):
             conds.append(f"free_bits_zero(d, FQ_{n}_WMASK)")
         for f in r["fields"]:
             if f["write"]:
-                conds += vhdl_field_checks(f)
+                conds += vhdl_field_checks(n, f)
         body.append(f"      when FQ_{n} =>")
-        if not conds:
-            body.append("        return true;")
-        else:
-            lines = [f"        return {conds[0]}"] + [f"               and {c}" for c in conds[1:]]
-            lines[-1] += ";"
-            body += lines
+        body.append(f"        ok := {conds[0] if conds else 'true'};")
+        body += [f"        ok := ok and {c};" for c in conds[1:]]
         body.append("")
     body += ["      when others =>",
-             "        return false;",
+             "        ok := false;",
              "",
              "    end case;",
+             "",
+             "    return ok;",
              "",
              "  end function fq_write_ok;",
              "",

@@ -13,11 +13,14 @@ library ieee;
 
 package finequad_regs_pkg is
 
-  subtype fq_addr_t is unsigned(5 downto 0);            -- a word index
+  -- a word index, a word
+  subtype fq_addr_t is unsigned(5 downto 0);
+
   subtype fq_word_t is std_logic_vector(31 downto 0);
 
-  constant FQ_ADDR_TOP : fq_addr_t := 6x"25";       -- the highest word
-  constant FQ_FAULT_W  : positive  := 11;             -- m_fault: the fields of FAULT_STICKY
+  -- the highest word; the width of m_fault: the fields of FAULT_STICKY
+  constant FQ_ADDR_TOP : fq_addr_t := 6x"25";
+  constant FQ_FAULT_W  : positive  := 11;
 
   -- The core's parameters that writes depend on (rtl/regs/finequad.rdl requires):
   -- true where the parameter is 1.
@@ -31,7 +34,7 @@ package finequad_regs_pkg is
 
   -- CTRL (W, byte 0x00): Control
   constant FQ_CTRL                  : fq_addr_t := 6x"00";
-  constant FQ_CTRL_WMASK            : fq_word_t := x"0000000f";
+  constant FQ_CTRL_WMASK            : fq_word_t := x"0000000F";
   constant FQ_CTRL_RESET            : fq_word_t := x"00000000";
   constant FQ_CTRL_COV_RESET_LSB    : natural   := 0;
   constant FQ_CTRL_COV_RESET_MSB    : natural   := 0;
@@ -72,7 +75,7 @@ package finequad_regs_pkg is
 
   -- INTERP (RW, byte 0x04): Interpolation factor
   constant FQ_INTERP              : fq_addr_t            := 6x"01";
-  constant FQ_INTERP_WMASK        : fq_word_t            := x"000001ff";
+  constant FQ_INTERP_WMASK        : fq_word_t            := x"000001FF";
   constant FQ_INTERP_RESET        : fq_word_t            := x"00000064";
   constant FQ_INTERP_INTERP_LSB   : natural              := 0;
   constant FQ_INTERP_INTERP_MSB   : natural              := 8;
@@ -83,7 +86,7 @@ package finequad_regs_pkg is
 
   -- EPS (RW, byte 0x08): Eq. 12 hysteresis
   constant FQ_EPS           : fq_addr_t             := 6x"02";
-  constant FQ_EPS_WMASK     : fq_word_t             := x"0000ffff";
+  constant FQ_EPS_WMASK     : fq_word_t             := x"0000FFFF";
   constant FQ_EPS_RESET     : fq_word_t             := x"00000666";
   constant FQ_EPS_EPS_LSB   : natural               := 0;
   constant FQ_EPS_EPS_MSB   : natural               := 15;
@@ -94,7 +97,7 @@ package finequad_regs_pkg is
 
   -- LAMBDA_K (RW, byte 0x0c): Forgetting factor
   constant FQ_LAMBDA_K                : fq_addr_t            := 6x"03";
-  constant FQ_LAMBDA_K_WMASK          : fq_word_t            := x"0000001f";
+  constant FQ_LAMBDA_K_WMASK          : fq_word_t            := x"0000001F";
   constant FQ_LAMBDA_K_RESET          : fq_word_t            := x"00000008";
   constant FQ_LAMBDA_K_LAMBDA_K_LSB   : natural              := 0;
   constant FQ_LAMBDA_K_LAMBDA_K_MSB   : natural              := 4;
@@ -105,7 +108,7 @@ package finequad_regs_pkg is
 
   -- KAPPA (RW, byte 0x10): Covariance reset value
   constant FQ_KAPPA             : fq_addr_t             := 6x"04";
-  constant FQ_KAPPA_WMASK       : fq_word_t             := x"0000ffff";
+  constant FQ_KAPPA_WMASK       : fq_word_t             := x"0000FFFF";
   constant FQ_KAPPA_RESET       : fq_word_t             := x"00004000";
   constant FQ_KAPPA_KAPPA_LSB   : natural               := 0;
   constant FQ_KAPPA_KAPPA_MSB   : natural               := 15;
@@ -116,7 +119,7 @@ package finequad_regs_pkg is
 
   -- PERIOD (RW, byte 0x14): Covariance reset period
   constant FQ_PERIOD              : fq_addr_t             := 6x"05";
-  constant FQ_PERIOD_WMASK        : fq_word_t             := x"0000ffff";
+  constant FQ_PERIOD_WMASK        : fq_word_t             := x"0000FFFF";
   constant FQ_PERIOD_RESET        : fq_word_t             := x"00000000";
   constant FQ_PERIOD_PERIOD_LSB   : natural               := 0;
   constant FQ_PERIOD_PERIOD_MSB   : natural               := 15;
@@ -127,7 +130,7 @@ package finequad_regs_pkg is
 
   -- SETTLE (RW, byte 0x18): Settling updates
   constant FQ_SETTLE              : fq_addr_t            := 6x"06";
-  constant FQ_SETTLE_WMASK        : fq_word_t            := x"000003ff";
+  constant FQ_SETTLE_WMASK        : fq_word_t            := x"000003FF";
   constant FQ_SETTLE_RESET        : fq_word_t            := x"00000020";
   constant FQ_SETTLE_SETTLE_LSB   : natural              := 0;
   constant FQ_SETTLE_SETTLE_MSB   : natural              := 9;
@@ -138,7 +141,7 @@ package finequad_regs_pkg is
 
   -- GATE (RW, byte 0x1c): Travel gate
   constant FQ_GATE            : fq_addr_t             := 6x"07";
-  constant FQ_GATE_WMASK      : fq_word_t             := x"00001fff";
+  constant FQ_GATE_WMASK      : fq_word_t             := x"00001FFF";
   constant FQ_GATE_RESET      : fq_word_t             := x"00000040";
   constant FQ_GATE_GATE_LSB   : natural               := 0;
   constant FQ_GATE_GATE_MSB   : natural               := 12;
@@ -160,8 +163,8 @@ package finequad_regs_pkg is
   constant FQ_ILLEGAL_ILLEGAL_W   : positive  := 16;
 
   -- FAULT_STICKY (RW, byte 0x28): Sticky fault bits
-  constant FQ_FAULT_STICKY              : fq_addr_t := 6x"0a";
-  constant FQ_FAULT_STICKY_WMASK        : fq_word_t := x"000007ff";
+  constant FQ_FAULT_STICKY              : fq_addr_t := 6x"0A";
+  constant FQ_FAULT_STICKY_WMASK        : fq_word_t := x"000007FF";
   constant FQ_FAULT_STICKY_RESET        : fq_word_t := x"00000000";
   constant FQ_FAULT_STICKY_CLIP_LSB     : natural   := 0;
   constant FQ_FAULT_STICKY_CLIP_MSB     : natural   := 0;
@@ -209,7 +212,7 @@ package finequad_regs_pkg is
   constant FQ_FAULT_STICKY_GLITCH_RESET : std_logic := '0';
 
   -- GAIN (RW, byte 0x2c): Input gain
-  constant FQ_GAIN            : fq_addr_t            := 6x"0b";
+  constant FQ_GAIN            : fq_addr_t            := 6x"0B";
   constant FQ_GAIN_WMASK      : fq_word_t            := x"00000003";
   constant FQ_GAIN_RESET      : fq_word_t            := x"00000000";
   constant FQ_GAIN_GAIN_LSB   : natural              := 0;
@@ -220,8 +223,8 @@ package finequad_regs_pkg is
   constant FQ_GAIN_GAIN_HI    : integer              := 3;
 
   -- M1 (RW, byte 0x30): Offset m1
-  constant FQ_M1          : fq_addr_t           := 6x"0c";
-  constant FQ_M1_WMASK    : fq_word_t           := x"ffffffff";
+  constant FQ_M1          : fq_addr_t           := 6x"0C";
+  constant FQ_M1_WMASK    : fq_word_t           := x"FFFFFFFF";
   constant FQ_M1_RESET    : fq_word_t           := x"00000000";
   constant FQ_M1_M1_LSB   : natural             := 0;
   constant FQ_M1_M1_MSB   : natural             := 31;
@@ -231,8 +234,8 @@ package finequad_regs_pkg is
   constant FQ_M1_M1_HI    : integer             := 32767;
 
   -- M2 (RW, byte 0x34): Offset m2
-  constant FQ_M2          : fq_addr_t           := 6x"0d";
-  constant FQ_M2_WMASK    : fq_word_t           := x"ffffffff";
+  constant FQ_M2          : fq_addr_t           := 6x"0D";
+  constant FQ_M2_WMASK    : fq_word_t           := x"FFFFFFFF";
   constant FQ_M2_RESET    : fq_word_t           := x"00000000";
   constant FQ_M2_M2_LSB   : natural             := 0;
   constant FQ_M2_M2_MSB   : natural             := 31;
@@ -242,8 +245,8 @@ package finequad_regs_pkg is
   constant FQ_M2_M2_HI    : integer             := 32767;
 
   -- C1 (RW, byte 0x38): Correction c1
-  constant FQ_C1          : fq_addr_t           := 6x"0e";
-  constant FQ_C1_WMASK    : fq_word_t           := x"ffffffff";
+  constant FQ_C1          : fq_addr_t           := 6x"0E";
+  constant FQ_C1_WMASK    : fq_word_t           := x"FFFFFFFF";
   constant FQ_C1_RESET    : fq_word_t           := x"00002000";
   constant FQ_C1_C1_LSB   : natural             := 0;
   constant FQ_C1_C1_MSB   : natural             := 31;
@@ -253,8 +256,8 @@ package finequad_regs_pkg is
   constant FQ_C1_C1_HI    : integer             := 32767;
 
   -- C12 (RW, byte 0x3c): Correction c12
-  constant FQ_C12           : fq_addr_t           := 6x"0f";
-  constant FQ_C12_WMASK     : fq_word_t           := x"ffffffff";
+  constant FQ_C12           : fq_addr_t           := 6x"0F";
+  constant FQ_C12_WMASK     : fq_word_t           := x"FFFFFFFF";
   constant FQ_C12_RESET     : fq_word_t           := x"00000000";
   constant FQ_C12_C12_LSB   : natural             := 0;
   constant FQ_C12_C12_MSB   : natural             := 31;
@@ -265,7 +268,7 @@ package finequad_regs_pkg is
 
   -- C2 (RW, byte 0x40): Correction c2
   constant FQ_C2          : fq_addr_t           := 6x"10";
-  constant FQ_C2_WMASK    : fq_word_t           := x"ffffffff";
+  constant FQ_C2_WMASK    : fq_word_t           := x"FFFFFFFF";
   constant FQ_C2_RESET    : fq_word_t           := x"00002000";
   constant FQ_C2_C2_LSB   : natural             := 0;
   constant FQ_C2_C2_MSB   : natural             := 31;
@@ -309,7 +312,7 @@ package finequad_regs_pkg is
 
   -- JUMP (RW, byte 0x4c): Jump detector
   constant FQ_JUMP                : fq_addr_t             := 6x"13";
-  constant FQ_JUMP_WMASK          : fq_word_t             := x"000087ff";
+  constant FQ_JUMP_WMASK          : fq_word_t             := x"000087FF";
   constant FQ_JUMP_RESET          : fq_word_t             := x"00000029";
   constant FQ_JUMP_JUMP_MIN_LSB   : natural               := 0;
   constant FQ_JUMP_JUMP_MIN_MSB   : natural               := 10;
@@ -332,7 +335,7 @@ package finequad_regs_pkg is
 
   -- ABGEN (RW, byte 0x54): A/B generator
   constant FQ_ABGEN              : fq_addr_t            := 6x"15";
-  constant FQ_ABGEN_WMASK        : fq_word_t            := x"000001ff";
+  constant FQ_ABGEN_WMASK        : fq_word_t            := x"000001FF";
   constant FQ_ABGEN_RESET        : fq_word_t            := x"00000018";
   constant FQ_ABGEN_AB_SEP_LSB   : natural              := 0;
   constant FQ_ABGEN_AB_SEP_MSB   : natural              := 7;
@@ -349,7 +352,7 @@ package finequad_regs_pkg is
 
   -- AB_BOUND (RW, byte 0x58): A/B backlog bound
   constant FQ_AB_BOUND                : fq_addr_t             := 6x"16";
-  constant FQ_AB_BOUND_WMASK          : fq_word_t             := x"0000ffff";
+  constant FQ_AB_BOUND_WMASK          : fq_word_t             := x"0000FFFF";
   constant FQ_AB_BOUND_RESET          : fq_word_t             := x"00000400";
   constant FQ_AB_BOUND_AB_BOUND_LSB   : natural               := 0;
   constant FQ_AB_BOUND_AB_BOUND_MSB   : natural               := 15;
@@ -366,23 +369,23 @@ package finequad_regs_pkg is
 
   -- CLIP (RW, byte 0x60): Clip level
   constant FQ_CLIP            : fq_addr_t             := 6x"18";
-  constant FQ_CLIP_WMASK      : fq_word_t             := x"0000ffff";
-  constant FQ_CLIP_RESET      : fq_word_t             := x"00007f00";
+  constant FQ_CLIP_WMASK      : fq_word_t             := x"0000FFFF";
+  constant FQ_CLIP_RESET      : fq_word_t             := x"00007F00";
   constant FQ_CLIP_CLIP_LSB   : natural               := 0;
   constant FQ_CLIP_CLIP_MSB   : natural               := 15;
   constant FQ_CLIP_CLIP_W     : positive              := 16;
-  constant FQ_CLIP_CLIP_RESET : unsigned(15 downto 0) := 16x"7f00";
+  constant FQ_CLIP_CLIP_RESET : unsigned(15 downto 0) := 16x"7F00";
   constant FQ_CLIP_CLIP_LO    : integer               := 0;
   constant FQ_CLIP_CLIP_HI    : integer               := 65535;
 
   -- RADIUS (RW, byte 0x64): Radius thresholds
   constant FQ_RADIUS            : fq_addr_t             := 6x"19";
-  constant FQ_RADIUS_WMASK      : fq_word_t             := x"ffffffff";
-  constant FQ_RADIUS_RESET      : fq_word_t             := x"56660ccd";
+  constant FQ_RADIUS_WMASK      : fq_word_t             := x"FFFFFFFF";
+  constant FQ_RADIUS_RESET      : fq_word_t             := x"56660CCD";
   constant FQ_RADIUS_LOSS_LSB   : natural               := 0;
   constant FQ_RADIUS_LOSS_MSB   : natural               := 15;
   constant FQ_RADIUS_LOSS_W     : positive              := 16;
-  constant FQ_RADIUS_LOSS_RESET : unsigned(15 downto 0) := 16x"0ccd";
+  constant FQ_RADIUS_LOSS_RESET : unsigned(15 downto 0) := 16x"0CCD";
   constant FQ_RADIUS_LOSS_LO    : integer               := 0;
   constant FQ_RADIUS_LOSS_HI    : integer               := 65535;
   constant FQ_RADIUS_OVER_LSB   : natural               := 16;
@@ -393,13 +396,13 @@ package finequad_regs_pkg is
   constant FQ_RADIUS_OVER_HI    : integer               := 65535;
 
   -- MONITOR (RW, byte 0x68): Monitor checks
-  constant FQ_MONITOR                 : fq_addr_t            := 6x"1a";
-  constant FQ_MONITOR_WMASK           : fq_word_t            := x"00ff0f0f";
-  constant FQ_MONITOR_RESET           : fq_word_t            := x"0003000a";
+  constant FQ_MONITOR                 : fq_addr_t            := 6x"1A";
+  constant FQ_MONITOR_WMASK           : fq_word_t            := x"00FF0F0F";
+  constant FQ_MONITOR_RESET           : fq_word_t            := x"0003000A";
   constant FQ_MONITOR_GLITCH_K_LSB    : natural              := 0;
   constant FQ_MONITOR_GLITCH_K_MSB    : natural              := 3;
   constant FQ_MONITOR_GLITCH_K_W      : positive             := 4;
-  constant FQ_MONITOR_GLITCH_K_RESET  : unsigned(3 downto 0) := 4x"a";
+  constant FQ_MONITOR_GLITCH_K_RESET  : unsigned(3 downto 0) := 4x"A";
   constant FQ_MONITOR_GLITCH_K_LO     : integer              := 0;
   constant FQ_MONITOR_GLITCH_K_HI     : integer              := 15;
   constant FQ_MONITOR_CODE_STEP_LSB   : natural              := 8;
@@ -416,20 +419,20 @@ package finequad_regs_pkg is
   constant FQ_MONITOR_STUCK_N_HI      : integer              := 255;
 
   -- CAPTURE (R, byte 0x6c): Captured count
-  constant FQ_CAPTURE             : fq_addr_t := 6x"1b";
+  constant FQ_CAPTURE             : fq_addr_t := 6x"1B";
   constant FQ_CAPTURE_CAPTURE_LSB : natural   := 0;
   constant FQ_CAPTURE_CAPTURE_MSB : natural   := 31;
   constant FQ_CAPTURE_CAPTURE_W   : positive  := 32;
 
   -- TRAVEL (R, byte 0x70): Travel
-  constant FQ_TRAVEL            : fq_addr_t := 6x"1c";
+  constant FQ_TRAVEL            : fq_addr_t := 6x"1C";
   constant FQ_TRAVEL_TRAVEL_LSB : natural   := 0;
   constant FQ_TRAVEL_TRAVEL_MSB : natural   := 19;
   constant FQ_TRAVEL_TRAVEL_W   : positive  := 20;
 
   -- REF (RW, byte 0x74): Reference mark
-  constant FQ_REF                : fq_addr_t             := 6x"1d";
-  constant FQ_REF_WMASK          : fq_word_t             := x"010f07ff";
+  constant FQ_REF                : fq_addr_t             := 6x"1D";
+  constant FQ_REF_WMASK          : fq_word_t             := x"010F07FF";
   constant FQ_REF_RESET          : fq_word_t             := x"00020000";
   constant FQ_REF_REF_Q_LSB      : natural               := 0;
   constant FQ_REF_REF_Q_MSB      : natural               := 10;
@@ -449,8 +452,8 @@ package finequad_regs_pkg is
   constant FQ_REF_HOME_RESET     : std_logic             := '0';
 
   -- HOME (RW, byte 0x78): Home count
-  constant FQ_HOME                  : fq_addr_t           := 6x"1e";
-  constant FQ_HOME_WMASK            : fq_word_t           := x"ffffffff";
+  constant FQ_HOME                  : fq_addr_t           := 6x"1E";
+  constant FQ_HOME_WMASK            : fq_word_t           := x"FFFFFFFF";
   constant FQ_HOME_RESET            : fq_word_t           := x"00000000";
   constant FQ_HOME_HOME_COUNT_LSB   : natural             := 0;
   constant FQ_HOME_HOME_COUNT_MSB   : natural             := 31;
@@ -460,7 +463,7 @@ package finequad_regs_pkg is
   constant FQ_HOME_HOME_COUNT_HI    : integer             := 2147483647;
 
   -- ID (R, byte 0x7c): Identification
-  constant FQ_ID          : fq_addr_t             := 6x"1f";
+  constant FQ_ID          : fq_addr_t             := 6x"1F";
   constant FQ_ID_ID_LSB   : natural               := 0;
   constant FQ_ID_ID_MSB   : natural               := 31;
   constant FQ_ID_ID_W     : positive              := 32;
@@ -509,7 +512,7 @@ package finequad_regs_pkg is
 
   -- DCODE (RW, byte 0x8c): Distance-coded marks
   constant FQ_DCODE                  : fq_addr_t             := 6x"23";
-  constant FQ_DCODE_WMASK            : fq_word_t             := x"01ffffff";
+  constant FQ_DCODE_WMASK            : fq_word_t             := x"01FFFFFF";
   constant FQ_DCODE_RESET            : fq_word_t             := x"01000000";
   constant FQ_DCODE_DC_SPACING_LSB   : natural               := 0;
   constant FQ_DCODE_DC_SPACING_MSB   : natural               := 11;
@@ -538,7 +541,7 @@ package finequad_regs_pkg is
 
   -- COAST (RW, byte 0x94): Coasting through faults
   constant FQ_COAST                 : fq_addr_t             := 6x"25";
-  constant FQ_COAST_WMASK           : fq_word_t             := x"0fffffff";
+  constant FQ_COAST_WMASK           : fq_word_t             := x"0FFFFFFF";
   constant FQ_COAST_RESET           : fq_word_t             := x"00100800";
   constant FQ_COAST_FLOOR_LSB       : natural               := 0;
   constant FQ_COAST_FLOOR_MSB       : natural               := 15;
@@ -556,12 +559,13 @@ package finequad_regs_pkg is
   -- fq_rd_<reg>(fields...): the word a read of the register returns, its readable
   -- fields placed by position, every other bit 0 (each argument of its field's width).
 
-  function fq_rd_status
-    (uncal      : std_logic;
-     hold       : std_logic;
-     sat        : std_logic;
-     count_mode : std_logic;
-     loaded     : std_logic) return fq_word_t;
+  function fq_rd_status (
+    uncal      : std_logic;
+    hold       : std_logic;
+    sat        : std_logic;
+    count_mode : std_logic;
+    loaded     : std_logic
+  ) return fq_word_t;
 
   function fq_rd_interp (interp : unsigned) return fq_word_t;
 
@@ -581,18 +585,19 @@ package finequad_regs_pkg is
 
   function fq_rd_illegal (illegal : unsigned) return fq_word_t;
 
-  function fq_rd_fault_sticky
-    (clip   : std_logic;
-     nsat   : std_logic;
-     csat   : std_logic;
-     ovs    : std_logic;
-     uncal  : std_logic;
-     hold   : std_logic;
-     abovf  : std_logic;
-     loss   : std_logic;
-     over   : std_logic;
-     stuck  : std_logic;
-     glitch : std_logic) return fq_word_t;
+  function fq_rd_fault_sticky (
+    clip   : std_logic;
+    nsat   : std_logic;
+    csat   : std_logic;
+    ovs    : std_logic;
+    uncal  : std_logic;
+    hold   : std_logic;
+    abovf  : std_logic;
+    loss   : std_logic;
+    over   : std_logic;
+    stuck  : std_logic;
+    glitch : std_logic
+  ) return fq_word_t;
 
   function fq_rd_gain (gain : unsigned) return fq_word_t;
 
@@ -608,20 +613,23 @@ package finequad_regs_pkg is
 
   function fq_rd_updates (updates : unsigned) return fq_word_t;
 
-  function fq_rd_harm
-    (harm_apply : std_logic;
-     harm_learn : std_logic;
-     harm_mu    : unsigned) return fq_word_t;
+  function fq_rd_harm (
+    harm_apply : std_logic;
+    harm_learn : std_logic;
+    harm_mu    : unsigned
+  ) return fq_word_t;
 
-  function fq_rd_jump
-    (jump_min : unsigned;
-     jump_off : std_logic) return fq_word_t;
+  function fq_rd_jump (
+    jump_min : unsigned;
+    jump_off : std_logic
+  ) return fq_word_t;
 
   function fq_rd_jumps (jumps : unsigned) return fq_word_t;
 
-  function fq_rd_abgen
-    (ab_sep : unsigned;
-     ab_src : std_logic) return fq_word_t;
+  function fq_rd_abgen (
+    ab_sep : unsigned;
+    ab_src : std_logic
+  ) return fq_word_t;
 
   function fq_rd_ab_bound (ab_bound : unsigned) return fq_word_t;
 
@@ -629,49 +637,56 @@ package finequad_regs_pkg is
 
   function fq_rd_clip (clip : unsigned) return fq_word_t;
 
-  function fq_rd_radius
-    (loss : unsigned;
-     over : unsigned) return fq_word_t;
+  function fq_rd_radius (
+    loss : unsigned;
+    over : unsigned
+  ) return fq_word_t;
 
-  function fq_rd_monitor
-    (glitch_k  : unsigned;
-     code_step : unsigned;
-     stuck_n   : unsigned) return fq_word_t;
+  function fq_rd_monitor (
+    glitch_k  : unsigned;
+    code_step : unsigned;
+    stuck_n   : unsigned
+  ) return fq_word_t;
 
   function fq_rd_capture (capture : signed) return fq_word_t;
 
   function fq_rd_travel (travel : unsigned) return fq_word_t;
 
-  function fq_rd_ref
-    (ref_q    : unsigned;
-     ref_filt : unsigned) return fq_word_t;
+  function fq_rd_ref (
+    ref_q    : unsigned;
+    ref_filt : unsigned
+  ) return fq_word_t;
 
   function fq_rd_home (home_count : signed) return fq_word_t;
 
   function fq_rd_ref_count (ref_count : signed) return fq_word_t;
 
-  function fq_rd_ref_status
-    (win        : std_logic;
-     homed      : std_logic;
-     pos_valid  : std_logic;
-     home_armed : std_logic;
-     abs_valid  : std_logic) return fq_word_t;
+  function fq_rd_ref_status (
+    win        : std_logic;
+    homed      : std_logic;
+    pos_valid  : std_logic;
+    home_armed : std_logic;
+    abs_valid  : std_logic
+  ) return fq_word_t;
 
-  function fq_rd_ref_sticky
-    (latched : std_logic;
-     lost    : std_logic;
-     dc_err  : std_logic) return fq_word_t;
+  function fq_rd_ref_sticky (
+    latched : std_logic;
+    lost    : std_logic;
+    dc_err  : std_logic
+  ) return fq_word_t;
 
-  function fq_rd_dcode
-    (dc_spacing : unsigned;
-     dc_coded   : unsigned;
-     dc_confirm : std_logic) return fq_word_t;
+  function fq_rd_dcode (
+    dc_spacing : unsigned;
+    dc_coded   : unsigned;
+    dc_confirm : std_logic
+  ) return fq_word_t;
 
   function fq_rd_abs_count (abs_count : signed) return fq_word_t;
 
-  function fq_rd_coast
-    (floor     : unsigned;
-     coast_acc : unsigned) return fq_word_t;
+  function fq_rd_coast (
+    floor     : unsigned;
+    coast_acc : unsigned
+  ) return fq_word_t;
 
   -- fq_write_ok(a, d, opt): a write of d to word a is taken: the register takes
   -- writes in this build (its requires, opt), no bit outside its fields is set and
@@ -682,23 +697,23 @@ end package finequad_regs_pkg;
 
 package body finequad_regs_pkg is
 
-
-  function fq_rd_status
-    (uncal      : std_logic;
-     hold       : std_logic;
-     sat        : std_logic;
-     count_mode : std_logic;
-     loaded     : std_logic) return fq_word_t is
+  function fq_rd_status (
+    uncal      : std_logic;
+    hold       : std_logic;
+    sat        : std_logic;
+    count_mode : std_logic;
+    loaded     : std_logic
+  ) return fq_word_t is
 
     variable w : fq_word_t := (others => '0');
 
   begin
 
-    w(FQ_STATUS_UNCAL_LSB) := uncal;
-    w(FQ_STATUS_HOLD_LSB) := hold;
-    w(FQ_STATUS_SAT_LSB) := sat;
+    w(FQ_STATUS_UNCAL_LSB)      := uncal;
+    w(FQ_STATUS_HOLD_LSB)       := hold;
+    w(FQ_STATUS_SAT_LSB)        := sat;
     w(FQ_STATUS_COUNT_MODE_LSB) := count_mode;
-    w(FQ_STATUS_LOADED_LSB) := loaded;
+    w(FQ_STATUS_LOADED_LSB)     := loaded;
     return w;
 
   end function fq_rd_status;
@@ -802,33 +817,34 @@ package body finequad_regs_pkg is
 
   end function fq_rd_illegal;
 
-  function fq_rd_fault_sticky
-    (clip   : std_logic;
-     nsat   : std_logic;
-     csat   : std_logic;
-     ovs    : std_logic;
-     uncal  : std_logic;
-     hold   : std_logic;
-     abovf  : std_logic;
-     loss   : std_logic;
-     over   : std_logic;
-     stuck  : std_logic;
-     glitch : std_logic) return fq_word_t is
+  function fq_rd_fault_sticky (
+    clip   : std_logic;
+    nsat   : std_logic;
+    csat   : std_logic;
+    ovs    : std_logic;
+    uncal  : std_logic;
+    hold   : std_logic;
+    abovf  : std_logic;
+    loss   : std_logic;
+    over   : std_logic;
+    stuck  : std_logic;
+    glitch : std_logic
+  ) return fq_word_t is
 
     variable w : fq_word_t := (others => '0');
 
   begin
 
-    w(FQ_FAULT_STICKY_CLIP_LSB) := clip;
-    w(FQ_FAULT_STICKY_NSAT_LSB) := nsat;
-    w(FQ_FAULT_STICKY_CSAT_LSB) := csat;
-    w(FQ_FAULT_STICKY_OVS_LSB) := ovs;
-    w(FQ_FAULT_STICKY_UNCAL_LSB) := uncal;
-    w(FQ_FAULT_STICKY_HOLD_LSB) := hold;
-    w(FQ_FAULT_STICKY_ABOVF_LSB) := abovf;
-    w(FQ_FAULT_STICKY_LOSS_LSB) := loss;
-    w(FQ_FAULT_STICKY_OVER_LSB) := over;
-    w(FQ_FAULT_STICKY_STUCK_LSB) := stuck;
+    w(FQ_FAULT_STICKY_CLIP_LSB)   := clip;
+    w(FQ_FAULT_STICKY_NSAT_LSB)   := nsat;
+    w(FQ_FAULT_STICKY_CSAT_LSB)   := csat;
+    w(FQ_FAULT_STICKY_OVS_LSB)    := ovs;
+    w(FQ_FAULT_STICKY_UNCAL_LSB)  := uncal;
+    w(FQ_FAULT_STICKY_HOLD_LSB)   := hold;
+    w(FQ_FAULT_STICKY_ABOVF_LSB)  := abovf;
+    w(FQ_FAULT_STICKY_LOSS_LSB)   := loss;
+    w(FQ_FAULT_STICKY_OVER_LSB)   := over;
+    w(FQ_FAULT_STICKY_STUCK_LSB)  := stuck;
     w(FQ_FAULT_STICKY_GLITCH_LSB) := glitch;
     return w;
 
@@ -911,32 +927,34 @@ package body finequad_regs_pkg is
 
   end function fq_rd_updates;
 
-  function fq_rd_harm
-    (harm_apply : std_logic;
-     harm_learn : std_logic;
-     harm_mu    : unsigned) return fq_word_t is
+  function fq_rd_harm (
+    harm_apply : std_logic;
+    harm_learn : std_logic;
+    harm_mu    : unsigned
+  ) return fq_word_t is
 
     variable w : fq_word_t := (others => '0');
 
   begin
 
-    w(FQ_HARM_HARM_APPLY_LSB) := harm_apply;
-    w(FQ_HARM_HARM_LEARN_LSB) := harm_learn;
+    w(FQ_HARM_HARM_APPLY_LSB)                         := harm_apply;
+    w(FQ_HARM_HARM_LEARN_LSB)                         := harm_learn;
     w(FQ_HARM_HARM_MU_MSB downto FQ_HARM_HARM_MU_LSB) := std_logic_vector(harm_mu);
     return w;
 
   end function fq_rd_harm;
 
-  function fq_rd_jump
-    (jump_min : unsigned;
-     jump_off : std_logic) return fq_word_t is
+  function fq_rd_jump (
+    jump_min : unsigned;
+    jump_off : std_logic
+  ) return fq_word_t is
 
     variable w : fq_word_t := (others => '0');
 
   begin
 
     w(FQ_JUMP_JUMP_MIN_MSB downto FQ_JUMP_JUMP_MIN_LSB) := std_logic_vector(jump_min);
-    w(FQ_JUMP_JUMP_OFF_LSB) := jump_off;
+    w(FQ_JUMP_JUMP_OFF_LSB)                             := jump_off;
     return w;
 
   end function fq_rd_jump;
@@ -952,16 +970,17 @@ package body finequad_regs_pkg is
 
   end function fq_rd_jumps;
 
-  function fq_rd_abgen
-    (ab_sep : unsigned;
-     ab_src : std_logic) return fq_word_t is
+  function fq_rd_abgen (
+    ab_sep : unsigned;
+    ab_src : std_logic
+  ) return fq_word_t is
 
     variable w : fq_word_t := (others => '0');
 
   begin
 
     w(FQ_ABGEN_AB_SEP_MSB downto FQ_ABGEN_AB_SEP_LSB) := std_logic_vector(ab_sep);
-    w(FQ_ABGEN_AB_SRC_LSB) := ab_src;
+    w(FQ_ABGEN_AB_SRC_LSB)                            := ab_src;
     return w;
 
   end function fq_rd_abgen;
@@ -999,9 +1018,10 @@ package body finequad_regs_pkg is
 
   end function fq_rd_clip;
 
-  function fq_rd_radius
-    (loss : unsigned;
-     over : unsigned) return fq_word_t is
+  function fq_rd_radius (
+    loss : unsigned;
+    over : unsigned
+  ) return fq_word_t is
 
     variable w : fq_word_t := (others => '0');
 
@@ -1013,18 +1033,19 @@ package body finequad_regs_pkg is
 
   end function fq_rd_radius;
 
-  function fq_rd_monitor
-    (glitch_k  : unsigned;
-     code_step : unsigned;
-     stuck_n   : unsigned) return fq_word_t is
+  function fq_rd_monitor (
+    glitch_k  : unsigned;
+    code_step : unsigned;
+    stuck_n   : unsigned
+  ) return fq_word_t is
 
     variable w : fq_word_t := (others => '0');
 
   begin
 
-    w(FQ_MONITOR_GLITCH_K_MSB downto FQ_MONITOR_GLITCH_K_LSB) := std_logic_vector(glitch_k);
+    w(FQ_MONITOR_GLITCH_K_MSB downto FQ_MONITOR_GLITCH_K_LSB)   := std_logic_vector(glitch_k);
     w(FQ_MONITOR_CODE_STEP_MSB downto FQ_MONITOR_CODE_STEP_LSB) := std_logic_vector(code_step);
-    w(FQ_MONITOR_STUCK_N_MSB downto FQ_MONITOR_STUCK_N_LSB) := std_logic_vector(stuck_n);
+    w(FQ_MONITOR_STUCK_N_MSB downto FQ_MONITOR_STUCK_N_LSB)     := std_logic_vector(stuck_n);
     return w;
 
   end function fq_rd_monitor;
@@ -1051,15 +1072,16 @@ package body finequad_regs_pkg is
 
   end function fq_rd_travel;
 
-  function fq_rd_ref
-    (ref_q    : unsigned;
-     ref_filt : unsigned) return fq_word_t is
+  function fq_rd_ref (
+    ref_q    : unsigned;
+    ref_filt : unsigned
+  ) return fq_word_t is
 
     variable w : fq_word_t := (others => '0');
 
   begin
 
-    w(FQ_REF_REF_Q_MSB downto FQ_REF_REF_Q_LSB) := std_logic_vector(ref_q);
+    w(FQ_REF_REF_Q_MSB downto FQ_REF_REF_Q_LSB)       := std_logic_vector(ref_q);
     w(FQ_REF_REF_FILT_MSB downto FQ_REF_REF_FILT_LSB) := std_logic_vector(ref_filt);
     return w;
 
@@ -1087,54 +1109,57 @@ package body finequad_regs_pkg is
 
   end function fq_rd_ref_count;
 
-  function fq_rd_ref_status
-    (win        : std_logic;
-     homed      : std_logic;
-     pos_valid  : std_logic;
-     home_armed : std_logic;
-     abs_valid  : std_logic) return fq_word_t is
+  function fq_rd_ref_status (
+    win        : std_logic;
+    homed      : std_logic;
+    pos_valid  : std_logic;
+    home_armed : std_logic;
+    abs_valid  : std_logic
+  ) return fq_word_t is
 
     variable w : fq_word_t := (others => '0');
 
   begin
 
-    w(FQ_REF_STATUS_WIN_LSB) := win;
-    w(FQ_REF_STATUS_HOMED_LSB) := homed;
-    w(FQ_REF_STATUS_POS_VALID_LSB) := pos_valid;
+    w(FQ_REF_STATUS_WIN_LSB)        := win;
+    w(FQ_REF_STATUS_HOMED_LSB)      := homed;
+    w(FQ_REF_STATUS_POS_VALID_LSB)  := pos_valid;
     w(FQ_REF_STATUS_HOME_ARMED_LSB) := home_armed;
-    w(FQ_REF_STATUS_ABS_VALID_LSB) := abs_valid;
+    w(FQ_REF_STATUS_ABS_VALID_LSB)  := abs_valid;
     return w;
 
   end function fq_rd_ref_status;
 
-  function fq_rd_ref_sticky
-    (latched : std_logic;
-     lost    : std_logic;
-     dc_err  : std_logic) return fq_word_t is
+  function fq_rd_ref_sticky (
+    latched : std_logic;
+    lost    : std_logic;
+    dc_err  : std_logic
+  ) return fq_word_t is
 
     variable w : fq_word_t := (others => '0');
 
   begin
 
     w(FQ_REF_STICKY_LATCHED_LSB) := latched;
-    w(FQ_REF_STICKY_LOST_LSB) := lost;
-    w(FQ_REF_STICKY_DC_ERR_LSB) := dc_err;
+    w(FQ_REF_STICKY_LOST_LSB)    := lost;
+    w(FQ_REF_STICKY_DC_ERR_LSB)  := dc_err;
     return w;
 
   end function fq_rd_ref_sticky;
 
-  function fq_rd_dcode
-    (dc_spacing : unsigned;
-     dc_coded   : unsigned;
-     dc_confirm : std_logic) return fq_word_t is
+  function fq_rd_dcode (
+    dc_spacing : unsigned;
+    dc_coded   : unsigned;
+    dc_confirm : std_logic
+  ) return fq_word_t is
 
     variable w : fq_word_t := (others => '0');
 
   begin
 
     w(FQ_DCODE_DC_SPACING_MSB downto FQ_DCODE_DC_SPACING_LSB) := std_logic_vector(dc_spacing);
-    w(FQ_DCODE_DC_CODED_MSB downto FQ_DCODE_DC_CODED_LSB) := std_logic_vector(dc_coded);
-    w(FQ_DCODE_DC_CONFIRM_LSB) := dc_confirm;
+    w(FQ_DCODE_DC_CODED_MSB downto FQ_DCODE_DC_CODED_LSB)     := std_logic_vector(dc_coded);
+    w(FQ_DCODE_DC_CONFIRM_LSB)                                := dc_confirm;
     return w;
 
   end function fq_rd_dcode;
@@ -1150,15 +1175,16 @@ package body finequad_regs_pkg is
 
   end function fq_rd_abs_count;
 
-  function fq_rd_coast
-    (floor     : unsigned;
-     coast_acc : unsigned) return fq_word_t is
+  function fq_rd_coast (
+    floor     : unsigned;
+    coast_acc : unsigned
+  ) return fq_word_t is
 
     variable w : fq_word_t := (others => '0');
 
   begin
 
-    w(FQ_COAST_FLOOR_MSB downto FQ_COAST_FLOOR_LSB) := std_logic_vector(floor);
+    w(FQ_COAST_FLOOR_MSB downto FQ_COAST_FLOOR_LSB)         := std_logic_vector(floor);
     w(FQ_COAST_COAST_ACC_MSB downto FQ_COAST_COAST_ACC_LSB) := std_logic_vector(coast_acc);
     return w;
 
@@ -1173,127 +1199,133 @@ package body finequad_regs_pkg is
   end function free_bits_zero;
 
   function fq_write_ok (a : fq_addr_t; d : fq_word_t; opt : fq_options_t) return boolean is
+
+    variable ok : boolean;
+
   begin
 
+    -- one condition per line
     case a is
 
       when FQ_CTRL =>
-        return free_bits_zero(d, FQ_CTRL_WMASK);
+        ok := free_bits_zero(d, FQ_CTRL_WMASK);
 
       when FQ_INTERP =>
-        return free_bits_zero(d, FQ_INTERP_WMASK)
-               and unsigned(d(8 downto 0)) /= 0;
+        ok := free_bits_zero(d, FQ_INTERP_WMASK);
+        ok := ok and unsigned(d(8 downto 0)) /= 0;
 
       when FQ_EPS =>
-        return opt.opt_tunable
-               and free_bits_zero(d, FQ_EPS_WMASK);
+        ok := opt.opt_tunable;
+        ok := ok and free_bits_zero(d, FQ_EPS_WMASK);
 
       when FQ_LAMBDA_K =>
-        return opt.opt_tunable
-               and free_bits_zero(d, FQ_LAMBDA_K_WMASK)
-               and unsigned(d(4 downto 0)) /= 0
-               and unsigned(d(4 downto 0)) <= 23;
+        ok := opt.opt_tunable;
+        ok := ok and free_bits_zero(d, FQ_LAMBDA_K_WMASK);
+        ok := ok and unsigned(d(4 downto 0)) /= 0;
+        ok := ok and unsigned(d(4 downto 0)) <= FQ_LAMBDA_K_LAMBDA_K_HI;
 
       when FQ_KAPPA =>
-        return opt.opt_tunable
-               and free_bits_zero(d, FQ_KAPPA_WMASK)
-               and unsigned(d(15 downto 0)) /= 0;
+        ok := opt.opt_tunable;
+        ok := ok and free_bits_zero(d, FQ_KAPPA_WMASK);
+        ok := ok and unsigned(d(15 downto 0)) /= 0;
 
       when FQ_PERIOD =>
-        return opt.opt_tunable
-               and free_bits_zero(d, FQ_PERIOD_WMASK);
+        ok := opt.opt_tunable;
+        ok := ok and free_bits_zero(d, FQ_PERIOD_WMASK);
 
       when FQ_SETTLE =>
-        return opt.opt_tunable
-               and free_bits_zero(d, FQ_SETTLE_WMASK);
+        ok := opt.opt_tunable;
+        ok := ok and free_bits_zero(d, FQ_SETTLE_WMASK);
 
       when FQ_GATE =>
-        return opt.opt_tunable
-               and free_bits_zero(d, FQ_GATE_WMASK);
+        ok := opt.opt_tunable;
+        ok := ok and free_bits_zero(d, FQ_GATE_WMASK);
 
       when FQ_FAULT_STICKY =>
-        return free_bits_zero(d, FQ_FAULT_STICKY_WMASK);
+        ok := free_bits_zero(d, FQ_FAULT_STICKY_WMASK);
 
       when FQ_GAIN =>
-        return free_bits_zero(d, FQ_GAIN_WMASK);
+        ok := free_bits_zero(d, FQ_GAIN_WMASK);
 
       when FQ_M1 =>
-        return signed(d) >= -32768
-               and signed(d) <= 32767;
+        ok := signed(d) >= FQ_M1_M1_LO;
+        ok := ok and signed(d) <= FQ_M1_M1_HI;
 
       when FQ_M2 =>
-        return signed(d) >= -32768
-               and signed(d) <= 32767;
+        ok := signed(d) >= FQ_M2_M2_LO;
+        ok := ok and signed(d) <= FQ_M2_M2_HI;
 
       when FQ_C1 =>
-        return signed(d) >= -32768
-               and signed(d) <= 32767;
+        ok := signed(d) >= FQ_C1_C1_LO;
+        ok := ok and signed(d) <= FQ_C1_C1_HI;
 
       when FQ_C12 =>
-        return signed(d) >= -32768
-               and signed(d) <= 32767;
+        ok := signed(d) >= FQ_C12_C12_LO;
+        ok := ok and signed(d) <= FQ_C12_C12_HI;
 
       when FQ_C2 =>
-        return signed(d) >= -32768
-               and signed(d) <= 32767;
+        ok := signed(d) >= FQ_C2_C2_LO;
+        ok := ok and signed(d) <= FQ_C2_C2_HI;
 
       when FQ_HARM =>
-        return opt.opt_tunable
-               and opt.opt_harmonic
-               and free_bits_zero(d, FQ_HARM_WMASK);
+        ok := opt.opt_tunable;
+        ok := ok and opt.opt_harmonic;
+        ok := ok and free_bits_zero(d, FQ_HARM_WMASK);
 
       when FQ_JUMP =>
-        return opt.opt_tunable
-               and opt.opt_jump
-               and free_bits_zero(d, FQ_JUMP_WMASK);
+        ok := opt.opt_tunable;
+        ok := ok and opt.opt_jump;
+        ok := ok and free_bits_zero(d, FQ_JUMP_WMASK);
 
       when FQ_ABGEN =>
-        return opt.opt_tunable
-               and free_bits_zero(d, FQ_ABGEN_WMASK)
-               and unsigned(d(7 downto 0)) /= 0;
+        ok := opt.opt_tunable;
+        ok := ok and free_bits_zero(d, FQ_ABGEN_WMASK);
+        ok := ok and unsigned(d(7 downto 0)) /= 0;
 
       when FQ_AB_BOUND =>
-        return opt.opt_tunable
-               and free_bits_zero(d, FQ_AB_BOUND_WMASK);
+        ok := opt.opt_tunable;
+        ok := ok and free_bits_zero(d, FQ_AB_BOUND_WMASK);
 
       when FQ_CLIP =>
-        return opt.opt_tunable
-               and free_bits_zero(d, FQ_CLIP_WMASK);
+        ok := opt.opt_tunable;
+        ok := ok and free_bits_zero(d, FQ_CLIP_WMASK);
 
       when FQ_RADIUS =>
-        return opt.opt_tunable
-               and opt.opt_monitor;
+        ok := opt.opt_tunable;
+        ok := ok and opt.opt_monitor;
 
       when FQ_MONITOR =>
-        return opt.opt_tunable
-               and opt.opt_monitor
-               and free_bits_zero(d, FQ_MONITOR_WMASK)
-               and unsigned(d(11 downto 8)) <= 8;
+        ok := opt.opt_tunable;
+        ok := ok and opt.opt_monitor;
+        ok := ok and free_bits_zero(d, FQ_MONITOR_WMASK);
+        ok := ok and unsigned(d(11 downto 8)) <= FQ_MONITOR_CODE_STEP_HI;
 
       when FQ_REF =>
-        return free_bits_zero(d, FQ_REF_WMASK)
-               and unsigned(d(10 downto 0)) <= 2043;
+        ok := free_bits_zero(d, FQ_REF_WMASK);
+        ok := ok and unsigned(d(10 downto 0)) <= FQ_REF_REF_Q_HI;
 
       when FQ_HOME =>
-        return true;
+        ok := true;
 
       when FQ_REF_STICKY =>
-        return free_bits_zero(d, FQ_REF_STICKY_WMASK);
+        ok := free_bits_zero(d, FQ_REF_STICKY_WMASK);
 
       when FQ_DCODE =>
-        return opt.opt_dcode
-               and free_bits_zero(d, FQ_DCODE_WMASK)
-               and unsigned(d(11 downto 0)) <= 4094;
+        ok := opt.opt_dcode;
+        ok := ok and free_bits_zero(d, FQ_DCODE_WMASK);
+        ok := ok and unsigned(d(11 downto 0)) <= FQ_DCODE_DC_SPACING_HI;
 
       when FQ_COAST =>
-        return opt.opt_tunable
-               and opt.opt_monitor
-               and free_bits_zero(d, FQ_COAST_WMASK);
+        ok := opt.opt_tunable;
+        ok := ok and opt.opt_monitor;
+        ok := ok and free_bits_zero(d, FQ_COAST_WMASK);
 
       when others =>
-        return false;
+        ok := false;
 
     end case;
+
+    return ok;
 
   end function fq_write_ok;
 
