@@ -228,7 +228,7 @@ AXES ?=
 report-multi: deps ## multi-axis resources: finequad_multi for AXES (default: the builds' axes in rtl/builds.toml, 1,2,4) on the iCE40 UP5K and ECP5 25F, one nextpnr seed -> build/report_multi/report_multi.{json,md}
 	$(PY) scripts/report_multi.py --build $(BUILD)/report_multi $(if $(AXES),--axes $(AXES))
 
-test: deps lint harnesses ## all tests: lint, table and build-file checks, FuseSoC targets, formal proofs, model tests, cocotb (Icarus + Verilator)
+test: deps lint harnesses ## all tests: lint, table and build-file checks, FuseSoC targets, formal proofs, model tests, cocotb (Icarus + Verilator; the VHDL edition on GHDL)
 	$(PY) scripts/gen_tables.py --check
 	$(PY) scripts/gen_regs.py --check
 	$(PY) scripts/figures.py --check
