@@ -11,6 +11,7 @@
   it. Only port names are used (no hierarchy), so the tests do not depend on the HDL
   language of the DUT.
 """
+import functools
 import os
 import sys
 from pathlib import Path
@@ -68,11 +69,18 @@ def sources(*names):
     return [RTL / f"{n}.v" for n in names]
 
 
+@functools.lru_cache(maxsize=None)
+def ghdl_version() -> str:
+    """`ghdl --version` (its version and the back end GHDL_BACKEND picks, set once by
+    setup_paths())."""
+    import subprocess
+    return subprocess.run(["ghdl", "--version"], capture_output=True, text=True,
+                          check=False).stdout
+
+
 def ghdl_backend() -> str:
     """The back end the `ghdl` command runs: mcode, llvm or gcc."""
-    import subprocess
-    out = subprocess.run(["ghdl", "--version"], capture_output=True, text=True,
-                         check=False).stdout.lower()
+    out = ghdl_version().lower()
     return next((b for b in ("mcode", "llvm", "gcc") if f"{b} " in out), "")
 
 
@@ -148,9 +156,7 @@ def _tool_versions(sim=None) -> bytes:
     import cocotb
     v = [cocotb.__version__]
     if sim == "ghdl":
-        import subprocess
-        v.append(subprocess.run(["ghdl", "--version"], capture_output=True, text=True,
-                                check=False).stdout)
+        v.append(ghdl_version())
     cfg = Path(os.environ.get("VERILATOR_ROOT", "")) / "include" / "verilated_config.h"
     if cfg.is_file():
         v.append(cfg.read_text())

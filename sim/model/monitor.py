@@ -127,9 +127,9 @@ t + 6 and t + 7, when the sample's fine phase is registered and the counter deci
                  or more apart on any sample since the change (parted: wrap16(sl_c -
                  pf) outside [-2^14, 2^14 - 1], in u13.3), the count may have followed
                  the distorted phase across a period boundary, which the restart cannot
-                 repair: the travel is lost (unc <- 2^23). The count is right when the
-                 two stay within a quarter period: the restart's step is then less than
-                 half a period. After that, while the signal
+                 repair: the travel is lost (unc <- 2^23). While the two stay within a
+                 quarter period the restart's step is under half a period, so it takes
+                 no wrong wrap. After that, while the signal
                  is not dead, each sign change of the working channel re-anchors it to
                  the crossing nearest the line (channel 2's zero crossings lie at phase 0
                  and 4096, channel 1's at 2048 and 6144: the nearest is right while the
@@ -179,6 +179,7 @@ travel (U, S) as an accepted one does.
 import math
 from dataclasses import dataclass
 
+from .fixed import wrap
 from .regs import SETTINGS
 
 STUCK_SPAN_MIN = 2048    # s2.14: 1/8 of the calibrated radius, the least stuck span
@@ -234,8 +235,7 @@ def worst_motion(s):
 
 def _parted(x):
     """A shadow line x = sl - pf (u13.3, wraps) off the line by 2^PART_SH or more."""
-    x = ((x + 0x8000) & 0xFFFF) - 0x8000
-    return not -(1 << PART_SH) <= x < (1 << PART_SH)
+    return not -(1 << PART_SH) <= wrap(x, 16) < (1 << PART_SH)
 
 
 def radius(ax, ay):
