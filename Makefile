@@ -78,9 +78,9 @@ RTL     := $(shell grep -v '^\#' rtl/finequad_core.f)
 # what the sources read: the tables and the included headers (generated and hand-written)
 RTL_INC := $(wildcard rtl/tables/*.hex rtl/tables/*.vh rtl/*.vh)
 SYS_RTL := $(shell grep -v '^\#' rtl/finequad_system.f)
-# the VHDL edition: its packages first (GHDL analyses the files in this order)
-VHDL_PKGS := rtl/vhdl/finequad_util_pkg.vhd rtl/vhdl/finequad_regs_pkg.vhd
-VHDL    := $(VHDL_PKGS) $(filter-out $(VHDL_PKGS),$(sort $(wildcard rtl/vhdl/*.vhd)))
+# the VHDL edition in GHDL's analysis order (packages, then each entity after those it
+# instantiates)
+VHDL    := $(shell grep -v '^\#' rtl/vhdl/sources.f)
 GHDL    ?= ghdl
 # GHDL 2.0's optional warnings (its default ones are on as well)
 GHDL_WARN := -Wbinding -Wlibrary -Wbody -Wspecs -Wunused -Wdelayed-checks

@@ -22,9 +22,9 @@ RTL = REPO / "rtl"
 TABLE_DIR = str(RTL / "tables") + "/"
 SIM_BUILD = HERE / "sim_build"
 SIMULATORS = ("icarus", "verilator")
-# the VHDL edition (rtl/vhdl/README.md): its packages, read before the blocks
+# the VHDL edition (rtl/vhdl/README.md); rtl/vhdl/sources.f lists its files in GHDL's
+# analysis order
 VHDL = RTL / "vhdl"
-VHDL_PACKAGES = ("finequad_util_pkg", "finequad_regs_pkg")
 # GHDL's back ends, the fastest first (rtl/vhdl/README.md has the measurement): the
 # `ghdl` command runs the one GHDL_BACKEND names, else mcode if it is installed
 GHDL_BACKENDS = ("llvm", "gcc", "mcode")
@@ -95,16 +95,25 @@ def simulators(block: str):
     return SIMULATORS + (("ghdl",) if has_vhdl(block) else ())
 
 
+def vhdl_files():
+    """Every file of the VHDL edition in GHDL's analysis order (rtl/vhdl/sources.f)."""
+    lines = (VHDL / "sources.f").read_text().splitlines()
+    return [REPO / ln.strip() for ln in lines if ln.strip() and not ln.startswith("#")]
+
+
 def vhdl_sources(srcs):
-    """The VHDL edition of the Verilog sources `srcs`: the packages, then each block's
-    rtl/vhdl/<name>.vhd."""
-    out = [VHDL / f"{p}.vhd" for p in VHDL_PACKAGES]
+    """The VHDL edition of the Verilog sources `srcs`: the packages (the files of
+    rtl/vhdl/sources.f whose names end in _pkg), then each block's rtl/vhdl/<name>.vhd,
+    in the analysis order of rtl/vhdl/sources.f."""
+    files = vhdl_files()
+    want = set()
     for s in srcs:
         v = VHDL / f"{Path(s).stem}.vhd"
-        if not v.is_file():
-            raise FileNotFoundError(f"{s} has no VHDL edition ({v})")
-        out.append(v)
-    return out
+        if v not in files:
+            raise FileNotFoundError(f"{s} has no VHDL edition ({v} is not in "
+                                    f"{VHDL / 'sources.f'})")
+        want.add(v)
+    return [f for f in files if f.stem.endswith("_pkg") or f in want]
 
 
 def core_sources():
@@ -254,8 +263,11 @@ def run_block(sim, toplevel, srcs, test_module, parameters=None, extra_env=None,
         build_args = ["-Wno-fatal", "-Wno-lint", "-Wno-style", "-CFLAGS", "-O1"]
         _patch_verilator(runner)
     elif sim == "ghdl":
-        # the VHDL edition of the same blocks; the generics go to the run (-g, same names)
+        # the VHDL edition of the same blocks; the generics go to the run (-g, same names;
+        # a string generic without the quotes qstr() puts around it for the Verilog tools)
         srcs = vhdl_sources(srcs)
+        parameters = {k: (v[1:-1] if isinstance(v, str) and len(v) > 1 and v[0] == v[-1] == '"'
+                          else v) for k, v in parameters.items()}
         build_args = ["--std=08"]
         test_args = ["--std=08"]
         # (run options follow the unit) no numeric_std warnings on metavalues: an input a

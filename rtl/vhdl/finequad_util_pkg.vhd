@@ -7,10 +7,16 @@
 -- to_sl:      a boolean as a std_logic
 -- quadrant, to_ab: the x4 quadrature code, the A/B pins of a quadrant (rtl/counter.v's
 --             edge decoder and rtl/abgen.v's pins use the same code)
+-- read_hex:   a table of rtl/tables/*.hex (the files the Verilog's $readmemh reads,
+--             written by scripts/gen_tables.py) read at elaboration, in simulation and
+--             in synthesis (ghdl --synth turns the constant into a ROM)
 
 library ieee;
   use ieee.std_logic_1164.all;
   use ieee.numeric_std.all;
+
+library std;
+  use std.textio.all;
 
 package finequad_util_pkg is
 
@@ -57,6 +63,15 @@ package finequad_util_pkg is
 
   -- The pins that show quadrant q.
   function to_ab (q : quadrant_t) return ab_t;
+
+  -- A table of words (a ROM's contents): element width and depth set by its user.
+  type hex_table_t is array (natural range <>) of std_logic_vector;
+
+  -- The first `depth` lines of the $readmemh file `name` (one hexadecimal word per line,
+  -- as scripts/gen_tables.py writes them), as words of `width` bits; lines past the end
+  -- of a shorter file are 0. A missing file, a character that is not a hexadecimal
+  -- digit or a word wider than `width` stops elaboration with the file (and line).
+  impure function read_hex (name : string; depth : positive; width : positive) return hex_table_t;
 
 end package finequad_util_pkg;
 
@@ -140,5 +155,60 @@ package body finequad_util_pkg is
     return (a => not (q(1) xor q(0)), b => not q(1));
 
   end function to_ab;
+
+  impure function read_hex (name : string; depth : positive; width : positive) return hex_table_t is
+
+    -- (file_open with a status is not synthesisable in GHDL 2.0: a missing file stops
+    -- elaboration with GHDL's own message, naming the file)
+    file     f     : text open read_mode is name;
+    variable l     : line;
+    variable word  : unsigned(width + 3 downto 0);
+    variable digit : natural range 0 to 15;
+    variable r     : hex_table_t(0 to depth - 1)(width - 1 downto 0) := (others => (others => '0'));
+
+  begin
+
+    for i in r'range loop
+
+      exit when endfile(f);
+      readline(f, l);
+      word := (others => '0');
+
+      for c in l'range loop
+
+        case l(c) is
+
+          when '0' to '9' =>
+            digit := character'pos(l(c)) - character'pos('0');
+
+          when 'a' to 'f' =>
+            digit := character'pos(l(c)) - character'pos('a') + 10;
+
+          when 'A' to 'F' =>
+            digit := character'pos(l(c)) - character'pos('A') + 10;
+
+          when others =>
+            report "read_hex: " & name & " line " & integer'image(i + 1)
+                   & ": not a hexadecimal digit: '" & l(c) & "'"
+              severity failure;
+
+        end case;
+
+        word := shift_left(word, 4) or to_unsigned(digit, word'length);
+        assert word(word'high downto width) = 0
+          report "read_hex: " & name & " line " & integer'image(i + 1)
+                 & ": word wider than " & integer'image(width) & " bits"
+          severity failure;
+
+      end loop;
+
+      r(i) := std_logic_vector(word(width - 1 downto 0));
+      deallocate(l);
+
+    end loop;
+
+    return r;
+
+  end function read_hex;
 
 end package body finequad_util_pkg;
