@@ -104,16 +104,22 @@ def vhdl_files():
 def vhdl_sources(srcs):
     """The VHDL edition of the Verilog sources `srcs`: the packages (the files of
     rtl/vhdl/sources.f whose names end in _pkg), then each block's rtl/vhdl/<name>.vhd,
-    in the analysis order of rtl/vhdl/sources.f."""
+    in the analysis order of rtl/vhdl/sources.f. A .vhd file in `srcs` (a test's
+    simulation model, e.g. cocotb_tests/sim_mult18x18d.vhd) is taken as it is, after the
+    packages."""
     files = vhdl_files()
     want = set()
+    models = [Path(s) for s in srcs if Path(s).suffix == ".vhd"]
     for s in srcs:
+        if Path(s).suffix == ".vhd":
+            continue
         v = VHDL / f"{Path(s).stem}.vhd"
         if v not in files:
             raise FileNotFoundError(f"{s} has no VHDL edition ({v} is not in "
                                     f"{VHDL / 'sources.f'})")
         want.add(v)
-    return [f for f in files if f.stem.endswith("_pkg") or f in want]
+    return ([f for f in files if f.stem.endswith("_pkg")] + models
+            + [f for f in files if f in want])
 
 
 def core_sources():

@@ -26,7 +26,7 @@ import fqtb
 
 
 @pytest.mark.parametrize("adc_w", [16, 12], ids=["ADC16", "ADC12"])
-@pytest.mark.parametrize("sim", fqtb.SIMULATORS)
+@pytest.mark.parametrize("sim", fqtb.simulators("correct"))
 def test_correct(sim, adc_w):
     fqtb.run_block(sim, "correct", fqtb.sources("correct"), "test_correct",
                    parameters=dict(ADC_W=adc_w), extra_env=dict(ADC_W=adc_w))

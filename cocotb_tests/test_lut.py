@@ -37,7 +37,7 @@ PARAMS = [(1, 10, 1, 0), (0, 10, 0, 0), (1, 8, 0, 0), (1, 12, 1, 1), (1, 16, 0, 
 
 @pytest.mark.parametrize("exact,sin_w,dsp,ph4k", PARAMS,
                          ids=[f"EXACT{a}-SIN{b}-DSP{c}-PH4K{d}" for a, b, c, d in PARAMS])
-@pytest.mark.parametrize("sim", fqtb.SIMULATORS)
+@pytest.mark.parametrize("sim", fqtb.simulators("lut"))
 def test_lut(sim, exact, sin_w, dsp, ph4k):
     fqtb.run_block(sim, "lut", fqtb.sources("lut"), "test_lut",
                    parameters=dict(TABLE_DIR=fqtb.qstr(fqtb.TABLE_DIR), TABLE_EXACT=exact,
@@ -45,19 +45,26 @@ def test_lut(sim, exact, sin_w, dsp, ph4k):
                    extra_env=dict(TABLE_EXACT=exact, SIN_W=sin_w, PH4K=ph4k))
 
 
-def test_lut_mult18():
-    """OPT_ECP5_MULT = 1 with the DSP product as synthesis sees it (SYNTHESIS defined: the
-    MULT18X18D instance, whose output register is prod_o), with the primitive's
-    behavioural stand-in cocotb_tests/sim_mult18x18d.v: the instance's wiring (operand
-    and product bit order, the register's timing) gives the same outputs as the inferred
-    form on the same vectors (the ECP5 report build's tables: exact, 4096 rows; Icarus)."""
-    fqtb.run_block("icarus", "lut", fqtb.sources("lut") + [fqtb.HERE / "sim_mult18x18d.v"],
+@pytest.mark.parametrize("sim", [s for s in fqtb.simulators("lut") if s != "verilator"])
+def test_lut_mult18(sim):
+    """OPT_ECP5_MULT = 1 with the DSP product as synthesis sees it (the MULT18X18D
+    instance, whose output register is prod_o), with a behavioural stand-in of the
+    primitive: the instance's wiring (operand and product bit order, the register's
+    timing) gives the same outputs as the inferred form on the same vectors (the ECP5
+    report build's tables: exact, 4096 rows). Icarus compiles rtl/lut.v with SYNTHESIS
+    defined and cocotb_tests/sim_mult18x18d.v; GHDL runs rtl/vhdl/lut.vhd, which
+    instantiates the primitive whenever OPT_ECP5_MULT = 1, with
+    cocotb_tests/sim_mult18x18d.vhd."""
+    vhdl = sim == "ghdl"
+    fqtb.run_block(sim, "lut",
+                   fqtb.sources("lut")
+                   + [fqtb.HERE / ("sim_mult18x18d.vhd" if vhdl else "sim_mult18x18d.v")],
                    "test_lut",
                    parameters=dict(TABLE_DIR=fqtb.qstr(fqtb.TABLE_DIR), TABLE_EXACT=1,
                                    SIN_W=10, OPT_NTH_DSP=1, OPT_PHASE_4K=1,
                                    OPT_ECP5_MULT=1),
                    extra_env=dict(TABLE_EXACT=1, SIN_W=10, PH4K=1, MULT18=1), tag="mult18",
-                   extra_build_args=("-DSYNTHESIS",))
+                   extra_build_args=() if vhdl else ("-DSYNTHESIS",))
 
 
 # ---- cocotb side ------------------------------------------------------------------------

@@ -43,26 +43,32 @@ import fqtb
 
 
 @pytest.mark.parametrize("exact", [1, 0], ids=["EXACT1", "EXACT0"])
-@pytest.mark.parametrize("sim", fqtb.SIMULATORS)
+@pytest.mark.parametrize("sim", fqtb.simulators("octant"))
 def test_octant(sim, exact):
     fqtb.run_block(sim, "octant", fqtb.sources("octant"), "test_octant",
                    parameters=dict(TABLE_DIR=fqtb.qstr(fqtb.TABLE_DIR), TABLE_EXACT=exact),
                    extra_env=dict(TABLE_EXACT=exact))
 
 
-def test_octant_mult18():
-    """OPT_ECP5_MULT = 1 as synthesis sees it (SYNTHESIS defined: the MULT18X18D instance,
-    whose operand registers are the DSP block's), with the primitive's behavioural
-    stand-in cocotb_tests/sim_mult18x18d.v: the instance's wiring (the operands' and the
-    used product bits' order) gives the same outputs as the inferred form, on the same
-    vectors (exact table; Icarus). (A clock enable of 1 instead of v1 would pass too: rcp
+@pytest.mark.parametrize("sim", [s for s in fqtb.simulators("octant") if s != "verilator"])
+def test_octant_mult18(sim):
+    """OPT_ECP5_MULT = 1 as synthesis sees it (the MULT18X18D instance, whose operand
+    registers are the DSP block's), with a behavioural stand-in of the primitive: the
+    instance's wiring (the operands' and the used product bits' order) gives the same
+    outputs as the inferred form, on the same vectors (exact table). Icarus compiles
+    rtl/octant.v with SYNTHESIS defined and cocotb_tests/sim_mult18x18d.v; GHDL runs
+    rtl/vhdl/octant.vhd, which instantiates the primitive whenever OPT_ECP5_MULT = 1, with
+    cocotb_tests/sim_mult18x18d.vhd. (A clock enable of 1 instead of v1 would pass too: rcp
     and sn only change with a sample.)"""
-    fqtb.run_block("icarus", "octant",
-                   fqtb.sources("octant") + [fqtb.HERE / "sim_mult18x18d.v"], "test_octant",
+    vhdl = sim == "ghdl"
+    fqtb.run_block(sim, "octant",
+                   fqtb.sources("octant")
+                   + [fqtb.HERE / ("sim_mult18x18d.vhd" if vhdl else "sim_mult18x18d.v")],
+                   "test_octant",
                    parameters=dict(TABLE_DIR=fqtb.qstr(fqtb.TABLE_DIR), TABLE_EXACT=1,
                                    OPT_ECP5_MULT=1),
                    extra_env=dict(TABLE_EXACT=1, MULT18=1), tag="mult18",
-                   extra_build_args=("-DSYNTHESIS",))
+                   extra_build_args=() if vhdl else ("-DSYNTHESIS",))
 
 
 # ---- cocotb side ------------------------------------------------------------------------

@@ -73,6 +73,43 @@ package finequad_util_pkg is
   -- digit or a word wider than `width` stops elaboration with the file (and line).
   impure function read_hex (name : string; depth : positive; width : positive) return hex_table_t;
 
+  -- ---- vendor primitives ----------------------------------------------------------------
+
+  -- Lattice ECP5 MULT18X18D (rtl/octant.v, rtl/lut.v with OPT_ECP5_MULT = 1): the ports
+  -- and the generics the instances set. ghdl --synth leaves it a black box for the
+  -- vendor's tools; a simulation binds it to an entity of that name (Lattice's ECP5
+  -- library, or the stand-in cocotb_tests/sim_mult18x18d.vhd).
+  -- (its pins grouped by bus, as the vendor's own declaration lists them)
+  -- vsg_off port_026 component_017 component_008 component_012 port_010
+  component MULT18X18D is
+    generic (
+      REG_INPUTA_CLK : string := "NONE";
+      REG_INPUTA_CE  : string := "CE0";
+      REG_INPUTA_RST : string := "RST0";
+      REG_INPUTB_CLK : string := "NONE";
+      REG_INPUTB_CE  : string := "CE0";
+      REG_INPUTB_RST : string := "RST0";
+      REG_OUTPUT_CLK : string := "NONE";
+      REG_OUTPUT_CE  : string := "CE0";
+      REG_OUTPUT_RST : string := "RST0"
+    );
+    port (
+      A17, A16, A15, A14, A13, A12, A11, A10, A9, A8, A7, A6, A5, A4, A3,
+      A2, A1, A0 : in    std_logic;
+      B17, B16, B15, B14, B13, B12, B11, B10, B9, B8, B7, B6, B5, B4, B3,
+      B2, B1, B0 : in    std_logic;
+      C17, C16, C15, C14, C13, C12, C11, C10, C9, C8, C7, C6, C5, C4, C3,
+      C2, C1, C0 : in    std_logic;
+      SIGNEDA, SIGNEDB, SOURCEA, SOURCEB : in    std_logic;
+      CLK3, CLK2, CLK1, CLK0, CE3, CE2, CE1, CE0, RST3, RST2, RST1, RST0 : in    std_logic;
+      P35, P34, P33, P32, P31, P30, P29, P28, P27, P26, P25, P24, P23, P22,
+      P21, P20, P19, P18, P17, P16, P15, P14, P13, P12, P11, P10, P9, P8,
+      P7, P6, P5, P4, P3, P2, P1, P0 : out   std_logic
+    );
+  end component MULT18X18D;
+
+-- vsg_on port_026 component_017 component_008 component_012 port_010
+
 end package finequad_util_pkg;
 
 package body finequad_util_pkg is

@@ -6,3 +6,7 @@ rtl/vhdl/finequad_util_pkg.vhd
 rtl/vhdl/finequad_regs_pkg.vhd
 rtl/vhdl/counter.vhd
 rtl/vhdl/abgen.vhd
+rtl/vhdl/correct.vhd
+rtl/vhdl/octant.vhd
+rtl/vhdl/lut.vhd
+rtl/vhdl/phase.vhd
