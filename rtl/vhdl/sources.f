@@ -6,3 +6,4 @@ rtl/vhdl/finequad_util_pkg.vhd
 rtl/vhdl/finequad_regs_pkg.vhd
 rtl/vhdl/counter.vhd
 rtl/vhdl/abgen.vhd
+rtl/vhdl/monitor.vhd
