@@ -10,3 +10,4 @@ rtl/vhdl/correct.vhd
 rtl/vhdl/octant.vhd
 rtl/vhdl/lut.vhd
 rtl/vhdl/phase.vhd
+rtl/vhdl/monitor.vhd
