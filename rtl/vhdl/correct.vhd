@@ -115,7 +115,12 @@ architecture rtl of correct is
 
     begin
 
-      a := abs(resize(u, 17));
+      -- (an if, not abs: GHDL 2.0's Verilog writer prints abs of a signed as VHDL text)
+      if u < 0 then
+        a := -resize(u, 17);
+      else
+        a := resize(u, 17);
+      end if;
 
       if a(15) = '1' then
         return (others => '1');
