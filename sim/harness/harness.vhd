@@ -29,23 +29,23 @@ library std;
 
 entity harness is
   generic (
-    STIM           : string;
-    OUT_CSV        : string;
-    OUT_STATUS     : string;
+    STIM       : string;
+    OUT_CSV    : string;
+    OUT_STATUS : string;
     -- finequad_core's generics (make rtlsim's knobs)
-    TABLE_DIR      : string               := "rtl/tables/";
+    TABLE_DIR      : string                 := "rtl/tables/";
     ADC_W          : integer range 12 to 16 := 16;
-    TABLE_EXACT    : integer range 0 to 1 := 1;
-    ENGINE_LANES   : integer range 1 to 2 := 1;
-    OPT_DISTRAM    : integer range 0 to 1 := 0;
-    OPT_PHASE_4K   : integer range 0 to 1 := 0;
-    OPT_PULSE_ADDR : integer range 0 to 1 := 0;
-    OPT_HARMONIC   : integer range 0 to 1 := 1;
-    OPT_NTH_DSP    : integer range 0 to 1 := 1;
-    OPT_TUNABLE    : integer range 0 to 1 := 1;
-    OPT_MONITOR    : integer range 0 to 1 := 1;
-    OPT_JUMP       : integer range 0 to 1 := 1;
-    OPT_DCODE      : integer range 0 to 1 := 1
+    TABLE_EXACT    : integer range 0 to 1   := 1;
+    ENGINE_LANES   : integer range 1 to 2   := 1;
+    OPT_DISTRAM    : integer range 0 to 1   := 0;
+    OPT_PHASE_4K   : integer range 0 to 1   := 0;
+    OPT_PULSE_ADDR : integer range 0 to 1   := 0;
+    OPT_HARMONIC   : integer range 0 to 1   := 1;
+    OPT_NTH_DSP    : integer range 0 to 1   := 1;
+    OPT_TUNABLE    : integer range 0 to 1   := 1;
+    OPT_MONITOR    : integer range 0 to 1   := 1;
+    OPT_JUMP       : integer range 0 to 1   := 1;
+    OPT_DCODE      : integer range 0 to 1   := 1
   );
 end entity harness;
 
@@ -57,14 +57,14 @@ architecture bench of harness is
   constant REF_LAG : integer := 2;
   constant COUNT_W : integer := 32;
 
-  signal clk         : std_logic := '0';
-  signal s_valid     : std_logic := '0';
-  signal s_u1        : signed(ADC_W - 1 downto 0) := (others => '0');
-  signal s_u2        : signed(ADC_W - 1 downto 0) := (others => '0');
-  signal s_ref       : std_logic := '0';
-  signal reg_we      : std_logic := '0';
-  signal reg_re      : std_logic := '0';
-  signal reg_addr    : unsigned(5 downto 0) := (others => '0');
+  signal clk         : std_logic                     := '0';
+  signal s_valid     : std_logic                     := '0';
+  signal s_u1        : signed(ADC_W - 1 downto 0)    := (others => '0');
+  signal s_u2        : signed(ADC_W - 1 downto 0)    := (others => '0');
+  signal s_ref       : std_logic                     := '0';
+  signal reg_we      : std_logic                     := '0';
+  signal reg_re      : std_logic                     := '0';
+  signal reg_addr    : unsigned(5 downto 0)          := (others => '0');
   signal reg_wdata   : std_logic_vector(31 downto 0) := (others => '0');
   signal reg_rdata   : std_logic_vector(31 downto 0);
   signal reg_err     : std_logic;
@@ -78,10 +78,10 @@ architecture bench of harness is
   signal m_homed     : std_logic;
   signal m_pos_valid : std_logic;
   -- the core's other inputs, held (as harness.cpp leaves them), and its engine port
-  signal rst         : std_logic := '0';
-  signal tdm_ok_i    : std_logic := '0';
-  signal eng_rsp_i   : std_logic_vector(114 downto 0) := (others => '0');
-  signal eng_cmd_o   : std_logic_vector(65 downto 0);
+  signal rst       : std_logic                      := '0';
+  signal tdm_ok_i  : std_logic                      := '0';
+  signal eng_rsp_i : std_logic_vector(114 downto 0) := (others => '0');
+  signal eng_cmd_o : std_logic_vector(65 downto 0);
 
   -- an output row waiting for its reference columns
   type row_t is record
@@ -94,34 +94,39 @@ architecture bench of harness is
   end record row_t;
 
   type rows_t is array (0 to 3) of row_t;
+
   type writes_t is array (0 to 63) of std_logic_vector(31 downto 0);
+
   type indices_t is array (0 to 63) of integer range 0 to 63;
 
   function bit_of (s : std_logic) return integer is
   begin
+
     if s = '1' then
       return 1;
     end if;
+
     return 0;
+
   end function bit_of;
 
 begin
 
   finequad_core : entity work.finequad_core
     generic map (
-      TABLE_DIR      => TABLE_DIR,
-      ADC_W          => ADC_W,
-      TABLE_EXACT    => TABLE_EXACT,
-      ENGINE_LANES   => ENGINE_LANES,
-      OPT_DISTRAM    => OPT_DISTRAM,
-      OPT_PHASE_4K   => OPT_PHASE_4K,
-      OPT_PULSE_ADDR => OPT_PULSE_ADDR,
-      OPT_HARMONIC   => OPT_HARMONIC,
-      OPT_NTH_DSP    => OPT_NTH_DSP,
-      OPT_TUNABLE    => OPT_TUNABLE,
-      OPT_MONITOR    => OPT_MONITOR,
-      OPT_JUMP       => OPT_JUMP,
-      OPT_DCODE      => OPT_DCODE
+      table_dir      => TABLE_DIR,
+      adc_w          => ADC_W,
+      table_exact    => TABLE_EXACT,
+      engine_lanes   => ENGINE_LANES,
+      opt_distram    => OPT_DISTRAM,
+      opt_phase_4k   => OPT_PHASE_4K,
+      opt_pulse_addr => OPT_PULSE_ADDR,
+      opt_harmonic   => OPT_HARMONIC,
+      opt_nth_dsp    => OPT_NTH_DSP,
+      opt_tunable    => OPT_TUNABLE,
+      opt_monitor    => OPT_MONITOR,
+      opt_jump       => OPT_JUMP,
+      opt_dcode      => OPT_DCODE
     )
     port map (
       clk         => clk,
@@ -152,36 +157,43 @@ begin
 
   run : process is
 
-    file     fi          : text;
-    file     fo          : text;
-    file     fs          : text;
-    variable li          : line;
-    variable lo          : line;
-    variable div         : integer;
-    variable n_writes    : integer;
-    variable n_reads     : integer;
-    variable w_index     : indices_t;
-    variable w_word      : writes_t;
-    variable r_index     : indices_t;
-    variable a           : integer := 0;
-    variable b           : integer := 0;
-    variable rf          : integer := 0;
-    variable have        : boolean;
-    variable strobed     : integer := 0;
-    variable written     : integer := 0;
-    variable last_edge   : integer := -1;
-    variable e           : integer := 0;
-    variable strobe      : boolean;
-    variable pend        : rows_t;
-    variable head        : integer := 0;
-    variable tail        : integer := 0;
+    file     fi        : text;
+    file     fo        : text;
+    file     fs        : text;
+    variable li        : line;
+    variable lo        : line;
+    variable div       : integer;
+    variable n_writes  : integer;
+    variable n_reads   : integer;
+    variable w_index   : indices_t;
+    variable w_word    : writes_t;
+    variable r_index   : indices_t;
+    variable a         : integer := 0;
+    variable b         : integer := 0;
+    variable rf        : integer := 0;
+    variable have      : boolean;
+    variable strobed   : integer := 0;
+    variable written   : integer := 0;
+    variable last_edge : integer := -1;
+    variable e         : integer := 0;
+    variable strobe    : boolean;
+    variable pend      : rows_t;
+    variable head      : integer := 0;
+    variable tail      : integer := 0;
 
     -- the next sample of STIM (false at its end; blank lines skipped)
-    procedure next_sample (ok : out boolean) is
+
+    procedure next_sample (
+      ok : out boolean
+    ) is
     begin
+
       ok := false;
+
       while not endfile(fi) loop
+
         readline(fi, li);
+
         if li'length > 0 then
           read(li, a);
           read(li, b);
@@ -189,17 +201,22 @@ begin
           ok := true;
           return;
         end if;
+
       end loop;
+
     end procedure next_sample;
 
     -- one clock: the inputs already set at the period's start, the rising edge half a
     -- period later; returns at the next period's start with the edge's outputs settled
+
     procedure clock is
     begin
+
       wait for HALF;
       clk <= '1';
       wait for HALF;
       clk <= '0';
+
     end procedure clock;
 
   begin
@@ -211,20 +228,28 @@ begin
     read(li, div);
     read(li, n_writes);
     read(li, n_reads);
+
     for k in 0 to n_writes - 1 loop
+
       readline(fi, li);
       read(li, w_index(k));
       hread(li, w_word(k));
+
     end loop;
+
     for k in 0 to n_reads - 1 loop
+
       readline(fi, li);
       read(li, r_index(k));
+
     end loop;
+
     write(lo, string'("count,a,b,fault,z,ref_count,homed,pos_valid"));
     writeline(fo, lo);
     next_sample(have);
 
     while last_edge < 0 or e <= last_edge loop
+
       -- the inputs of edge e
       if e < n_writes then
         reg_we    <= '1';
@@ -233,7 +258,9 @@ begin
       else
         reg_we <= '0';
       end if;
+
       strobe := have and e = T0 + strobed * div;
+
       if strobe then
         s_valid <= '1';
         s_u1    <= to_signed(a, ADC_W);
@@ -250,20 +277,25 @@ begin
         s_u2    <= (others => '0');
         s_ref   <= '0';
       end if;
+
       clock;
       -- the outputs after edge e
       if m_valid = '1' then
-        pend(tail mod 4) := (edge  => e,
-                             count => to_integer(m_count),
-                             a     => bit_of(m_a),
-                             b     => bit_of(m_b),
-                             fault => to_integer(unsigned(m_fault)),
-                             z     => bit_of(m_z));
-        tail := tail + 1;
+        pend(tail mod 4) :=
+        (
+          edge  => e,
+          count => to_integer(m_count),
+          a     => bit_of(m_a),
+          b     => bit_of(m_b),
+          fault => to_integer(unsigned(m_fault)),
+          z     => bit_of(m_z)
+        );
+        tail             := tail + 1;
         assert tail - head <= 4
           report "internal: more than 4 rows pending"
           severity failure;
       end if;
+
       if head /= tail and pend(head mod 4).edge + REF_LAG = e then
         write(lo, pend(head mod 4).count);
         write(lo, ',');
@@ -284,6 +316,7 @@ begin
         head    := head + 1;
         written := written + 1;
       end if;
+
       if e < n_writes and reg_err = '1' then
         write(lo, string'("refused "));
         write(lo, e);
@@ -292,20 +325,26 @@ begin
         file_close(fs);
         finish;
       end if;
+
       e := e + 1;
+
     end loop;
 
     -- --dump-regs: the registered read port, the address for one edge, the value after it
     reg_we  <= '0';
     s_valid <= '0';
+
     for k in 0 to n_reads - 1 loop
+
       reg_re   <= '1';
       reg_addr <= to_unsigned(r_index(k), 6);
       clock;
       write(lo, string'("rdata "));
       hwrite(lo, reg_rdata);
       writeline(fs, lo);
+
     end loop;
+
     reg_re <= '0';
 
     assert written = strobed
