@@ -279,9 +279,15 @@ BOARD   ?= icebreaker
 bitstream:       ## bitstream [BOARD=icebreaker|ulx3s: a board build of rtl/builds.toml] [EDITION=vhdl: ghdl --synth of rtl/vhdl/top_<board>.vhd first -> build/bitstream_vhdl...]: synthesis, place and route, pack; prints resources and Fmax, fails if the board clock is not met
 	$(if $(filter vhdl,$(EDITION)),EDITION=vhdl GHDL=$(GHDL) )scripts/bitstream.sh $(BUILD)/bitstream$(if $(filter vhdl,$(EDITION)),_vhdl)$(if $(filter-out icebreaker,$(BOARD)),_$(BOARD)) 1 $(BOARD)
 
-report: deps     ## performance (iCE40 UP5K, ECP5 25F): Fmax over nextpnr seeds, rates, latency, area, sim speed -> build/report.{json,md} [SEEDS=1,2,3,4,5]
+ifeq ($(EDITION),vhdl)
+report: deps
+	$(PY) scripts/report.py --edition vhdl --build $(BUILD)/report_vhdl --json $(BUILD)/report_vhdl.json \
+	    --md $(BUILD)/report_vhdl.md --make-build $(BUILD) $(if $(SEEDS),--seeds $(SEEDS))
+else
+report: deps     ## performance (iCE40 UP5K, ECP5 25F): Fmax over nextpnr seeds, rates, latency, area, sim speed -> build/report.{json,md} [SEEDS=1,2,3,4,5] [EDITION=vhdl: the VHDL edition's rtl/vhdl/top_report.vhd through ghdl --synth, resources and Fmax beside build/report.json's -> build/report_vhdl.{json,md}, nothing published]
 	$(PY) scripts/report.py --build $(BUILD)/report --json $(BUILD)/report.json --md $(BUILD)/report.md \
 	    --make-build $(BUILD) $(if $(SEEDS),--seeds $(SEEDS),--publish)
+endif
 
 AXES ?=
 report-multi: deps ## multi-axis resources: finequad_multi for AXES (default: the builds' axes in rtl/builds.toml, 1,2,4) on the iCE40 UP5K and ECP5 25F, one nextpnr seed -> build/report_multi/report_multi.{json,md}

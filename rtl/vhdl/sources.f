@@ -6,3 +6,6 @@ rtl/vhdl/finequad_util_pkg.vhd
 rtl/vhdl/finequad_regs_pkg.vhd
 rtl/vhdl/counter.vhd
 rtl/vhdl/abgen.vhd
+# the report's top (make report EDITION=vhdl): finequad_core as a component, bound at
+# elaboration
+rtl/vhdl/top_report.vhd
