@@ -334,7 +334,9 @@ VCDCMP_IN = $(if $(SAMPLES),$(VCDCMP)/in.csv,$(IN))
 
 # EDITION=vhdl: GHDL's VCD, whose edges lie half a period later (sim/harness/harness.vhd)
 # and whose root is the bench: compared once per clock (--cycle), the core's scope mapped,
-# and the reference's signals GHDL's VCD lacks (records, arrays) listed and left out
+# and the reference's signals GHDL's VCD lacks (records, arrays) listed and left out.
+# EDITION=vhdl-synth: Verilator's VCD of GHDL's netlist, whose internal signals are
+# GHDL's nets: those the netlist lacks are listed and left out
 VCDCMP_VHDL = --cycle --rtl-edge0-ps 13889 --map TOP=harness \
 	--map TOP.finequad_core=harness.finequad_core --skip-missing
 vcdcompare: deps ## RTL VCD vs the model's reference VCD: IN=in.csv INTERP=n [PROFILE=build] [knobs as rtlsim] [DIV=d] [SAMPLES=n (empty: all) SKIP=k] [EDITION=vhdl: GHDL's VCD of the VHDL edition]
@@ -345,7 +347,7 @@ vcdcompare: deps ## RTL VCD vs the model's reference VCD: IN=in.csv INTERP=n [PR
 	$(if $(SAMPLES),{ head -n 1 $(IN); tail -n +$$(( $(SKIP) + 2 )) $(IN) | head -n $(SAMPLES); } > $(VCDCMP_IN))
 	$(MAKE) --no-print-directory rtlsim IN=$(VCDCMP_IN) OUT=$(VCDCMP)/rtl.csv VCD=$(VCDCMP)/rtl.vcd
 	$(MAKE) --no-print-directory model IN=$(VCDCMP_IN) OUT=$(VCDCMP)/model.csv VCD=$(VCDCMP)/ref.vcd
-	$(PY) scripts/vcdcompare.py $(VCDCMP)/rtl.vcd $(VCDCMP)/ref.vcd --period-ps 27778$(if $(filter vhdl,$(EDITION)), $(VCDCMP_VHDL))
+	$(PY) scripts/vcdcompare.py $(VCDCMP)/rtl.vcd $(VCDCMP)/ref.vcd --period-ps 27778$(if $(filter vhdl,$(EDITION)), $(VCDCMP_VHDL))$(if $(filter vhdl-synth,$(EDITION)), --skip-missing)
 
 # the two editions' traces of one excerpt, the Verilog's (Verilator) as the reference:
 # every signal of it the VHDL's VCD has by the same name (the ports, and the registers

@@ -27,6 +27,7 @@ header says why; scripts/vcdcompare.py --rtl-edge0-ps 13889 compares it).
 import argparse
 import os
 import pathlib
+import re
 import shutil
 import subprocess
 import sys
@@ -178,6 +179,10 @@ def main(argv=None):
         except OSError as e:
             die(f"cannot write {what}'{path}': {e.strerror}")
     u1, u2, ref = run_model.read_codes(args.inp, adc_w)
+    if not any(re.search(r"^\s*entity\s+finequad_core\s+is\b", f.read_text(errors="replace"),
+                         re.I | re.M) for f in files):
+        die("the VHDL edition has no entity finequad_core yet (rtl/vhdl/finequad_core.vhd, "
+            "listed in rtl/vhdl/sources.f; or give a stand-in with --extra, make's VHDL_EXTRA=)")
 
     env = ghdl_env()
     build = pathlib.Path(args.build).resolve()

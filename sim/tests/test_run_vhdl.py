@@ -75,6 +75,15 @@ def test_bad_option_is_named(tmp_path, args, msg):
     assert p.stderr.count("\n") == 1
 
 
+@pytest.mark.skipif(CORE_VHD.is_file(), reason="the edition has its finequad_core")
+def test_no_core_is_named(tmp_path):
+    inp = tmp_path / "in.csv"
+    inp.write_text("u1,u2\n1,2\n")
+    p = _run(tmp_path, "--in", inp, "--build", tmp_path / "work")
+    assert p.returncode == 2 and p.stderr.startswith(
+        "rtlsim: error: the VHDL edition has no entity finequad_core yet"), p.stderr
+
+
 def test_adc_w_sets_the_code_range(tmp_path):
     inp = tmp_path / "in.csv"
     inp.write_text("u1,u2\n1,2\n2048,0\n")
