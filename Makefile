@@ -276,10 +276,18 @@ demo: deps harnesses ## main job: paper-like recording -> RTL == model, error vs
 	scripts/bitstream.sh $(BUILD)/bitstream
 
 BOARD   ?= icebreaker
+ifeq ($(EDITION),vhdl-synth)
+bitstream:
+	@echo "$@: error: EDITION=vhdl-synth is a simulation (make rtlsim, bench-accuracy, vcdcompare); $@ takes EDITION=verilog or vhdl" >&2; exit 2
+else
 bitstream:       ## bitstream [BOARD=icebreaker|ulx3s: a board build of rtl/builds.toml] [EDITION=vhdl: ghdl --synth of rtl/vhdl/top_<board>.vhd first -> build/bitstream_vhdl...]: synthesis, place and route, pack; prints resources and Fmax, fails if the board clock is not met
 	$(if $(filter vhdl,$(EDITION)),EDITION=vhdl GHDL=$(GHDL) )scripts/bitstream.sh $(BUILD)/bitstream$(if $(filter vhdl,$(EDITION)),_vhdl)$(if $(filter-out icebreaker,$(BOARD)),_$(BOARD)) 1 $(BOARD)
+endif
 
-ifeq ($(EDITION),vhdl)
+ifeq ($(EDITION),vhdl-synth)
+report:
+	@echo "$@: error: EDITION=vhdl-synth is a simulation (make rtlsim, bench-accuracy, vcdcompare); $@ takes EDITION=verilog or vhdl" >&2; exit 2
+else ifeq ($(EDITION),vhdl)
 report: deps
 	$(PY) scripts/report.py --edition vhdl --build $(BUILD)/report_vhdl --json $(BUILD)/report_vhdl.json \
 	    --md $(BUILD)/report_vhdl.md --make-build $(BUILD) $(if $(SEEDS),--seeds $(SEEDS))
