@@ -330,6 +330,14 @@ def main():
         print(f"rtlsim samples per second over the suite (wall, whole make rtlsim runs): "
               f"{EDITIONS[args.edition]} {tot[args.edition]:.0f}, RTL (Verilator) "
               f"{tot['verilog']:.0f} ({tot['verilog'] / tot[args.edition]:.1f}x)")
+    if args.edition != "verilog":
+        # the Verilog edition's table of the last make bench-accuracy, if it is of the same
+        # suite: this edition's must be the same, byte for byte
+        ver = ROOT / "build" / "bench" / "accuracy.md"
+        if ver.is_file() and not args.only:
+            same = ver.read_text() == md + "\n"
+            print(f"the table is {'identical to' if same else 'NOT the same as'} the Verilog "
+                  f"edition's ({ver.relative_to(ROOT)})")
     bad = [r["scenario"] for r in rows if r["rtl_equals_model"] is False]
     gaps = [r["rtl_over_offline"] for r in rows if not r["drifts"]]
     behind = [r["scenario"] for r in rows if offline_gap(r, args.offline)[1]]
