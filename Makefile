@@ -20,6 +20,18 @@ SET_ARGS = $(if $(INTERP),--interp $(INTERP)) $(if $(COUNT_MODE),--count-mode $(
 	$(if $(AB_BOUND),--ab-bound $(AB_BOUND)) $(SETTINGS)
 VCD     ?=
 DIV     ?= 36
+# EDITION: which edition of finequad_core make rtlsim, vcdcompare, bench-accuracy and
+# bitstream run (issue 29; rtl/vhdl/README.md):
+#   verilog     (default) the Verilog in rtl/ under Verilator (harness.cpp), as ever
+#   vhdl        the VHDL edition (rtl/vhdl/sources.f) under GHDL: sim/run_vhdl.py writes
+#               the stimulus the bench sim/harness/harness.vhd reads (same CSV in and out,
+#               options, timing and messages as harness.cpp); bitstream: ghdl --synth of
+#               the board top rtl/vhdl/top_<board>.vhd into Verilog, then Yosys, nextpnr
+#   vhdl-synth  (rtlsim) the Verilog netlist ghdl --synth writes of the VHDL
+#               finequad_core, under Verilator with harness.cpp: GHDL's synthesis semantics
+EDITION ?= verilog
+$(if $(filter-out 1,$(words $(EDITION)))$(filter-out verilog vhdl vhdl-synth,$(EDITION)),\
+    $(error EDITION='$(EDITION)': must be verilog, vhdl or vhdl-synth))
 # ---- builds and knobs ---------------------------------------------------------------------
 # PROFILE=<build> selects a named build of rtl/builds.toml (make profiles lists them), the
 # one description of every build: its finequad_core parameters for make rtlsim, model, lint
@@ -90,7 +102,7 @@ HDIR    := $(BUILD)/rtlsim_$(TABLE)_adc$(ADC_W)$(if $(filter-out 1,$(ENGINE_LANE
 HARNESS := $(HDIR)/Vfinequad_core
 HARNESS_VCD := $(HDIR)_vcd/Vfinequad_core
 
-.PHONY: help deps demo rtlsim model test lint tables regs bitstream vcdcompare clean harnesses \
+.PHONY: help deps demo rtlsim model test lint tables regs bitstream vcdcompare vcdcompare-editions clean harnesses \
         bench-accuracy limits formal reproduce report report-multi soak builds profiles \
         fusesoc fusesoc-boards
 
@@ -195,9 +207,56 @@ $(HARNESS_VCD): $(RTL) sim/harness/harness.cpp sim/harness/input.h sim/harness/r
 	@mkdir -p $(HDIR)_vcd
 	$(VERILATOR) $(RTLSIM_VFLAGS) --trace --Mdir $(HDIR)_vcd $(RTL) sim/harness/harness.cpp >/dev/null
 
-rtlsim: $(if $(VCD),$(HARNESS_VCD),$(HARNESS)) ## run the RTL (Verilator): IN=in.csv (u1,u2[,ref]) OUT=out.csv [PROFILE=build] [knobs: TABLE_EXACT=0|1 ADC_W=12..16 ENGINE_LANES=1|2 OPT_DISTRAM OPT_PHASE_4K OPT_PULSE_ADDR OPT_HARMONIC OPT_NTH_DSP OPT_TUNABLE OPT_MONITOR OPT_JUMP OPT_DCODE=0|1; make profiles] [DIV=clocks/sample] [settings: INTERP=n COUNT_MODE=0|1 AB_SEP=s AB_SRC=0|1 AB_BOUND=b SETTINGS="--<field> N ... [--home]"] [VCD=x.vcd]
+# EDITION=vhdl: GHDL's work library of the edition and the bench (one for every build:
+# the knobs are generics, given at the run; sim/run_vhdl.py analyses again when a file
+# changed). VHDL_EXTRA: further VHDL files analysed after rtl/vhdl/sources.f's (a
+# stand-in for a block the edition lacks, for trying the flows).
+VHDL_EXTRA ?=
+RTLSIM_VHDL = $(PY) -m sim.run_vhdl --build $(BUILD)/rtlsim_vhdl \
+	$(foreach f,$(VHDL_EXTRA),--extra $(f)) $(foreach k,$(PROFILE_KNOBS),-g $(k)=$($(k)))
+# EDITION=vhdl-synth: the netlist ghdl --synth writes of the VHDL finequad_core with the
+# selection's knobs (generics; TABLE_DIR: the tables are read then and become the ROMs'
+# contents), run by harness.cpp under Verilator like the RTL; its two builds beside it
+# as $(HARNESS) and $(HARNESS_VCD) are
+SYNTH_DIR   := $(HDIR)_vhdlsynth
+SYNTH_NET   := $(SYNTH_DIR)/finequad_core.v
+SYNTH_HARNESS := $(SYNTH_DIR)/Vfinequad_core
+SYNTH_HARNESS_VCD := $(SYNTH_DIR)_vcd/Vfinequad_core
+# (the netlist has no parameters: the knobs are in it)
+SYNTH_VFLAGS = $(filter-out -G%,$(RTLSIM_VFLAGS))
+$(SYNTH_NET): $(VHDL) $(VHDL_EXTRA) $(RTL_INC)
+	@command -v $(GHDL) >/dev/null || { echo "rtlsim: error: $(GHDL) not found (scripts/install.sh installs ghdl-llvm)" >&2; exit 2; }
+	@mkdir -p $(SYNTH_DIR)/work
+	$(GHDL) -a --std=08 --workdir=$(SYNTH_DIR)/work $(VHDL) $(VHDL_EXTRA)
+	$(GHDL) --synth --std=08 --workdir=$(SYNTH_DIR)/work --out=verilog \
+	    -gTABLE_DIR=$(CURDIR)/rtl/tables/ $(foreach k,$(PROFILE_KNOBS),-g$(k)=$($(k))) \
+	    finequad_core > $@.tmp 2> $(SYNTH_DIR)/synth.log || { cat $(SYNTH_DIR)/synth.log >&2; exit 1; }
+	mv $@.tmp $@
+
+$(SYNTH_HARNESS): $(SYNTH_NET) sim/harness/harness.cpp sim/harness/input.h sim/harness/regs.h \
+    rtl/regs/finequad_regs.h | deps
+	$(VERILATOR) $(SYNTH_VFLAGS) \
+	    $$(grep -ohE '@[[:space:]]*\([^)]*\)' $(SYNTH_NET) | tr -d ' \t' | \
+	       grep -qvxE '@\((posedgeclk|\*)\)' || echo -CFLAGS -DRTLSIM_SKIP_NEGEDGE) \
+	    --Mdir $(SYNTH_DIR) $(SYNTH_NET) sim/harness/harness.cpp >/dev/null
+
+$(SYNTH_HARNESS_VCD): $(SYNTH_NET) sim/harness/harness.cpp sim/harness/input.h sim/harness/regs.h \
+    rtl/regs/finequad_regs.h | deps
+	@mkdir -p $(SYNTH_DIR)_vcd
+	$(VERILATOR) $(SYNTH_VFLAGS) --trace --Mdir $(SYNTH_DIR)_vcd $(SYNTH_NET) sim/harness/harness.cpp >/dev/null
+
+ifeq ($(EDITION),vhdl)
+rtlsim: deps
+	$(RTLSIM_VHDL) --in $(IN) --out $(OUT) --div $(DIV) $(SET_ARGS) $(if $(VCD),--vcd $(VCD))
+else ifeq ($(EDITION),vhdl-synth)
+rtlsim: $(if $(VCD),$(SYNTH_HARNESS_VCD),$(SYNTH_HARNESS))
+	$(if $(VCD),$(SYNTH_HARNESS_VCD),$(SYNTH_HARNESS)) --in $(IN) --out $(OUT) --div $(DIV) $(SET_ARGS) \
+	    $(if $(VCD),--vcd $(VCD))
+else
+rtlsim: $(if $(VCD),$(HARNESS_VCD),$(HARNESS)) ## run the RTL (Verilator): IN=in.csv (u1,u2[,ref]) OUT=out.csv [PROFILE=build] [knobs: TABLE_EXACT=0|1 ADC_W=12..16 ENGINE_LANES=1|2 OPT_DISTRAM OPT_PHASE_4K OPT_PULSE_ADDR OPT_HARMONIC OPT_NTH_DSP OPT_TUNABLE OPT_MONITOR OPT_JUMP OPT_DCODE=0|1; make profiles] [DIV=clocks/sample] [settings: INTERP=n COUNT_MODE=0|1 AB_SEP=s AB_SRC=0|1 AB_BOUND=b SETTINGS="--<field> N ... [--home]"] [VCD=x.vcd] [EDITION=verilog|vhdl (GHDL)|vhdl-synth (ghdl --synth netlist, Verilator)]
 	$(if $(VCD),$(HARNESS_VCD),$(HARNESS)) --in $(IN) --out $(OUT) --div $(DIV) $(SET_ARGS) \
 	    $(if $(VCD),--vcd $(VCD))
+endif
 
 model: deps      ## run the bit-true model: IN=in.csv OUT=out.csv [PROFILE=build] [knobs as rtlsim: the model runs TABLE_EXACT ADC_W ENGINE_LANES OPT_HARMONIC OPT_MONITOR OPT_JUMP OPT_DCODE OPT_TUNABLE] [settings as rtlsim] [VCD=ref.vcd]
 	$(PY) -m sim.run_model --in $(IN) --out $(OUT) --table $(TABLE) --div $(DIV) \
@@ -217,12 +276,26 @@ demo: deps harnesses ## main job: paper-like recording -> RTL == model, error vs
 	scripts/bitstream.sh $(BUILD)/bitstream
 
 BOARD   ?= icebreaker
-bitstream:       ## bitstream [BOARD=icebreaker|ulx3s: a board build of rtl/builds.toml]: synthesis, place and route, pack; prints resources and Fmax, fails if the board clock is not met
-	scripts/bitstream.sh $(BUILD)/bitstream$(if $(filter-out icebreaker,$(BOARD)),_$(BOARD)) 1 $(BOARD)
+ifeq ($(EDITION),vhdl-synth)
+bitstream:
+	@echo "$@: error: EDITION=vhdl-synth is a simulation (make rtlsim, bench-accuracy, vcdcompare); $@ takes EDITION=verilog or vhdl" >&2; exit 2
+else
+bitstream:       ## bitstream [BOARD=icebreaker|ulx3s: a board build of rtl/builds.toml] [EDITION=vhdl: ghdl --synth of rtl/vhdl/top_<board>.vhd first -> build/bitstream_vhdl...]: synthesis, place and route, pack; prints resources and Fmax, fails if the board clock is not met
+	$(if $(filter vhdl,$(EDITION)),EDITION=vhdl GHDL=$(GHDL) )scripts/bitstream.sh $(BUILD)/bitstream$(if $(filter vhdl,$(EDITION)),_vhdl)$(if $(filter-out icebreaker,$(BOARD)),_$(BOARD)) 1 $(BOARD)
+endif
 
-report: deps     ## performance (iCE40 UP5K, ECP5 25F): Fmax over nextpnr seeds, rates, latency, area, sim speed -> build/report.{json,md} [SEEDS=1,2,3,4,5]
+ifeq ($(EDITION),vhdl-synth)
+report:
+	@echo "$@: error: EDITION=vhdl-synth is a simulation (make rtlsim, bench-accuracy, vcdcompare); $@ takes EDITION=verilog or vhdl" >&2; exit 2
+else ifeq ($(EDITION),vhdl)
+report: deps
+	$(PY) scripts/report.py --edition vhdl --build $(BUILD)/report_vhdl --json $(BUILD)/report_vhdl.json \
+	    --md $(BUILD)/report_vhdl.md --make-build $(BUILD) $(if $(SEEDS),--seeds $(SEEDS))
+else
+report: deps     ## performance (iCE40 UP5K, ECP5 25F): Fmax over nextpnr seeds, rates, latency, area, sim speed -> build/report.{json,md} [SEEDS=1,2,3,4,5] [EDITION=vhdl: the VHDL edition's rtl/vhdl/top_report.vhd through ghdl --synth, resources and Fmax beside build/report.json's -> build/report_vhdl.{json,md}, nothing published]
 	$(PY) scripts/report.py --build $(BUILD)/report --json $(BUILD)/report.json --md $(BUILD)/report.md \
 	    --make-build $(BUILD) $(if $(SEEDS),--seeds $(SEEDS),--publish)
+endif
 
 AXES ?=
 report-multi: deps ## multi-axis resources: finequad_multi for AXES (default: the builds' axes in rtl/builds.toml, 1,2,4) on the iCE40 UP5K and ECP5 25F, one nextpnr seed -> build/report_multi/report_multi.{json,md}
@@ -267,7 +340,14 @@ SAMPLES ?= 20000
 SKIP    ?= 20000
 VCDCMP_IN = $(if $(SAMPLES),$(VCDCMP)/in.csv,$(IN))
 
-vcdcompare: deps ## RTL VCD vs the model's reference VCD: IN=in.csv INTERP=n [PROFILE=build] [knobs as rtlsim] [DIV=d] [SAMPLES=n (empty: all) SKIP=k]
+# EDITION=vhdl: GHDL's VCD, whose edges lie half a period later (sim/harness/harness.vhd)
+# and whose root is the bench: compared once per clock (--cycle), the core's scope mapped,
+# and the reference's signals GHDL's VCD lacks (records, arrays) listed and left out.
+# EDITION=vhdl-synth: Verilator's VCD of GHDL's netlist, whose internal signals are
+# GHDL's nets: those the netlist lacks are listed and left out
+VCDCMP_VHDL = --cycle --rtl-edge0-ps 13889 --map TOP=harness \
+	--map TOP.finequad_core=harness.finequad_core --skip-missing
+vcdcompare: deps ## RTL VCD vs the model's reference VCD: IN=in.csv INTERP=n [PROFILE=build] [knobs as rtlsim] [DIV=d] [SAMPLES=n (empty: all) SKIP=k] [EDITION=vhdl: GHDL's VCD of the VHDL edition]
 	@mkdir -p $(VCDCMP)
 	@test -f $(IN) || { echo "vcdcompare: error: input '$(IN)' not found (run make demo or give IN=)" >&2; exit 2; }
 	@echo "$(SAMPLES)" | grep -qxE '([1-9][0-9]*)?' || { echo "vcdcompare: error: SAMPLES='$(SAMPLES)': must be a positive integer (or empty: every sample)" >&2; exit 2; }
@@ -275,15 +355,36 @@ vcdcompare: deps ## RTL VCD vs the model's reference VCD: IN=in.csv INTERP=n [PR
 	$(if $(SAMPLES),{ head -n 1 $(IN); tail -n +$$(( $(SKIP) + 2 )) $(IN) | head -n $(SAMPLES); } > $(VCDCMP_IN))
 	$(MAKE) --no-print-directory rtlsim IN=$(VCDCMP_IN) OUT=$(VCDCMP)/rtl.csv VCD=$(VCDCMP)/rtl.vcd
 	$(MAKE) --no-print-directory model IN=$(VCDCMP_IN) OUT=$(VCDCMP)/model.csv VCD=$(VCDCMP)/ref.vcd
-	$(PY) scripts/vcdcompare.py $(VCDCMP)/rtl.vcd $(VCDCMP)/ref.vcd --period-ps 27778
+	$(PY) scripts/vcdcompare.py $(VCDCMP)/rtl.vcd $(VCDCMP)/ref.vcd --period-ps 27778$(if $(filter vhdl,$(EDITION)), $(VCDCMP_VHDL))$(if $(filter vhdl-synth,$(EDITION)), --skip-missing)
+
+# the two editions' traces of one excerpt, the Verilog's (Verilator) as the reference:
+# every signal of it the VHDL's VCD has by the same name (the ports, and the registers
+# and internal signals both editions name alike) is compared once per clock; the first
+# divergent signal and edge are reported
+VCDCMP_ED = $(BUILD)/vcdcompare_editions
+vcdcompare-editions: deps ## the VHDL edition's trace (GHDL) vs the Verilog's (Verilator), signal by signal by name: first divergent signal and edge; IN= INTERP= SAMPLES= SKIP= DIV= [knobs] as vcdcompare
+	@mkdir -p $(VCDCMP_ED)
+	@test -f $(IN) || { echo "vcdcompare: error: input '$(IN)' not found (run make demo or give IN=)" >&2; exit 2; }
+	@echo "$(SAMPLES)" | grep -qxE '([1-9][0-9]*)?' || { echo "vcdcompare: error: SAMPLES='$(SAMPLES)': must be a positive integer (or empty: every sample)" >&2; exit 2; }
+	$(if $(SAMPLES),@echo "$(SKIP)" | grep -qxE '[0-9]+' || { echo "vcdcompare: error: SKIP='$(SKIP)': must be a non-negative integer" >&2; exit 2; })
+	$(if $(SAMPLES),{ head -n 1 $(IN); tail -n +$$(( $(SKIP) + 2 )) $(IN) | head -n $(SAMPLES); } > $(VCDCMP_ED)/in.csv,cp $(IN) $(VCDCMP_ED)/in.csv)
+	$(MAKE) --no-print-directory rtlsim EDITION=verilog IN=$(VCDCMP_ED)/in.csv OUT=$(VCDCMP_ED)/verilog.csv VCD=$(VCDCMP_ED)/verilog.vcd
+	$(MAKE) --no-print-directory rtlsim EDITION=vhdl IN=$(VCDCMP_ED)/in.csv OUT=$(VCDCMP_ED)/vhdl.csv VCD=$(VCDCMP_ED)/vhdl.vcd
+	$(PY) scripts/vcdcompare.py $(VCDCMP_ED)/vhdl.vcd $(VCDCMP_ED)/verilog.vcd --period-ps 27778 $(VCDCMP_VHDL)
 
 SOAK_SAMPLES ?= 1e8
 soak: deps harnesses ## soak: SOAK_SAMPLES (1e8) through the RTL (make rtlsim's harness, streamed): slips, faults, error -> build/soak/soak.json
 	$(PY) scripts/soak.py --samples $(SOAK_SAMPLES) --out $(BUILD)/soak \
 	    --harness $(BUILD)/rtlsim_exact_adc16/Vfinequad_core
 
-bench-accuracy: deps ## accuracy suite: RTL (make rtlsim) and baselines vs the floor -> build/bench/accuracy.{json,md}
+ifeq ($(EDITION),verilog)
+bench-accuracy: deps ## accuracy suite: RTL (make rtlsim) and baselines vs the floor -> build/bench/accuracy.{json,md} [EDITION=vhdl|vhdl-synth: that edition's rtlsim, the samples per second beside Verilator's -> build/bench_<edition>/, nothing published]
 	$(PY) scripts/bench_accuracy.py --build $(BUILD)/bench $(if $(INTERP),--interp $(INTERP),--publish)
+else
+bench-accuracy: deps
+	$(PY) scripts/bench_accuracy.py --build $(BUILD)/bench_$(EDITION) --edition $(EDITION) \
+	    $(if $(INTERP),--interp $(INTERP))
+endif
 
 reproduce: deps ## the paper's experiments in simulation (Figs. 2-12, validation, closed-loop tracking, limits) -> build/reproduce/
 	$(PY) scripts/reproduce.py --build $(BUILD)/reproduce

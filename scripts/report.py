@@ -29,6 +29,7 @@ import time
 from reporting import devices
 from reporting.common import ROOT, ReportError, builds, die, rel, rtl_sources
 from reporting.devices import DEVICES, check_entry, entry
+from reporting import flow
 from reporting.flow import device_flow, tool_versions
 from reporting.markdown import markdown
 from reporting.simulate import device_sim, measure_sim_speed, simulations
@@ -70,6 +71,26 @@ def publish(entries, full):
     figures.publish("report", "make report", head, markdown(full, "../README.md"))
 
 
+def compare_editions(entries, path=None):
+    """The resources and Fmax of this (VHDL) edition beside the Verilog edition's report."""
+    if path is None:
+        path = next((p for p in (ROOT / "build" / "report.json",
+                                 ROOT / "scripts" / "results" / "report.json")
+                     if p.is_file()), None)
+    if path is None or not pathlib.Path(path).is_file():
+        print("(no Verilog edition report to compare with: make report, or --compare)")
+        return
+    ver = json.loads(pathlib.Path(path).read_text())
+    print(f"\nVHDL edition beside the Verilog edition ({rel(pathlib.Path(path).resolve())}):")
+    print("| device | | Verilog | VHDL | VHDL / Verilog |\n|---|---|---:|---:|---:|")
+    for d, e in entries.items():
+        v = ver.get(d, {})
+        for k in ("luts", "ffs", "dsps", "brams", "fmax_mhz"):
+            a, b = v.get(k), e.get(k)
+            ratio = f"{b / a - 1:+.1%}" if isinstance(a, (int, float)) and a else "-"
+            print(f"| {d} | {k} | {a if a is not None else '-'} | {b} | {ratio} |")
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--build", default=str(ROOT / "build" / "report"),
@@ -83,7 +104,19 @@ def main(argv=None):
     ap.add_argument("--publish", action="store_true",
                     help="record the figures (scripts/results/report.*, README.md): make "
                          "report does; every device and the default seeds only")
+    ap.add_argument("--edition", choices=["verilog", "vhdl"], default="verilog",
+                    help="the edition synthesised: verilog (rtl/) or vhdl (rtl/vhdl/, "
+                         "through ghdl --synth; its resources and Fmax are printed beside "
+                         "the Verilog edition's of --compare); the simulations are the "
+                         "Verilog edition's either way")
+    ap.add_argument("--compare", metavar="REPORT.json",
+                    help="with --edition vhdl: the Verilog edition's report.json to print "
+                         "beside it (default: build/report.json if it exists, else "
+                         "scripts/results/report.json)")
     a = ap.parse_args(argv)
+    if a.edition != "verilog" and a.publish:
+        die("--publish records the Verilog edition only (no --edition)")
+    flow.EDITION = a.edition
     try:
         seeds = [int(s) for s in a.seeds.split(",") if s.strip()]
     except ValueError:
@@ -179,6 +212,8 @@ def main(argv=None):
             die(f"RTL != model at DIV=1 on {d}'s build (sample "
                 f"{sl['fast_path']['first_difference']}): see "
                 f"{rel(bdir / f'fastpath_{d}')}", 1)
+    if a.edition != "verilog":
+        compare_editions(entries, a.compare)
     log(f"wrote {rel(out_json)}, {rel(out_md)} and "
         f"{rel(bdir / 'report_full.json')} in {full['wall_s'] / 60:.1f} min")
 

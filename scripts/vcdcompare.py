@@ -3,6 +3,7 @@
 
     python3 scripts/vcdcompare.py RTL.vcd REF.vcd [--signals a,b,...]
         [--map REF_PREFIX=RTL_PREFIX ...] [--strict-x] [--period-ps P] [--max-report N]
+        [--cycle [--rtl-edge0-ps T]] [--skip-missing]
 
 Signals are matched by hierarchical name (scopes joined with '.'; a trailing bit range
 such as [31:0] is ignored, so 'm_count' and 'm_count [31:0]' match). The default set is
@@ -19,6 +20,19 @@ bits are shown as such. Bits that are x or z in the reference are don't-care (th
 SystemVerilog ==? convention: sim/vcdref.py writes 'x' where the model does not define a
 value); --strict-x makes them match only an identical x/z bit. An x/z bit in the RTL
 never matches a 0/1 in the reference.
+
+Per clock (--cycle, with --period-ps): the files are compared once per clock period, at
+a quarter period after each rising edge (edge e of the reference at e * P, of the RTL at
+T + e * P with --rtl-edge0-ps T): the value each holds there, whenever within the period
+it changed. For traces of one design from benches that place their edges and input
+changes differently, e.g. GHDL's VCD of the VHDL edition (sim/harness/harness.vhd: edge
+e at e * P + P / 2, its inputs changed half a period earlier) against the model's or the
+Verilator VCD (edge e at e * P, inputs changed with it). Times are then reported on the
+reference's time line (edge e at e * P).
+
+--skip-missing: reference signals the RTL VCD lacks are listed and left out instead of
+being an error (another edition's internal signals, GHDL's VCD leaving out records and
+arrays).
 
 Exit status: 0 identical, 1 mismatch (first divergence: time, signal, RTL value, reference
 value), 2 bad input (missing or unreadable file, signal not found, bad option).
@@ -164,8 +178,9 @@ class Vcd:
 
     def load(self, refs, mult):
         """Store the value changes of refs in self.tv: {ref: (times, values)} in common
-        time units, the last change per time only. Collected through parser callbacks
-        into compact arrays (repeated values shared), not vcdvcd's per-change tuples."""
+        time units (mult: this file's time -> common units, a factor or a function), the
+        last change per time only. Collected through parser callbacks into compact arrays
+        (repeated values shared), not vcdvcd's per-change tuples."""
         col = _Collect({r: self.normaliser(r) for r in refs}, mult)
         self._parse(signals=list(refs), store_tvs=False, callbacks=col)
         for ref in refs:
@@ -316,7 +331,7 @@ class _Collect(StreamParserCallbacks):
     list of values)."""
 
     def __init__(self, norm_of_ref, mult):
-        self.norm_of_ref, self.mult = norm_of_ref, mult
+        self.norm_of_ref, self.tmap = norm_of_ref, _tmap(mult)
         self.ident, self.norm, self.tv, self.cache = {}, {}, {}, {}
 
     def enddefinitions(self, vcd, signals, cur_sig_vals):
@@ -328,7 +343,7 @@ class _Collect(StreamParserCallbacks):
             self.cache[i] = {}
 
     def value(self, vcd, time, value, identifier_code, cur_sig_vals):
-        t = time * self.mult
+        t = self.tmap(time)
         ts, vs = self.tv[identifier_code]
         cache = self.cache[identifier_code]
         v = cache.get(value)
@@ -343,6 +358,33 @@ class _Collect(StreamParserCallbacks):
             vs.append(v)
 
 
+def _tmap(mult):
+    """A file's time -> common units: mult itself if a function, else time * mult."""
+    if callable(mult):
+        return mult
+    return lambda t: t * mult
+
+
+def _per_clock(m, period, edge0):
+    """--cycle: a file's time (m common units each) -> the reference time of the clock
+    sample it is seen at: edge e's sample lies at edge0 + e * period + period / 4 (in
+    common units, Fractions), and a change at t is seen at the first sample at or after
+    it, reported as the reference's edge time e * period."""
+    from math import ceil
+    off4, p4 = 4 * edge0 + period, 4 * period       # (in quarters: whole numbers mostly)
+    if off4.denominator == 1 and period.denominator == 1:
+        off4, p4, per = int(off4), int(p4), int(period)
+
+        def tmap(t):                                 # e = ceil((4 t m - off4) / p4)
+            return -((off4 - 4 * t * m) // p4) * per
+        return tmap
+    off = edge0 + period / 4
+
+    def tmap_exact(t):
+        return int(round(ceil((t * m - off) / period) * period))
+    return tmap_exact
+
+
 class _Stop(Exception):
     """Raised from the parser callbacks once the first divergence is settled."""
 
@@ -354,7 +396,7 @@ class _Stream(StreamParserCallbacks):
     every change at or before it has been compared, so it is the first divergence."""
 
     def __init__(self, by_ref, norm_of_ref, mult, early):
-        self.by_ref, self.norm_of_ref, self.mult = by_ref, norm_of_ref, mult
+        self.by_ref, self.norm_of_ref, self.tmap = by_ref, norm_of_ref, _tmap(mult)
         self.early = early
         self.by_id, self.norm = {}, {}       # filled once the header is read
         self.pending = {}                    # id -> (t, normalised value)
@@ -376,12 +418,12 @@ class _Stream(StreamParserCallbacks):
 
     def time(self, vcd, time, cur_sig_vals):
         # called when a new timestamp starts, with the one that just ended
-        if self.early and self.limit is not None and time * self.mult > self.limit:
+        if self.early and self.limit is not None and self.tmap(time) > self.limit:
             self.stopped = True
             raise _Stop()
 
     def value(self, vcd, time, value, identifier_code, cur_sig_vals):
-        t = time * self.mult
+        t = self.tmap(time)
         p = self.pending.get(identifier_code)
         if p is not None and p[0] != t:
             self._feed(identifier_code, p)
@@ -421,6 +463,15 @@ def parse_args(argv):
                     help="read the whole RTL file even after a divergence, to list every "
                          "diverging signal with its count of mismatching change times "
                          "(default: stop once the first divergence is settled)")
+    ap.add_argument("--cycle", action="store_true",
+                    help="compare once per clock (needs --period-ps): the values a quarter "
+                         "period after each rising edge, wherever in the period they changed")
+    ap.add_argument("--rtl-edge0-ps", type=float, default=0.0, metavar="T",
+                    help="with --cycle: the time of the RTL's first rising edge, edge 0 "
+                         "(default 0; GHDL's VCD of sim/harness/harness.vhd: 13889)")
+    ap.add_argument("--skip-missing", action="store_true",
+                    help="list and leave out the reference signals the RTL VCD lacks "
+                         "(default: an error)")
     ap.add_argument("-q", "--quiet", action="store_true", help="no output when identical")
     return ap.parse_args(argv)
 
@@ -456,6 +507,12 @@ def run(args):
         maps.append((src.strip().rstrip("."), dst.strip().rstrip(".")))
     if args.max_report < 1:
         raise BadInput("--max-report must be >= 1")
+    if args.cycle and args.period_ps is None:
+        raise BadInput("--cycle needs --period-ps (the clock period)")
+    if args.rtl_edge0_ps and not args.cycle:
+        raise BadInput("--rtl-edge0-ps applies to --cycle only")
+    if args.cycle and not 0 <= args.rtl_edge0_ps < 1e15:
+        raise BadInput(f"--rtl-edge0-ps must be a time >= 0 in ps, got {args.rtl_edge0_ps}")
     if args.period_ps is not None and not 1e-3 <= args.period_ps <= 1e12:   # (not nan)
         raise BadInput(f"--period-ps must be 0.001..1e12 (a clock period in ps), got "
                        f"{args.period_ps}")
@@ -482,10 +539,13 @@ def run(args):
                 ref_refs.append(r)
     else:
         ref_refs = list(dict.fromkeys(ref.names.values()))
-    pairs = []
+    pairs, missing = [], []
     for r in ref_refs:
         want = map_name(base_name(r), maps)
         q = rtl.find(want)
+        if q is None and args.skip_missing:
+            missing.append(want)
+            continue
         if q is None:
             leaf = want.rsplit(".", 1)[-1]
             near = sorted(b for b in rtl.names if b.rsplit(".", 1)[-1] == leaf)[:5]
@@ -497,6 +557,15 @@ def run(args):
             sys.stderr.write(f"{PROG}: warning: width differs for {want}: RTL {rtl.width[q]} "
                              f"bits, reference {ref.width[r]} bits (compared as integers)\n")
         pairs.append((r, q))
+
+    if missing:
+        sys.stderr.write(f"{PROG}: note: {len(missing)} reference signal(s) not in the RTL VCD, "
+                         f"not compared (--skip-missing): {', '.join(missing[:12])}"
+                         + (" ..." if len(missing) > 12 else "") + "\n")
+    if not pairs:
+        raise BadInput(f"no reference signal of '{ref.path}' is in the RTL VCD "
+                       f"'{rtl.path}' (--map REF_PREFIX=RTL_PREFIX if the hierarchy roots "
+                       "differ)")
 
     # ---- time base -----------------------------------------------------------------------
     if rtl.ts_fs is None or ref.ts_fs is None:
@@ -511,20 +580,34 @@ def run(args):
             raise BadInput(f"timescales {rtl.unit} and {ref.unit} are not integer multiples")
         m_rtl, m_ref = int(rtl.ts_fs / base), int(ref.ts_fs / base)
         base_fs = base
-    ref.load({r for r, _ in pairs}, m_ref)
+    if args.cycle:
+        if base_fs is None:
+            raise BadInput("--cycle needs both files' $timescale")
+        from fractions import Fraction
+        period = Fraction(Decimal(str(args.period_ps)) * 1000 / base_fs)
+        edge0 = Fraction(Decimal(str(args.rtl_edge0_ps)) * 1000 / base_fs)
+        tm_rtl, tm_ref = (_per_clock(m_rtl, period, edge0),
+                          _per_clock(m_ref, period, Fraction(0)))
+        rtl_end_of = tm_rtl
+    else:
+        tm_rtl, tm_ref = m_rtl, m_ref
+        rtl_end_of = (lambda t: t * m_rtl)
+    ref.load({r for r, _ in pairs}, tm_ref)
     comps = [Comparison(r, q, ref.tv[r], max(rtl.width[q], ref.width[r]), args.strict_x)
              for r, q in pairs]
-    st = rtl.stream(comps, m_rtl, early=not args.all)
+    st = rtl.stream(comps, tm_rtl, early=not args.all)
     tmax = max([st.tmax] + [int(ts[-1]) for ts, _ in ref.tv.values() if len(ts)])
     # the reference's last change to a known value (a change to x/z asks nothing of the
     # RTL, so a complete file may end before it)
     ref_known = max((t for t in (_last_known_time(ts, vs) for ts, vs in ref.tv.values())
                      if t is not None), default=None)
     rtl_end = rtl.last_time()
-    if ref_known is not None and rtl_end is not None and rtl_end * m_rtl < ref_known:
+    if ref_known is not None and rtl_end is not None and rtl_end_of(rtl_end) < ref_known:
         raise BadInput(f"RTL VCD '{rtl.path}' ends at #{rtl_end}, before the "
-                       f"reference's last change (#{ref_known // m_ref}): a truncated file, "
-                       "or a run that stopped early")
+                       "reference's last change ("
+                       + (f"edge {ref_known / period:g}, per clock" if args.cycle
+                          else f"#{ref_known // m_ref}")
+                       + "): a truncated file, or a run that stopped early")
 
     def when(t):
         """Time t (in units of `base` fs, or raw ticks) as text in the RTL's time unit."""

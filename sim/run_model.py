@@ -27,9 +27,14 @@ from sim.model import finequad_core as core
 from sim.model import regs
 
 
+# the name that starts every error message (sim/run_vhdl.py, the VHDL edition's rtlsim,
+# reads and checks through this module as "rtlsim", the harness's name)
+PROG = "model"
+
+
 def die(msg: str):
     """Report bad input the way the RTL harness does: one line on stderr, exit code 2."""
-    print(f"model: error: {msg}", file=sys.stderr)
+    print(f"{PROG}: error: {msg}", file=sys.stderr)
     raise SystemExit(2)
 
 

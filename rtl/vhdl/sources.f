@@ -11,3 +11,6 @@ rtl/vhdl/octant.vhd
 rtl/vhdl/lut.vhd
 rtl/vhdl/phase.vhd
 rtl/vhdl/monitor.vhd
+# the report's top (make report EDITION=vhdl): finequad_core as a component, bound at
+# elaboration
+rtl/vhdl/top_report.vhd

@@ -8,10 +8,11 @@ import os
 import pathlib
 import re
 import subprocess
+import time
 
 from . import devices
-from .common import INCLUDE_FLAGS, ROOT, VENV_BIN, ReportError, median, rel, rtl_sources, run, \
-    verilator
+from .common import INCLUDE_FLAGS, ROOT, VENV_BIN, ReportError, builds, median, rel, \
+    rtl_sources, run, verilator
 from .devices import DEVICES, VARIANTS, fits
 from .netlist import hierarchy_breakdown, ice40_dsp_modes
 from .timing import failing_endpoints, over_target, summarise_path
@@ -76,10 +77,51 @@ def lint_top(params, top="top_report"):
                           "\n" + "\n".join(msg[:6]))
 
 
+# the edition synthesised: verilog (rtl/, the default) or vhdl (rtl/vhdl/: `make report
+# EDITION=vhdl`, scripts/report.py --edition vhdl sets it)
+EDITION = "verilog"
+
+
+def ghdl_netlist(top, params, out_v, log):
+    """The VHDL edition's top (rtl/vhdl/<top>.vhd, with the files of rtl/vhdl/sources.f)
+    with these parameters as generics, as the Verilog netlist `ghdl --synth` writes
+    (TABLE_DIR given: the tables are read then); returns the seconds it took."""
+    vhdl = builds.sources("rtl/vhdl/sources.f")
+    vtop = f"rtl/vhdl/{top}.vhd"
+    if not (ROOT / vtop).is_file():
+        raise ReportError(f"the VHDL edition has no {vtop} (the report's top {top})")
+    if vtop not in vhdl:
+        vhdl.append(vtop)
+    work = out_v.parent / "ghdl"
+    work.mkdir(parents=True, exist_ok=True)
+    _, dt = run(["ghdl", "-a", "--std=08", f"--workdir={rel(work)}"] + vhdl, log,
+                "GHDL's analysis of the VHDL edition")
+    gen = [f"-gTABLE_DIR={ROOT / 'rtl' / 'tables'}/"] + [f"-g{k}={int(v)}"
+                                                        for k, v in params.items()]
+    t = time.perf_counter()
+    with open(out_v, "w") as f, open(log, "a") as lf:
+        p = subprocess.run(["ghdl", "--synth", "--std=08", f"--workdir={rel(work)}",
+                            "--out=verilog"] + gen + [top], cwd=ROOT, stdout=f, stderr=lf)
+    if p.returncode != 0:
+        raise ReportError(f"ghdl --synth of {top} failed (see {rel(log)})")
+    return dt + time.perf_counter() - t
+
+
 def synth(dev, params, out_json, log, noflatten=False):
-    """Yosys: the device's top (its build's, rtl/builds.toml) with these parameters."""
+    """Yosys: the device's top (its build's, rtl/builds.toml) with these parameters; with
+    EDITION vhdl, GHDL's netlist of the VHDL edition's top."""
     cfg = DEVICES[dev]
     top = devices.top(dev)
+    dt0 = 0.0
+    if EDITION == "vhdl":
+        net = out_json.with_name(out_json.stem + "_ghdl.v")
+        dt0 = ghdl_netlist(top, params, net, out_json.with_name(out_json.stem + "_ghdl.log"))
+        script = (f"read_verilog {rel(net)}; "
+                  f"{cfg['synth']} -top {top} {'-noflatten ' if noflatten else ''}"
+                  f"-json {rel(out_json)}")
+        _, dt = run(cfg["yosys"] + ["-q", "-l", rel(log), "-p", script], log,
+                    f"{dev} synthesis ({' '.join(cfg['yosys'][:1])})")
+        return dt0 + dt
     lint_top(params, top)
     chp = " ".join(f"-set {k} {v}" for k, v in params.items())
     script = (f"read_verilog {' '.join(INCLUDE_FLAGS)} {' '.join(rtl_sources(top))}; "
