@@ -95,6 +95,7 @@ def config(run):
 
 
 @pytest.mark.parametrize("run", list(RUNS))
+# Verilog only: it drives finequad_core (no VHDL edition yet) and reads dcode inside it
 @pytest.mark.parametrize("sim", fqtb.SIMULATORS)
 def test_dcode(sim, run):
     if sim == "icarus":

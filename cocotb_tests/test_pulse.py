@@ -20,7 +20,7 @@ PARAMS = [(10, 0), (8, 0), (10, 1), (8, 1), (12, 1)]
 
 
 @pytest.mark.parametrize("sin_w,addr", PARAMS, ids=[f"SIN{w}-ADDR{a}" for w, a in PARAMS])
-@pytest.mark.parametrize("sim", fqtb.SIMULATORS)
+@pytest.mark.parametrize("sim", fqtb.simulators("pulse"))
 def test_pulse(sim, sin_w, addr):
     fqtb.run_block(sim, "pulse", fqtb.sources("pulse"), "test_pulse",
                    parameters=dict(SIN_W=sin_w, OPT_ADDR=addr,

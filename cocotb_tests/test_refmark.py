@@ -187,6 +187,7 @@ def setup_writes(cfg):
 
 
 @pytest.mark.parametrize("run", list(RUNS))
+# Verilog only: it drives finequad_core, which has no VHDL edition yet
 @pytest.mark.parametrize("sim", fqtb.SIMULATORS)
 def test_refmark(sim, run):
     if sim == "icarus" and run != "n05":

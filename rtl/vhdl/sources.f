@@ -14,3 +14,6 @@ rtl/vhdl/monitor.vhd
 # the report's top (make report EDITION=vhdl): finequad_core as a component, bound at
 # elaboration
 rtl/vhdl/top_report.vhd
+rtl/vhdl/pulse.vhd
+rtl/vhdl/refmark.vhd
+rtl/vhdl/dcode.vhd
