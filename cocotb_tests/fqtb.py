@@ -104,16 +104,21 @@ def vhdl_files():
 def vhdl_sources(srcs):
     """The VHDL edition of the Verilog sources `srcs`: the packages (the files of
     rtl/vhdl/sources.f whose names end in _pkg), then each block's rtl/vhdl/<name>.vhd,
-    in the analysis order of rtl/vhdl/sources.f."""
+    in the analysis order of rtl/vhdl/sources.f; a test bench outside rtl/ with a VHDL
+    twin beside it (cocotb_tests/tb_<name>.vhd) last."""
     files = vhdl_files()
     want = set()
+    benches = []
     for s in srcs:
+        if Path(s).parent != RTL and Path(s).with_suffix(".vhd").is_file():
+            benches.append(Path(s).with_suffix(".vhd"))
+            continue
         v = VHDL / f"{Path(s).stem}.vhd"
         if v not in files:
             raise FileNotFoundError(f"{s} has no VHDL edition ({v} is not in "
                                     f"{VHDL / 'sources.f'})")
         want.add(v)
-    return [f for f in files if f.stem.endswith("_pkg") or f in want]
+    return [f for f in files if f.stem.endswith("_pkg") or f in want] + benches
 
 
 def core_sources():

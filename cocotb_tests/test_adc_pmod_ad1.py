@@ -42,7 +42,7 @@ N = 600
 
 
 @pytest.mark.parametrize("name", list(SETS))
-@pytest.mark.parametrize("sim", fqtb.SIMULATORS)
+@pytest.mark.parametrize("sim", fqtb.simulators("adc_pmod_ad1"))
 def test_adc_pmod_ad1(sim, name):
     s = dict(SETS[name])
     if "EXPECT" in s and sim != "icarus":

@@ -4,5 +4,15 @@
 # (sim/tests/test_vhdl_sources.py fails otherwise).
 rtl/vhdl/finequad_util_pkg.vhd
 rtl/vhdl/finequad_regs_pkg.vhd
+rtl/vhdl/builds_pkg.vhd
 rtl/vhdl/counter.vhd
 rtl/vhdl/abgen.vhd
+rtl/vhdl/uart_rx.vhd
+rtl/vhdl/uart_tx.vhd
+rtl/vhdl/axil_regs.vhd
+rtl/vhdl/adc_pmod_ad1.vhd
+rtl/vhdl/uart_axil.vhd
+# the board tops instantiate finequad_system (rtl/vhdl/finequad_system.vhd, which goes
+# above them)
+rtl/vhdl/top_icebreaker.vhd
+rtl/vhdl/top_ulx3s.vhd
