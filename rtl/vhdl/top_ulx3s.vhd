@@ -80,19 +80,22 @@ architecture rtl of top_ulx3s is
 
   -- vsg_on
 
-  -- the PLL's settings for the place and route tool (Diamond's and nextpnr's names)
-  attribute frequency_pin_clki       : string;
-  attribute frequency_pin_clkop      : string;
-  attribute icp_current              : string;
-  attribute lpf_resistor             : string;
-  attribute mfg_enable_filteropamp   : string;
-  attribute mfg_gmcref_sel           : string;
-  attribute frequency_pin_clki of u_pll     : label is ULX3S_CLKI_MHZ;
-  attribute frequency_pin_clkop of u_pll    : label is ULX3S_CLKOP_MHZ;
-  attribute icp_current of u_pll            : label is "12";
-  attribute lpf_resistor of u_pll           : label is "8";
-  attribute mfg_enable_filteropamp of u_pll : label is "1";
-  attribute mfg_gmcref_sel of u_pll         : label is "2";
+  -- the PLL's settings for the place and route tool (Diamond's and nextpnr's names,
+  -- in their case; ghdl --synth 2.0 does not pass them on)
+  -- vsg_off
+  attribute FREQUENCY_PIN_CLKI     : string;
+  attribute FREQUENCY_PIN_CLKOP    : string;
+  attribute ICP_CURRENT            : string;
+  attribute LPF_RESISTOR           : string;
+  attribute MFG_ENABLE_FILTEROPAMP : string;
+  attribute MFG_GMCREF_SEL         : string;
+  attribute FREQUENCY_PIN_CLKI of u_pll     : label is ULX3S_CLKI_MHZ;
+  attribute FREQUENCY_PIN_CLKOP of u_pll    : label is ULX3S_CLKOP_MHZ;
+  attribute ICP_CURRENT of u_pll            : label is "12";
+  attribute LPF_RESISTOR of u_pll           : label is "8";
+  attribute MFG_ENABLE_FILTEROPAMP of u_pll : label is "1";
+  attribute MFG_GMCREF_SEL of u_pll         : label is "2";
+  -- vsg_on
 
   signal sys_clk : std_logic;
   signal locked  : std_logic;

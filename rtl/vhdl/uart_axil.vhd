@@ -78,26 +78,26 @@ architecture rtl of uart_axil is
   constant ST_BUS : std_logic_vector(5 downto 0) := "010100"; -- x"50" + the response
   constant CRC_0  : crc_t                        := x"FFFF";
 
-  -- S_HUNT waiting for a FLAG; S_RX receiving a frame; S_BUS the AXI transaction;
-  -- S_TX sending the answer
+  -- s_hunt waiting for a FLAG; s_rx receiving a frame; s_bus the AXI transaction;
+  -- s_tx sending the answer
   type state_t is (s_hunt, s_rx, s_bus, s_tx);
 
   -- The frame being received: its first byte (the command), the last 8 bytes after it.
   type rx_frame_t is record
-    cmd  : byte_t;
-    sh   : std_logic_vector(63 downto 0);
-    n    : unsigned(3 downto 0);  -- bytes of the frame so far (saturates at 10)
-    esc  : std_logic;             -- the last byte was ESC
-    crc  : crc_t;                 -- CRC over the frame's bytes so far
-    idle : unsigned(19 downto 0); -- clocks since the frame's last byte
+    cmd     : byte_t;
+    sh      : std_logic_vector(63 downto 0);
+    n       : unsigned(3 downto 0);  -- bytes of the frame so far (saturates at 10)
+    escaped : std_logic;             -- the last byte was ESC
+    crc     : crc_t;                 -- CRC over the frame's bytes so far
+    idle    : unsigned(19 downto 0); -- clocks since the frame's last byte
   end record rx_frame_t;
 
   -- The answer going out: byte k (0 the opening FLAG, then ST E1 E0 [D3..D0] C1 C0,
   -- then the closing FLAG), an escape pending, the CRC of the bytes sent.
   type tx_frame_t is record
-    k   : unsigned(3 downto 0);
-    esc : std_logic; -- ESC sent, the byte xor x"20" is next
-    crc : crc_t;
+    k        : unsigned(3 downto 0);
+    escaping : std_logic; -- ESC sent, the byte xor x"20" is next
+    crc      : crc_t;
   end record tx_frame_t;
 
   -- The AXI master's registered outputs (awaddr also the read address).
@@ -136,9 +136,9 @@ architecture rtl of uart_axil is
 
   signal state  : state_t    := s_hunt;
   signal rxf    : rx_frame_t := (cmd => (others => '0'), sh => (others => '0'),
-                                 n => (others => '0'), ESC => '0', crc => CRC_0,
+                                 n => (others => '0'), escaped => '0', crc => CRC_0,
                                  idle => (others => '0'));
-  signal txf    : tx_frame_t := (k => (others => '0'), ESC => '0', crc => CRC_0);
+  signal txf    : tx_frame_t := (k => (others => '0'), escaping => '0', crc => CRC_0);
   signal axm    : axil_m_t   := (awaddr => (others => '0'), awvalid => '0',
                                  wdata => (others => '0'), wvalid => '0', bready => '0',
                                  arvalid => '0', rready => '0');
@@ -193,7 +193,7 @@ begin
       txd_o         => txd_o
     );
 
-  rx_byte <= rx_data xor x"20" when rxf.esc = '1' else
+  rx_byte <= rx_data xor x"20" when rxf.escaped = '1' else
              rx_data;
   is_wr_n <= rxf.cmd = CMD_W;
   len_ok  <= (rxf.cmd = CMD_R and rxf.n = 5) or (rxf.cmd = CMD_W and rxf.n = 9);
@@ -235,27 +235,27 @@ begin
 
         when s_hunt =>
           if rx_valid = '1' and rx_data = FLAG then
-            state    <= s_rx;
-            rxf.n    <= (others => '0');
-            rxf.esc  <= '0';
-            rxf.crc  <= CRC_0;
-            rxf.idle <= (others => '0');
+            state       <= s_rx;
+            rxf.n       <= (others => '0');
+            rxf.escaped <= '0';
+            rxf.crc     <= CRC_0;
+            rxf.idle    <= (others => '0');
           end if;
 
         when s_rx =>
           -- the answer starts afresh
-          txf <= (k => (others => '0'), ESC => '0', crc => CRC_0);
+          txf <= (k => (others => '0'), escaping => '0', crc => CRC_0);
 
           if rx_valid = '1' then
             rxf.idle <= (others => '0');
 
             if rx_data = FLAG then
               -- the frame closes (and the FLAG opens the next one)
-              rxf.n   <= (others => '0');
-              rxf.esc <= '0';
-              rxf.crc <= CRC_0;
+              rxf.n       <= (others => '0');
+              rxf.escaped <= '0';
+              rxf.crc     <= CRC_0;
 
-              if rxf.n /= 0 and rxf.esc = '0' and len_ok then
+              if rxf.n /= 0 and rxf.escaped = '0' and len_ok then
                 is_wr <= to_sl(is_wr_n);
                 echo  <= rxf.sh(15 downto 0);
 
@@ -278,13 +278,13 @@ begin
                   axm.wdata <= (others => '0');
                   state     <= s_tx;
                 end if;
-              elsif rxf.n /= 0 or rxf.esc = '1' then
+              elsif rxf.n /= 0 or rxf.escaped = '1' then
                 drop_q <= '1';
               end if;
-            elsif rx_data = ESC and rxf.esc = '0' then
-              rxf.esc <= '1';
+            elsif rx_data = ESC and rxf.escaped = '0' then
+              rxf.escaped <= '1';
             else
-              rxf.esc <= '0';
+              rxf.escaped <= '0';
 
               if rxf.n = 0 then
                 rxf.cmd <= rx_byte;
@@ -298,7 +298,7 @@ begin
 
               rxf.crc <= crc_step(rxf.crc, rx_byte);
             end if;
-          elsif rxf.n /= 0 or rxf.esc = '1' then
+          elsif rxf.n /= 0 or rxf.escaped = '1' then
             if rxf.idle = TIMEOUT then
               state  <= s_hunt;
               drop_q <= '1';
@@ -309,7 +309,7 @@ begin
 
           if frame_err = '1' then
             state  <= s_hunt;
-            drop_q <= to_sl(rxf.n /= 0 or rxf.esc = '1');
+            drop_q <= to_sl(rxf.n /= 0 or rxf.escaped = '1');
           end if;
 
         when s_bus =>
@@ -344,7 +344,7 @@ begin
 
             if txf.k = 0 or txf.k > n_ans then
               tx_data <= FLAG;
-            elsif txf.esc = '1' then
+            elsif txf.escaping = '1' then
               tx_data <= ans_byte xor x"20";
             elsif special then
               tx_data <= ESC;
@@ -354,11 +354,11 @@ begin
           elsif tx_ready = '1' then
             tx_valid <= '0';
 
-            if txf.k /= 0 and txf.k <= n_ans and special and txf.esc = '0' then
+            if txf.k /= 0 and txf.k <= n_ans and special and txf.escaping = '0' then
               -- the escaped byte follows
-              txf.esc <= '1';
+              txf.escaping <= '1';
             else
-              txf.esc <= '0';
+              txf.escaping <= '0';
 
               if txf.k > n_ans then
                 -- the closing FLAG went out
