@@ -122,7 +122,7 @@ tables: deps     ## regenerate rtl/tables/*.hex from sim/model
 regs: deps       ## regenerate the register map's views (Verilog, Python, C, reference) from rtl/regs/finequad.rdl
 	$(PY) scripts/gen_regs.py
 
-builds: deps     ## regenerate scripts/builds.mk, rtl/boards/builds.vh and finequad.core from rtl/builds.toml
+builds: deps     ## regenerate scripts/builds.mk, rtl/boards/builds.vh, rtl/vhdl/builds_pkg.vhd and finequad.core from rtl/builds.toml
 	$(PY) scripts/builds.py
 
 profiles: deps   ## the builds of rtl/builds.toml (PROFILE= takes those of one finequad_core) and the knobs' RTL and short names

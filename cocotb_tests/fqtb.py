@@ -102,24 +102,27 @@ def vhdl_files():
 
 
 def vhdl_sources(srcs):
-    """The VHDL edition of the Verilog sources `srcs`: the packages (the files of
-    rtl/vhdl/sources.f whose names end in _pkg), then each block's rtl/vhdl/<name>.vhd,
-    in the analysis order of rtl/vhdl/sources.f. A .vhd file in `srcs` (a test's
-    simulation model, e.g. cocotb_tests/sim_mult18x18d.vhd) is taken as it is, after the
-    packages."""
+    """The VHDL edition of the Verilog sources `srcs`, in GHDL's analysis order: the
+    packages (the files of rtl/vhdl/sources.f whose names end in _pkg); a .vhd file in
+    `srcs` as it is (a test's simulation model, e.g. cocotb_tests/sim_mult18x18d.vhd);
+    each block's rtl/vhdl/<name>.vhd in the order of rtl/vhdl/sources.f; last, the VHDL
+    twin of a test bench outside rtl/ (cocotb_tests/tb_<name>.vhd beside tb_<name>.v)."""
     files = vhdl_files()
-    want = set()
-    models = [Path(s) for s in srcs if Path(s).suffix == ".vhd"]
-    for s in srcs:
-        if Path(s).suffix == ".vhd":
+    want, models, benches = set(), [], []
+    for s in map(Path, srcs):
+        if s.suffix == ".vhd":
+            models.append(s)
             continue
-        v = VHDL / f"{Path(s).stem}.vhd"
+        if s.parent != RTL and s.with_suffix(".vhd").is_file():
+            benches.append(s.with_suffix(".vhd"))
+            continue
+        v = VHDL / f"{s.stem}.vhd"
         if v not in files:
             raise FileNotFoundError(f"{s} has no VHDL edition ({v} is not in "
                                     f"{VHDL / 'sources.f'})")
         want.add(v)
     return ([f for f in files if f.stem.endswith("_pkg")] + models
-            + [f for f in files if f in want])
+            + [f for f in files if f in want] + benches)
 
 
 def core_sources():

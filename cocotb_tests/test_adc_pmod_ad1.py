@@ -42,11 +42,15 @@ N = 600
 
 
 @pytest.mark.parametrize("name", list(SETS))
-@pytest.mark.parametrize("sim", fqtb.SIMULATORS)
+@pytest.mark.parametrize("sim", fqtb.simulators("adc_pmod_ad1"))
 def test_adc_pmod_ad1(sim, name):
     s = dict(SETS[name])
     if "EXPECT" in s and sim != "icarus":
         pytest.skip("checks of the model: one simulator is enough")
+    if sim == "ghdl" and name == "ulx3s":
+        # CI time: GHDL runs icebreaker and slow16, which between them give every
+        # generic two values (ulx3s differs from icebreaker only in PERIOD and the clock)
+        pytest.skip("GHDL runs icebreaker and slow16")
     expect = s.pop("EXPECT", "")
     clk_ps = s.pop("CLK_PS")
     fqtb.run_block(sim, "adc_pmod_ad1", fqtb.sources("adc_pmod_ad1"), "test_adc_pmod_ad1",

@@ -42,13 +42,14 @@ def refuse(addr, wdata):
     return addr == REFUSED_WORD and wdata >> 31
 
 
-@pytest.mark.parametrize("sim", fqtb.SIMULATORS)
+@pytest.mark.parametrize("sim", fqtb.simulators("axil_regs"))
 def test_axil_regs(sim):
     fqtb.run_block(sim, "axil_regs", fqtb.sources("axil_regs"), "test_axil_regs",
                    parameters=dict(ADDR_W=16, ADDR_TOP=ADDR_TOP),
                    testcase="timing,directed,random_backpressure")
 
 
+# Verilog only: tb_axil_core.v is a Verilog wrapper around the Verilog finequad_core
 @pytest.mark.parametrize("sim", fqtb.SIMULATORS)
 def test_axil_core(sim):
     fqtb.run_block(sim, "tb_axil_core",

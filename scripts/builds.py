@@ -12,6 +12,11 @@ Generated, each from rtl/builds.toml and the RTL it names (first line: "generate
                            finequad_core with that core's parameters
     rtl/boards/builds.vh   per board build, `FQ_<BUILD>_PARAMS (the parameter list its top
                            gives finequad_system) and `FQ_<BUILD>_PLL (the PLL's settings)
+    rtl/vhdl/builds_pkg.vhd  the same for the VHDL edition's board tops
+                           (rtl/vhdl/top_<build>.vhd): per board build a constant
+                           <BUILD>_SYSTEM with every finequad_system generic but TABLE_DIR
+                           (the build's value, else the default) and <BUILD>_PLL, the
+                           PLL's dividers
     finequad.core          the FuseSoC core (CAPI2): lint targets of the builds, the
                            Icarus testbench, the board builds
 
@@ -22,7 +27,9 @@ path), where chparam would leave finequad_system's defaults to anyone instantiat
 directly. The header holds macros rather than localparams: `FQ_<BUILD>_PARAMS is the
 whole parameter list, so a parameter added to a board build here reaches its
 finequad_system without an edit of the top, and one header serves every top without
-unused localparams of the other boards.
+unused localparams of the other boards. VHDL has no macros, so its package holds every
+generic of finequad_system in a record per build, which the VHDL top maps one by one: a
+parameter added to a board build here reaches it without an edit of the top all the same.
 
 Other scripts import this file: build(name), core_params(name), core_overrides(name),
 clock(name), nextpnr_device(name).
@@ -42,6 +49,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]
 TOML = ROOT / "rtl" / "builds.toml"
 OUT_MK = "scripts/builds.mk"
 OUT_VH = "rtl/boards/builds.vh"
+OUT_VHD = "rtl/vhdl/builds_pkg.vhd"
 OUT_CORE = "finequad.core"
 CORE_NAME = "::finequad:0"          # FuseSoC VLNV: vendor and library empty, version 0
 RTL_DIRS = ("rtl", "rtl/boards")
@@ -560,6 +568,76 @@ def gen_vh():
     return "\n".join(L)
 
 
+# VHDL type of each PLL divider, as the vendors' VHDL component declarations give them
+# (iCE40: bit_vector of the Verilog width; ECP5: integer)
+def _vhd_div(width, value):
+    return f'"{value:0{width}b}"' if width else str(value)
+
+
+def gen_vhd():
+    """rtl/vhdl/builds_pkg.vhd: the board builds for the VHDL edition's tops."""
+    sysp = {k: d for k, (_, d) in module_params("finequad_system").items()
+            if k != "TABLE_DIR"}
+    for k, d in sysp.items():
+        if not isinstance(d, int):
+            raise BuildError(f"finequad_system's {k}: scripts/builds.py writes only integer "
+                             f"generics to {OUT_VHD}")
+    kw = max(map(len, sysp))
+    L = [_head("--").rstrip(),
+         "-- The board builds for the VHDL edition's tops (rtl/vhdl/top_<build>.vhd): per build",
+         "-- <BUILD>_SYSTEM, every generic its top gives finequad_system but TABLE_DIR (the",
+         "-- build's value, else finequad_system's default), and <BUILD>_PLL, its PLL's",
+         "-- dividers; for the ECP5's PLL also its frequency attributes. The Verilog tops read",
+         "-- the same from rtl/boards/builds.vh.",
+         "",
+         "package builds_pkg is",
+         "",
+         "  -- finequad_system's generics but TABLE_DIR, by their names",
+         "  type system_generics_t is record"]
+    L += [f"    {k:<{kw}} : integer;" for k in sysp]
+    L += ["  end record system_generics_t;", ""]
+    fams = sorted({build(n)["device"]["family"] for n in boards()})
+    for fam in fams:
+        prim = {"ice40": "SB_PLL40_PAD", "ecp5": "EHXPLLL"}[fam]
+        dw = max(map(len, PLL[fam]))
+        L.append(f"  -- {prim}'s dividers")
+        L.append(f"  type {fam}_pll_t is record")
+        for k, (w, _) in PLL[fam].items():
+            t = f"bit_vector({w - 1} downto 0)" if w else "integer"
+            L.append(f"    {k:<{dw}} : {t};")
+        L += [f"  end record {fam}_pll_t;", ""]
+    for n in boards():
+        b = build(n)
+        c = clock(n)
+        fam = b["device"]["family"]
+        N = n.upper()
+        L.append(f"  -- {n}: {b['top']}, {fam} {b['device']['part']} {b['device']['package']}; "
+                 f"{c['in_mhz']:g} MHz -> PLL (VCO {c['vco_mhz']:.1f} MHz) -> {c['mhz']:.4f} MHz")
+        vals = {**sysp, **b["params"]}
+        dw = max(map(len, PLL[fam]))
+        # the build's constants, laid out as VSG does (names and types aligned)
+        consts = [(f"{N}_SYSTEM", "system_generics_t",
+                   [f"{k:<{kw}} => {vals[k]}" for k in sysp]),
+                  (f"{N}_PLL", f"{fam}_pll_t",
+                   [f"{k:<{dw}} => {_vhd_div(PLL[fam][k][0], v)}"
+                    for k, v in c["dividers"].items()])]
+        if fam == "ecp5":
+            consts += [(f"{N}_CLKI_MHZ", "string", f'"{c["in_mhz"]:g}"'),
+                       (f"{N}_CLKOP_MHZ", "string", f'"{c["mhz"]:.4f}"')]
+        nw = max(len(x[0]) for x in consts)
+        tw = max(len(x[1]) for x in consts)
+        for name, typ, val in consts:
+            head = f"  constant {name:<{nw}} : {typ:<{tw}} :="
+            if isinstance(val, str):
+                L.append(f"{head} {val};")
+            else:
+                L += [head, "  ("] + [f"    {v}," for v in val[:-1]] + [f"    {val[-1]}",
+                                                                         "  );"]
+        L.append("")
+    L += ["end package builds_pkg;", ""]
+    return "\n".join(L)
+
+
 def lint_params(n):
     """The parameters a lint of build n gives its params module as -G options: all of
     them, but for a board build only those with a range. -G gives an untyped parameter a
@@ -688,7 +766,7 @@ def gen_core():
 
 def generated():
     """{repository path: text} of every generated file."""
-    return {OUT_MK: gen_mk(), OUT_VH: gen_vh(), OUT_CORE: gen_core()}
+    return {OUT_MK: gen_mk(), OUT_VH: gen_vh(), OUT_VHD: gen_vhd(), OUT_CORE: gen_core()}
 
 
 # ---- command line ---------------------------------------------------------------------------------

@@ -4,6 +4,8 @@
 # (sim/tests/test_vhdl_sources.py fails otherwise).
 rtl/vhdl/finequad_util_pkg.vhd
 rtl/vhdl/finequad_regs_pkg.vhd
+rtl/vhdl/builds_pkg.vhd
+# the core's blocks
 rtl/vhdl/counter.vhd
 rtl/vhdl/abgen.vhd
 rtl/vhdl/correct.vhd
@@ -11,9 +13,17 @@ rtl/vhdl/octant.vhd
 rtl/vhdl/lut.vhd
 rtl/vhdl/phase.vhd
 rtl/vhdl/monitor.vhd
-# the report's top (make report EDITION=vhdl): finequad_core as a component, bound at
-# elaboration
-rtl/vhdl/top_report.vhd
 rtl/vhdl/pulse.vhd
 rtl/vhdl/refmark.vhd
 rtl/vhdl/dcode.vhd
+# the system's blocks: AXI4-Lite slave, UART bridge, Pmod AD1 front end
+rtl/vhdl/uart_rx.vhd
+rtl/vhdl/uart_tx.vhd
+rtl/vhdl/axil_regs.vhd
+rtl/vhdl/adc_pmod_ad1.vhd
+rtl/vhdl/uart_axil.vhd
+# the tops: the board tops instantiate finequad_system; the report's top (make report
+# EDITION=vhdl) takes finequad_core as a component, bound at elaboration
+rtl/vhdl/top_icebreaker.vhd
+rtl/vhdl/top_ulx3s.vhd
+rtl/vhdl/top_report.vhd

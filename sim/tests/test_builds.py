@@ -58,6 +58,29 @@ def test_board_clocks_and_their_header():
         assert sorted(re.findall(r"\.(\w+)\(", line)) == sorted(builds.build(n)["params"])
 
 
+def test_vhdl_package_and_tops():
+    """rtl/vhdl/builds_pkg.vhd: per board every finequad_system generic but TABLE_DIR (the
+    build's value, else the default) and the PLL's dividers; each VHDL board top maps
+    every one of them from its build's constants."""
+    pkg = (ROOT / builds.OUT_VHD).read_text()
+    assert 'constant ULX3S_CLKOP_MHZ : string            := "35.7143";' in pkg
+    ice_pll = re.search(r"ICEBREAKER_PLL\s*:[^;]*;", pkg).group(0)
+    assert 'DIVF         => "0110101"' in ice_pll and 'DIVQ         => "101"' in ice_pll
+    sysp = [k for k in builds.module_params("finequad_system") if k != "TABLE_DIR"]
+    for n in builds.boards():
+        N = n.upper()
+        block = re.search(rf"{N}_SYSTEM\s*:[^;]*;", pkg).group(0)
+        vals = dict(re.findall(r"(\w+)\s+=>\s+(\d+)", block))
+        want = {k: builds.module_params("finequad_system")[k][1] for k in sysp}
+        want.update(builds.build(n)["params"])
+        assert {k: int(v) for k, v in vals.items()} == want
+        top = (ROOT / "rtl" / "vhdl" / f"{builds.build(n)['top']}.vhd").read_text()
+        maps = dict(re.findall(r"(\w+)\s+=>\s+" + N + r"_SYSTEM\.(\w+)", top))
+        assert {k.upper(): v for k, v in maps.items()} == {k: k for k in sysp}
+        for k in builds.PLL[builds.build(n)["device"]["family"]]:
+            assert re.search(rf"{k}\s+=>\s+{N}_PLL\.{k}\b", top, re.I)
+
+
 @pytest.fixture
 def tree(tmp_path):
     """A copy of what scripts/builds.py and the Makefile read: rtl/, constraints/, the
@@ -76,7 +99,8 @@ def _run(tree, *args):
 
 
 def _generated(tree):
-    return {p: (tree / p).read_bytes() for p in (builds.OUT_MK, builds.OUT_VH, builds.OUT_CORE)}
+    return {p: (tree / p).read_bytes()
+            for p in (builds.OUT_MK, builds.OUT_VH, builds.OUT_VHD, builds.OUT_CORE)}
 
 
 def test_check_finds_a_stale_file_and_write_brings_it_up_to_date(tree):
@@ -87,10 +111,13 @@ def test_check_finds_a_stale_file_and_write_brings_it_up_to_date(tree):
     r = _run(tree, "--check")
     assert r.returncode == 1 and _generated(tree) == before
     assert r.stderr.strip().splitlines() == [
-        "builds: error: stale: scripts/builds.mk, rtl/boards/builds.vh (rtl/builds.toml or "
-        "the RTL changed since they were generated: run make builds)"]
+        "builds: error: stale: scripts/builds.mk, rtl/boards/builds.vh, "
+        "rtl/vhdl/builds_pkg.vhd (rtl/builds.toml or the RTL changed since they were "
+        "generated: run make builds)"]
     assert _run(tree).returncode == 0
     assert ".ADC_PERIOD(34)" in (tree / builds.OUT_VH).read_text()
+    assert re.search(r"ICEBREAKER_SYSTEM[^;]*ADC_PERIOD +=> 34,",
+                     (tree / builds.OUT_VHD).read_text())
     assert _run(tree, "--check").returncode == 0
 
 
