@@ -73,6 +73,13 @@ package finequad_util_pkg is
   -- digit or a word wider than `width` stops elaboration with the file (and line).
   impure function read_hex (name : string; depth : positive; width : positive) return hex_table_t;
 
+  -- ---- asr (harmonic) ----------------------------------------------------------------------
+  -- v >>> n, the arithmetic shift right (numeric_std's shift_right of a signed value),
+  -- formed as a logical shift of v xor its sign, xor its sign: GHDL 2.0's --out=verilog
+  -- writes shift_right of a signed value as $signed(v) >> n, a logical shift in Verilog,
+  -- so its netlist would differ from the simulation.
+  function asr (v : signed; n : natural) return signed;
+
 end package finequad_util_pkg;
 
 package body finequad_util_pkg is
@@ -210,5 +217,18 @@ package body finequad_util_pkg is
     return r;
 
   end function read_hex;
+
+  -- ---- asr (harmonic) ----------------------------------------------------------------------
+
+  function asr (v : signed; n : natural) return signed is
+
+    variable sign : unsigned(v'length - 1 downto 0);
+
+  begin
+
+    sign := (others => v(v'left));
+    return signed(shift_right(unsigned(v) xor sign, n) xor sign);
+
+  end function asr;
 
 end package body finequad_util_pkg;

@@ -224,7 +224,7 @@ architecture rtl of harmonic is
 
   begin
 
-    sh := shift_right(s & "00000", to_integer(g));
+    sh := asr(s & "00000", to_integer(g));
     return (base & "00000") + unsigned(sh(17 downto 0));
 
   end function block_mean;
@@ -326,10 +326,10 @@ architecture rtl of harmonic is
     case cv is
 
       when g_up =>
-        w := v + shift_right(v, 1);
+        w := v + asr(v, 1);
 
       when g_down =>
-        w := v - shift_right(v, 2);
+        w := v - asr(v, 2);
 
       when g_zero =>
         w := (others => '0');
@@ -353,7 +353,7 @@ architecture rtl of harmonic is
         return shift_left(v, 1);
 
       when g_down =>
-        return shift_right(v, 1);
+        return asr(v, 1);
 
       when g_zero =>
         return to_signed(0, v'length);
@@ -430,8 +430,8 @@ architecture rtl of harmonic is
 
   begin
 
-    vh  := shift_right(v, 1);
-    ext := vh - shift_right(vh, to_integer(g));
+    vh  := asr(v, 1);
+    ext := vh - asr(vh, to_integer(g));
     return ext(25 downto 8);
 
   end function obs_ext;
@@ -457,7 +457,7 @@ architecture rtl of harmonic is
   function lms_step (y : signed(18 downto 0); r : rsum_t; mu : natural) return step_t is
   begin
 
-    return shift_right(saturate(resize(y, 20) - resize(r(22 downto 7), 20), 12), mu);
+    return asr(saturate(resize(y, 20) - resize(r(22 downto 7), 20), 12), mu);
 
   end function lms_step;
 
@@ -756,16 +756,15 @@ begin
       bin_o  => bin2
     );
 
-  -- Distributed RAM: the addresses registered, the copies written one edge late (so that
-  -- the asynchronous read after a + 1 holds the writes on edges <= a).
-
   g_async : if OPT_DISTRAM = 1 generate
 
-    signal we_q : boolean := false;
-    signal wa_q : bin_t   := (others => '0');
-    signal hp_q : entry_t := (others => '0');
-    signal rb_q : bin_t   := (others => '0');
-    signal rb_1 : bin_t   := (others => '0');
+    -- Distributed RAM: the addresses registered, the copies written one edge late (so
+    -- that the asynchronous read after a + 1 holds the writes on edges <= a).
+    signal we_q  : boolean := false;
+    signal wa_q  : bin_t   := (others => '0');
+    signal hp_q  : entry_t := (others => '0');
+    signal rb0_q : bin_t   := (others => '0');
+    signal rb1_q : bin_t   := (others => '0');
 
   begin
 
@@ -774,8 +773,8 @@ begin
 
       if rising_edge(clk) then
         if v1 = '1' then
-          rb_q <= rb0;
-          rb_1 <= rb1;
+          rb0_q <= rb0;
+          rb1_q <= rb1;
         end if;
 
         we_q <= we;
@@ -790,17 +789,16 @@ begin
 
     end process ram;
 
-    a0 <= mem0(to_integer(rb_q));
-    a1 <= mem1(to_integer(rb_1));
+    a0 <= mem0(to_integer(rb0_q));
+    a1 <= mem1(to_integer(rb1_q));
 
   end generate g_async;
 
-  -- Block RAM: read on a + 1, when a commit may write the same word: the result is then
-  -- undefined on the FPGA and taken as the word before the write, lha (the candidate's
-  -- entry). (A sweep's write may hit it too; those samples are blocked.)
-
   g_sync : if OPT_DISTRAM = 0 generate
 
+    -- Block RAM: read on a + 1, when a commit may write the same word: the result is then
+    -- undefined on the FPGA and taken as the word before the write, lha (the candidate's
+    -- entry). (A sweep's write may hit it too; those samples are blocked.)
     signal rd0_q : entry_t := (others => '0');
     signal rd1_q : entry_t := (others => '0');
 
