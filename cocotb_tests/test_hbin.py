@@ -16,7 +16,7 @@ import fqtb
 
 
 @pytest.mark.parametrize("exact", [1, 0], ids=["EXACT1", "EXACT0"])
-@pytest.mark.parametrize("sim", fqtb.SIMULATORS)
+@pytest.mark.parametrize("sim", fqtb.simulators("hbin"))
 def test_hbin(sim, exact):
     fqtb.run_block(sim, "hbin", fqtb.sources("hbin"), "test_hbin",
                    parameters=dict(TABLE_EXACT=exact), extra_env=dict(TABLE_EXACT=exact))

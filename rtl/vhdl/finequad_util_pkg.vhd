@@ -109,6 +109,12 @@ package finequad_util_pkg is
   end component MULT18X18D;
 
 -- vsg_on port_026 component_017 component_008 component_012 port_010
+  -- ---- asr (harmonic) ----------------------------------------------------------------------
+  -- v >>> n, the arithmetic shift right (numeric_std's shift_right of a signed value),
+  -- formed as a logical shift of v xor its sign, xor its sign: GHDL 2.0's --out=verilog
+  -- writes shift_right of a signed value as $signed(v) >> n, a logical shift in Verilog,
+  -- so its netlist would differ from the simulation.
+  function asr (v : signed; n : natural) return signed;
 
 end package finequad_util_pkg;
 
@@ -247,5 +253,18 @@ package body finequad_util_pkg is
     return r;
 
   end function read_hex;
+
+  -- ---- asr (harmonic) ----------------------------------------------------------------------
+
+  function asr (v : signed; n : natural) return signed is
+
+    variable sign : unsigned(v'length - 1 downto 0);
+
+  begin
+
+    sign := (others => v(v'left));
+    return signed(shift_right(unsigned(v) xor sign, n) xor sign);
+
+  end function asr;
 
 end package body finequad_util_pkg;

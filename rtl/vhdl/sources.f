@@ -27,3 +27,6 @@ rtl/vhdl/uart_axil.vhd
 rtl/vhdl/top_icebreaker.vhd
 rtl/vhdl/top_ulx3s.vhd
 rtl/vhdl/top_report.vhd
+rtl/vhdl/hbin_pkg.vhd
+rtl/vhdl/hbin.vhd
+rtl/vhdl/harmonic.vhd
