@@ -73,6 +73,11 @@ package finequad_util_pkg is
   -- digit or a word wider than `width` stops elaboration with the file (and line).
   impure function read_hex (name : string; depth : positive; width : positive) return hex_table_t;
 
+  -- ---- rls_engine, estimator --------------------------------------------------------------
+
+  -- ceil(log2(n)) for n >= 1 (Verilog's $clog2): the bits of an index below n.
+  function clog2 (n : positive) return natural;
+
 end package finequad_util_pkg;
 
 package body finequad_util_pkg is
@@ -210,5 +215,23 @@ package body finequad_util_pkg is
     return r;
 
   end function read_hex;
+
+  -- ---- rls_engine, estimator --------------------------------------------------------------
+
+  function clog2 (n : positive) return natural is
+
+    variable r : natural := 0;
+
+  begin
+
+    while 2 ** r < n loop
+
+      r := r + 1;
+
+    end loop;
+
+    return r;
+
+  end function clog2;
 
 end package body finequad_util_pkg;

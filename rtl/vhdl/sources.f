@@ -4,5 +4,8 @@
 # (sim/tests/test_vhdl_sources.py fails otherwise).
 rtl/vhdl/finequad_util_pkg.vhd
 rtl/vhdl/finequad_regs_pkg.vhd
+rtl/vhdl/rls_pkg.vhd
 rtl/vhdl/counter.vhd
 rtl/vhdl/abgen.vhd
+rtl/vhdl/rls_engine.vhd
+rtl/vhdl/estimator.vhd
