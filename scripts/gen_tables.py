@@ -137,7 +137,7 @@ def main():
     if stale:
         sys.exit(f"stale tables in {d} or {dv}: {', '.join(stale)} (run scripts/gen_tables.py)")
     print(f"{'checked' if args.check else 'wrote'} {len(files())} tables in {d}, "
-          f"{len(vhdl_files())} packages in {dv}; "
+          f"{len(vhdl_files())} VHDL package(s) in {dv}; "
           f"estimator ROM {len(program.ROM)} words, entries {program.ENTRY}, clocks "
           + "; ".join(f"LANES={k}: {v}" for k, v in rls_engine.CYCLES_BY_LANES.items()))
 

@@ -382,7 +382,14 @@ architecture rtl of estimator is
   signal trig    : std_logic             := '0';
 
   -- ---- the outputs --------------------------------------------------------------------------
-  signal bundle    : bundle_t              := BUNDLE_INIT;
+  -- the bundle's registers, one per field (GHDL 2.0's --out=verilog writes a non-zero
+  -- value wider than 64 bits as a string)
+  signal g_q       : unsigned(1 downto 0)  := BUNDLE_INIT.g;
+  signal m1_q      : signed(15 downto 0)   := BUNDLE_INIT.m1;
+  signal m2_q      : signed(15 downto 0)   := BUNDLE_INIT.m2;
+  signal c1_q      : signed(15 downto 0)   := BUNDLE_INIT.c1;
+  signal c12_q     : signed(15 downto 0)   := BUNDLE_INIT.c12;
+  signal c2_q      : signed(15 downto 0)   := BUNDLE_INIT.c2;
   signal uncal     : std_logic             := '1';
   signal hold      : std_logic             := '0';
   signal loaded    : std_logic             := '0';
@@ -641,6 +648,7 @@ begin
   control : process (clk) is
 
     variable seen : unsigned(7 downto 0);
+    variable bnd  : bundle_t;
 
   begin
 
@@ -744,16 +752,18 @@ begin
         end if;
       end if;
 
-      -- a LOAD (a hand-over on the same edge overrides it)
+      -- the bundle (bnd: its next value): a LOAD, a hand-over on the same edge overrides it
+      bnd := (g => g_q, m1 => m1_q, m2 => m2_q, c1 => c1_q, c12 => c12_q, c2 => c2_q);
+
       if load_i = '1' then
-        bundle <=
+        bnd    :=
         (
-          g   => ld_g_i,
-          m1  => ld_m1_i,
-          m2  => ld_m2_i,
-          c1  => ld_c1_i,
+          g => ld_g_i,
+          m1 => ld_m1_i,
+          m2 => ld_m2_i,
+          c1 => ld_c1_i,
           c12 => ld_c12_i,
-          c2  => ld_c2_i
+          c2 => ld_c2_i
         );
         loaded <= '1';
       end if;
@@ -761,7 +771,7 @@ begin
       -- the end of an extraction: the hand-over if theta was an ellipse
       if (rsp.done and running_extract) = '1' then
         if rsp.valid = '1' then
-          bundle <= to_bundle(rsp.outs, g_eng);
+          bnd    := to_bundle(rsp.outs, g_eng);
           uncal  <= '0';
           loaded <= '0';
           armed  <= '1';
@@ -770,6 +780,13 @@ begin
         hold            <= not rsp.valid;
         running_extract <= '0';
       end if;
+
+      g_q   <= bnd.g;
+      m1_q  <= bnd.m1;
+      m2_q  <= bnd.m2;
+      c1_q  <= bnd.c1;
+      c12_q <= bnd.c12;
+      c2_q  <= bnd.c2;
 
       -- rst restarts the control state; theta in the engine and g_eng survive it
       if rst = '1' then
@@ -791,7 +808,12 @@ begin
         jl              <= (others => '0');
         armed           <= '0';
         jumps_q         <= (others => '0');
-        bundle          <= BUNDLE_INIT;
+        g_q             <= BUNDLE_INIT.g;
+        m1_q            <= BUNDLE_INIT.m1;
+        m2_q            <= BUNDLE_INIT.m2;
+        c1_q            <= BUNDLE_INIT.c1;
+        c12_q           <= BUNDLE_INIT.c12;
+        c2_q            <= BUNDLE_INIT.c2;
         uncal           <= '1';
         hold            <= '0';
         loaded          <= '0';
@@ -801,12 +823,12 @@ begin
 
   end process control;
 
-  g_o       <= bundle.g;
-  m1_o      <= bundle.m1;
-  m2_o      <= bundle.m2;
-  c1_o      <= bundle.c1;
-  c12_o     <= bundle.c12;
-  c2_o      <= bundle.c2;
+  g_o       <= g_q;
+  m1_o      <= m1_q;
+  m2_o      <= m2_q;
+  c1_o      <= c1_q;
+  c12_o     <= c12_q;
+  c2_o      <= c2_q;
   uncal_o   <= uncal;
   hold_o    <= hold;
   loaded_o  <= loaded;

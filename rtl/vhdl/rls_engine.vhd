@@ -522,26 +522,14 @@ architecture rtl of rls_engine is
 
   end function gs_dec;
 
-  type specials_t is record
-    x1    : signed(15 downto 0);   -- s1.15
-    x2    : signed(15 downto 0);   -- s1.15
-    kappa : unsigned(15 downto 0); -- u8.8
-    onel  : word_t;                -- s9.23
-    gs1   : word_t;                -- s8.24
-    gs2   : word_t;                -- s8.24
-  end record specials_t;
-
-  constant SP_INIT : specials_t :=
-  (
-    x1    => (others => '0'),
-    x2    => (others => '0'),
-    kappa => (others => '0'),
-    onel  => x"00800000",
-    gs1   => x"01000000",
-    gs2   => x"01000000"
-  );
-
-  signal sp : specials_t := SP_INIT;
+  -- (separate registers, not a record: GHDL 2.0's --out=verilog writes a non-zero
+  -- initial value wider than 64 bits as a string)
+  signal sp_x1    : signed(15 downto 0)   := (others => '0'); -- s1.15
+  signal sp_x2    : signed(15 downto 0)   := (others => '0'); -- s1.15
+  signal sp_kappa : unsigned(15 downto 0) := (others => '0'); -- u8.8
+  signal onel     : word_t                := x"00800000";     -- s9.23
+  signal gs1      : word_t                := x"01000000";     -- s8.24
+  signal gs2      : word_t                := x"01000000";     -- s8.24
 
   signal axis_q : unsigned(AXW - 1 downto 0) := (others => '0'); -- the running program's
 
@@ -662,24 +650,21 @@ begin
 
     if rising_edge(clk) then
       if start_i = '1' then
-        sp     <=
-        (
-          x1    => x1_i,
-          x2    => x2_i,
-          kappa => kappa_i,
-          onel  => onel_dec(lambda_k_i, freeze_i),
-          gs1   => gs_dec(dg_i, false),
-          gs2   => gs_dec(dg_i, true)
-        );
-        axis_q <= resize(axis_i, AXW);
+        sp_x1    <= x1_i;
+        sp_x2    <= x2_i;
+        sp_kappa <= kappa_i;
+        onel     <= onel_dec(lambda_k_i, freeze_i);
+        gs1      <= gs_dec(dg_i, false);
+        gs2      <= gs_dec(dg_i, true);
+        axis_q   <= resize(axis_i, AXW);
       end if;
     end if;
 
   end process latch;
 
-  x1_30 <= resize(sp.x1 & to_signed(0, 15), 32);
-  x2_30 <= resize(sp.x2 & to_signed(0, 15), 32);
-  kap   <= signed(resize(sp.kappa & to_unsigned(0, 15), 32));
+  x1_30 <= resize(sp_x1 & to_signed(0, 15), 32);
+  x2_30 <= resize(sp_x2 & to_signed(0, 15), 32);
+  kap   <= signed(resize(sp_kappa & to_unsigned(0, 15), 32));
 
   -- ---- fetch: from start_i until END (lane 0) reaches the read stage; the word fetched
   -- behind END is squashed on its way into the read stage, the next one by v0 ----------
@@ -938,16 +923,16 @@ begin
             oth_b := x2_30;
 
           when "010" =>
-            oth_b := sp.onel;
+            oth_b := onel;
 
           when "011" =>
             oth_b := kap;
 
           when "100" =>
-            oth_b := sp.gs1;
+            oth_b := gs1;
 
           when "101" =>
-            oth_b := sp.gs2;
+            oth_b := gs2;
 
           when others =>
             oth_b := (others => '0');
