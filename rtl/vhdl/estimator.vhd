@@ -18,9 +18,9 @@
 --
 -- Formats: u1_i, u2_i s1.15; amax_i u15; phase_i u13 (unused); travel_i u20; m1, m2
 -- s1.15; c1, c12, c2 s4.12; kappa_i u8.8; kappa5_i u11.4; gate_i u13; jump_min_i u0.13
--- (of |e| s3.13); updates_o, jumps_o counts (wrap). Power-up values are those after rst,
--- but for g_eng (the gain theta is expressed in; the engine's register file survives rst
--- too) and the bundle's registers' initialisers.
+-- (of |e| s3.13); updates_o, jumps_o counts (wrap). rst (sync) restarts the control
+-- state and the outputs as at power-up; it keeps g_eng, the gain theta is expressed in
+-- (the engine's register file survives rst too), and the data registers.
 
 library ieee;
   use ieee.std_logic_1164.all;

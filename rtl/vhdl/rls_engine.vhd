@@ -17,8 +17,9 @@
 -- Formats: x1_i, x2_i s1.15 (X1, X2 = s2.30); kappa_i u8.8 (KAPPA s9.23); lambda_k_i
 -- u5 (ONEL = 1 + 2**-k s9.23, 1 when freeze_i); dg_i s3 (GS1 = 2**-dg, GS2 = 2**-2dg,
 -- s8.24); out_o the OUT registers {tr s12.4, e s3.13, c2, c12, c1 s4.12, m2, m1 s1.15}.
--- Power-up values are those of the Verilog's initialisers; rst stops a program (the
--- register file keeps what it has written).
+-- rst (sync) stops a program (its instructions in flight are dropped) and clears busy_o
+-- and sat_o; the register file, out_o and valid_o keep their values (the estimator runs
+-- a RESET program after rst).
 
 library ieee;
   use ieee.std_logic_1164.all;
