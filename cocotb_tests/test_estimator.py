@@ -22,7 +22,8 @@ CASES = {
 }
 
 
-@pytest.mark.parametrize("case", list(CASES))
+# (the ids name both simulators, so `-k ghdl` selects this test with the VHDL blocks')
+@pytest.mark.parametrize("case", list(CASES), ids=[f"icarus-ghdl-{c}" for c in CASES])
 def test_estimator_editions(case, tmp_path):
     if not fqtb.has_vhdl("estimator"):
         pytest.skip("no VHDL edition of estimator")
