@@ -20,7 +20,7 @@ import fqtb
 
 
 @pytest.mark.parametrize("lanes", [1, 2])
-@pytest.mark.parametrize("sim", fqtb.SIMULATORS)
+@pytest.mark.parametrize("sim", fqtb.simulators("rls_engine"))
 def test_rls_engine(sim, lanes):
     fqtb.run_block(sim, "rls_engine", fqtb.sources("rls_engine"),
                    "test_rls_engine",

@@ -109,12 +109,19 @@ package finequad_util_pkg is
   end component MULT18X18D;
 
 -- vsg_on port_026 component_017 component_008 component_012 port_010
-  -- ---- asr (harmonic) ----------------------------------------------------------------------
+
+  -- ---- asr -----------------------------------------------------------------------------------
+
   -- v >>> n, the arithmetic shift right (numeric_std's shift_right of a signed value),
   -- formed as a logical shift of v xor its sign, xor its sign: GHDL 2.0's --out=verilog
   -- writes shift_right of a signed value as $signed(v) >> n, a logical shift in Verilog,
   -- so its netlist would differ from the simulation.
   function asr (v : signed; n : natural) return signed;
+
+  -- ---- clog2 ---------------------------------------------------------------------------------
+
+  -- ceil(log2(n)) for n >= 1 (Verilog's $clog2): the bits of an index below n.
+  function clog2 (n : positive) return natural;
 
 end package finequad_util_pkg;
 
@@ -254,7 +261,7 @@ package body finequad_util_pkg is
 
   end function read_hex;
 
-  -- ---- asr (harmonic) ----------------------------------------------------------------------
+  -- ---- asr -----------------------------------------------------------------------------------
 
   function asr (v : signed; n : natural) return signed is
 
@@ -266,5 +273,23 @@ package body finequad_util_pkg is
     return signed(shift_right(unsigned(v) xor sign, n) xor sign);
 
   end function asr;
+
+  -- ---- clog2 ---------------------------------------------------------------------------------
+
+  function clog2 (n : positive) return natural is
+
+    variable r : natural := 0;
+
+  begin
+
+    while 2 ** r < n loop
+
+      r := r + 1;
+
+    end loop;
+
+    return r;
+
+  end function clog2;
 
 end package body finequad_util_pkg;

@@ -4,6 +4,8 @@
 # (sim/tests/test_vhdl_sources.py fails otherwise).
 rtl/vhdl/finequad_util_pkg.vhd
 rtl/vhdl/finequad_regs_pkg.vhd
+rtl/vhdl/hbin_pkg.vhd
+rtl/vhdl/rls_pkg.vhd
 rtl/vhdl/builds_pkg.vhd
 # the core's blocks
 rtl/vhdl/counter.vhd
@@ -16,6 +18,10 @@ rtl/vhdl/monitor.vhd
 rtl/vhdl/pulse.vhd
 rtl/vhdl/refmark.vhd
 rtl/vhdl/dcode.vhd
+rtl/vhdl/hbin.vhd
+rtl/vhdl/harmonic.vhd
+rtl/vhdl/rls_engine.vhd
+rtl/vhdl/estimator.vhd
 # the system's blocks: AXI4-Lite slave, UART bridge, Pmod AD1 front end
 rtl/vhdl/uart_rx.vhd
 rtl/vhdl/uart_tx.vhd
@@ -27,6 +33,3 @@ rtl/vhdl/uart_axil.vhd
 rtl/vhdl/top_icebreaker.vhd
 rtl/vhdl/top_ulx3s.vhd
 rtl/vhdl/top_report.vhd
-rtl/vhdl/hbin_pkg.vhd
-rtl/vhdl/hbin.vhd
-rtl/vhdl/harmonic.vhd
