@@ -108,7 +108,7 @@ package finequad_util_pkg is
     );
   end component MULT18X18D;
 
--- vsg_on port_026 component_017 component_008 component_012 port_010
+  -- vsg_on port_026 component_017 component_008 component_012 port_010
 
   -- ---- asr -----------------------------------------------------------------------------------
 
