@@ -316,18 +316,6 @@ architecture rtl of monitor is
 
   end function x8;
 
-  -- x >>> n (floor(x / 2^n)) as a slice and its sign extension: GHDL 2.0's Verilog
-  -- writer (ghdl --synth --out=verilog) turns shift_right of a signed into a logical >>
-  function asr (x : signed; n : natural) return signed is
-
-    alias xx : signed(x'length - 1 downto 0) is x;
-
-  begin
-
-    return resize(xx(xx'high downto n), xx'length);
-
-  end function asr;
-
   -- a saturating count: n + 1 up to top
   function sat_inc (n : unsigned; top : unsigned) return unsigned is
   begin
