@@ -480,22 +480,6 @@ architecture rtl of harmonic is
 
   end function entry_ovf;
 
-  -- the bin's candidates (rtl/vhdl/hbin.vhd)
-  component hbin is
-    generic (
-      TABLE_EXACT : integer range 0 to 1 := 1
-    );
-    port (
-      oct2_i : in    unsigned(1 downto 0);
-      neg_i  : in    std_logic;
-      t_i    : in    unsigned(11 downto 0);
-      b0_o   : out   unsigned(5 downto 0);
-      b1_o   : out   unsigned(5 downto 0);
-      c_o    : out   std_logic;
-      bin_o  : out   unsigned(5 downto 0)
-    );
-  end component hbin;
-
   -- ---- stage 1 (edge a): candidates, commit, sweep, sig --------------------------------
   signal swp   : unsigned(6 downto 0)  := (others => '0');    -- clear sweep: words left
   signal skip  : unsigned(4 downto 0)  := (others => '0');
@@ -727,7 +711,7 @@ begin
   we <= sweeping or commit;
 
   -- the candidates of the arriving sample, from t_i (the RAM's addresses)
-  u_bin1 : component hbin
+  u_bin1 : entity work.hbin
     generic map (
       table_exact => TABLE_EXACT
     )
@@ -742,7 +726,7 @@ begin
     );
 
   -- the same from t registered: the choice between the words read, and the bin
-  u_bin2 : component hbin
+  u_bin2 : entity work.hbin
     generic map (
       table_exact => TABLE_EXACT
     )
