@@ -6,3 +6,6 @@ rtl/vhdl/finequad_util_pkg.vhd
 rtl/vhdl/finequad_regs_pkg.vhd
 rtl/vhdl/counter.vhd
 rtl/vhdl/abgen.vhd
+rtl/vhdl/finequad_core.vhd
+rtl/vhdl/finequad_multi.vhd
+rtl/vhdl/finequad_system.vhd
