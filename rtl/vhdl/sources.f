@@ -28,6 +28,9 @@ rtl/vhdl/uart_tx.vhd
 rtl/vhdl/axil_regs.vhd
 rtl/vhdl/adc_pmod_ad1.vhd
 rtl/vhdl/uart_axil.vhd
+rtl/vhdl/finequad_core.vhd
+rtl/vhdl/finequad_multi.vhd
+rtl/vhdl/finequad_system.vhd
 # the tops: the board tops instantiate finequad_system; the report's top (make report
 # EDITION=vhdl) takes finequad_core as a component, bound at elaboration
 rtl/vhdl/top_icebreaker.vhd
