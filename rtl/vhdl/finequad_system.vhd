@@ -94,7 +94,7 @@ architecture rtl of finequad_system is
   signal adc_err : std_logic;
 
   -- ---- host link -------------------------------------------------------------------------
-  signal reg       : reg_port_t;
+  signal reg_port  : reg_port_t;
   signal reg_rdata : fq_word_t;
   signal reg_err   : std_logic;
   signal uart_drop : std_logic;
@@ -235,17 +235,17 @@ begin
         s_axil_rresp   => rresp,
         s_axil_rvalid  => rvalid,
         s_axil_rready  => rready,
-        reg_we         => reg.we,
-        reg_re         => reg.re,
-        reg_addr       => reg.addr,
-        reg_wdata      => reg.wdata,
+        reg_we         => reg_port.we,
+        reg_re         => reg_port.re,
+        reg_addr       => reg_port.addr,
+        reg_wdata      => reg_port.wdata,
         reg_rdata      => reg_rdata,
         reg_err        => reg_err
       );
 
   else generate
 
-    reg       <= REG_IDLE;
+    reg_port  <= REG_IDLE;
     uart_tx_o <= '1';
     uart_drop <= '0';
 
@@ -293,10 +293,10 @@ begin
       s_u1        => s_u1,
       s_u2        => s_u2,
       s_ref       => s_ref,
-      reg_we      => reg.we,
-      reg_re      => reg.re,
-      reg_addr    => reg.addr,
-      reg_wdata   => reg.wdata,
+      reg_we      => reg_port.we,
+      reg_re      => reg_port.re,
+      reg_addr    => reg_port.addr,
+      reg_wdata   => reg_port.wdata,
       reg_rdata   => reg_rdata,
       reg_err     => reg_err,
       m_valid     => m_valid,
