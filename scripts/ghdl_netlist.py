@@ -1,0 +1,142 @@
+"""A top of the VHDL edition as a Verilog netlist for Yosys, nextpnr's flows and Verilator:
+GHDL's analysis of rtl/vhdl/sources.f (and the top's file if it is not listed), `ghdl
+--synth --std=08 --out=verilog` (GHDL 2.0) with the generics given, and the repairs below.
+`make bitstream EDITION=vhdl`, `make report EDITION=vhdl` (scripts/reporting/flow.py) and
+`make rtlsim EDITION=vhdl-synth` all take their netlist from here.
+
+    ghdl_netlist.py --top TOP --out NET.v --work DIR [--extra F.vhd ...] [-g NAME=VALUE ...]
+
+TABLE_DIR is set to rtl/tables/ unless given: the tables are read by the synthesis and
+become the ROMs' contents. GHDL's messages go to NET.log beside NET.v.
+
+The VHDL edition instantiates the vendor primitives (SB_PLL40_PAD, EHXPLLL, MULT18X18D) as
+components, which GHDL leaves as black boxes. Its Verilog then has two faults:
+- an empty module for each black box (a component no entity is bound to), whose parameters have no defaults ("Parameter
+  defaults can only be omitted in SystemVerilog mode"); it would also hide Yosys's own
+  cell of that name. Removed.
+- a string generic of an instance written as the bits of its ASCII text
+  (`.FEEDBACK_PATH(48'b0101...)` for "SIMPLE"), where nextpnr reads a string. The
+  generics declared `string` in the component declarations of VHDL_FILE... are written
+  back as strings.
+Anything else that does not match what this expects stops with the file and line.
+"""
+import argparse
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+
+COMPONENT = re.compile(r"^\s*component\s+(\w+)\s+is(.*?)end\s+component", re.I | re.M | re.S)
+STRING_GENERIC = re.compile(r"^\s*(\w+)\s*:\s*string\b", re.I | re.M)
+
+
+def string_generics(vhdl_files):
+    """{primitive: {generic names of type string}} from the component declarations."""
+    out = {}
+    for f in vhdl_files:
+        text = re.sub(r"--[^\n]*", "", Path(f).read_text())
+        for name, body in COMPONENT.findall(text):
+            out.setdefault(name, set()).update(STRING_GENERIC.findall(body))
+    return out
+
+
+def ascii_of(width: int, bits: str, where: str) -> str:
+    if width != len(bits) or width % 8:
+        sys.exit(f"ghdl_netlist: {where}: {width}'b{bits} is not a whole number of characters")
+    text = bytes(int(bits[i:i + 8], 2) for i in range(0, width, 8)).decode("ascii")
+    if not text.isprintable() or '"' in text:
+        sys.exit(f"ghdl_netlist: {where}: {width}'b{bits} is not a printable string")
+    return text
+
+
+def fix(netlist: str, prims: dict, path: str) -> str:
+    lines = netlist.split("\n")
+    out, i = [], 0
+    inst = None                     # the primitive whose instance's parameters follow
+    while i < len(lines):
+        ln = lines[i]
+        m = re.match(r"module (\w+)\s*$", ln)
+        if m and m.group(1) in prims:
+            # the black box: its header and ports, then endmodule, no statement
+            j = i
+            while j < len(lines) and lines[j].strip() != "endmodule":
+                j += 1
+            if j == len(lines):
+                sys.exit(f"ghdl_netlist: {path}:{i + 1}: module {m.group(1)} has no endmodule")
+            body = "\n".join(lines[i:j])
+            if not re.search(r"\b(assign|always|reg|wire|initial)\b", body):
+                i = j + 1
+                continue
+            # (a component bound to an entity of the edition, e.g. top_report's core:
+            # a real module, kept)
+        m = re.match(r"\s*(\w+) #\($", ln)
+        if m:
+            inst = m.group(1) if m.group(1) in prims else None
+        elif inst:
+            p = re.match(r"(\s*\.(\w+)\()(\d+)'b([01]+)(\)\)?,?)$", ln)
+            if p and p.group(2) in prims[inst]:
+                text = ascii_of(int(p.group(3)), p.group(4), f"{path}:{i + 1}")
+                ln = f'{p.group(1)}"{text}"{p.group(5)}'
+            if ln.rstrip().endswith("))"):
+                inst = None
+        out.append(ln)
+        i += 1
+    return "\n".join(out)
+
+
+def sources(top, extra=()):
+    """rtl/vhdl/sources.f's files, the extra ones, and rtl/vhdl/<top>.vhd if not listed."""
+    lines = (ROOT / "rtl" / "vhdl" / "sources.f").read_text().splitlines()
+    files = [ln.strip() for ln in lines if ln.strip() and not ln.startswith("#")]
+    files += [str(f) for f in extra]
+    vtop = f"rtl/vhdl/{top}.vhd"
+    if vtop not in files and (ROOT / vtop).is_file():
+        files.append(vtop)
+    return files
+
+
+def netlist(top, out, work, generics=(), extra=()):
+    """Write the repaired netlist of `top` to `out` (GHDL's messages to out.log); stops with
+    GHDL's message when GHDL fails."""
+    out, work = Path(out), Path(work)
+    files = sources(top, extra)
+    work.mkdir(parents=True, exist_ok=True)
+    log = out.with_suffix(".log")
+    gen = [f"-g{g}" for g in generics]
+    if not any(g.startswith("TABLE_DIR=") for g in generics):
+        gen.insert(0, f"-gTABLE_DIR={ROOT / 'rtl' / 'tables'}/")
+    with open(log, "w") as lf:
+        for cmd in (["ghdl", "-a", "--std=08", f"--workdir={work}"] + files,
+                    ["ghdl", "--synth", "--std=08", f"--workdir={work}", "--out=verilog"]
+                    + gen + [top]):
+            lf.write(" ".join(map(str, cmd)) + "\n")
+            lf.flush()
+            with open(out.with_suffix(".tmp"), "w") as f:
+                r = subprocess.run(cmd, cwd=ROOT, stdout=f, stderr=lf)
+            if r.returncode != 0:
+                sys.exit(f"ghdl_netlist: {cmd[0]} {cmd[1]} of {top} failed (exit status "
+                         f"{r.returncode}):\n{log.read_text()[-3000:]}")
+    text = out.with_suffix(".tmp").read_text()
+    out.with_suffix(".tmp").unlink()
+    out.write_text(fix(text, string_generics(ROOT / f for f in files), str(out)))
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(prog="ghdl_netlist.py", description=__doc__.split("\n\n")[0])
+    ap.add_argument("--top", required=True)
+    ap.add_argument("--out", required=True, help="the Verilog netlist")
+    ap.add_argument("--work", required=True, help="GHDL's work library")
+    ap.add_argument("--extra", action="append", default=[], help="a VHDL file more")
+    ap.add_argument("-g", action="append", default=[], metavar="NAME=VALUE",
+                    help="a generic of the top")
+    args = ap.parse_args(argv)
+    for g in args.g:
+        if not re.fullmatch(r"\w+=\S+", g):
+            sys.exit(f"ghdl_netlist: error: -g {g!r}: expected NAME=VALUE")
+    netlist(args.top, args.out, args.work, args.g, args.extra)
+
+
+if __name__ == "__main__":
+    main()
