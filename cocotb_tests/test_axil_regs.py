@@ -1,4 +1,4 @@
-"""axil_regs (AXI4-Lite slave -> finequad_core register port), both simulators.
+"""axil_regs (AXI4-Lite slave -> finequad_core register port), on Icarus, Verilator and GHDL.
 
 Against a register-file model of the core's port (axil_check.RegPortModel, registered
 read like the core) with ADDR_TOP = 0x2f (word indices 0x30.. are unmapped: SLVERR):
@@ -49,8 +49,8 @@ def test_axil_regs(sim):
                    testcase="timing,directed,random_backpressure")
 
 
-# Verilog only: tb_axil_core.v is a Verilog wrapper around the Verilog finequad_core
-@pytest.mark.parametrize("sim", fqtb.SIMULATORS)
+# GHDL runs tb_axil_core.vhd, the bench's VHDL twin (fqtb.vhdl_sources)
+@pytest.mark.parametrize("sim", fqtb.simulators("finequad_core"))
 def test_axil_core(sim):
     fqtb.run_block(sim, "tb_axil_core",
                    [fqtb.HERE / "tb_axil_core.v", fqtb.RTL / "axil_regs.v"]
