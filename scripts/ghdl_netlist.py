@@ -19,6 +19,13 @@ components, which GHDL leaves as black boxes. Its Verilog then has two faults:
   generics declared `string` in the component declarations of VHDL_FILE... are written
   back as strings.
 Anything else that does not match what this expects stops with the file and line.
+
+And one fault of every netlist: a non-zero constant wider than 32 bits (the initial or
+reset value of a wide record, e.g. finequad_core's settings) is written as a quoted
+string of its bits, "0101...", which Verilog reads as ASCII text (8 bits a character), so
+the register powers up and resets to garbage. Each becomes the sized literal it spells,
+N'b0101... (GHDL writes no string of its own otherwise: generics are sized literals).
+rtl/vhdl/README.md lists this with the constructs the VHDL avoids.
 """
 import argparse
 import re
@@ -51,8 +58,17 @@ def ascii_of(width: int, bits: str, where: str) -> str:
     return text
 
 
+WIDE_CONST = re.compile(r'"([01xzXZ]+)"')
+
+
+def wide_constants(netlist: str) -> str:
+    """Each quoted string of bits as the sized literal it spells."""
+    return WIDE_CONST.sub(lambda m: f"{len(m.group(1))}'b{m.group(1)}", netlist)
+
+
 def fix(netlist: str, prims: dict, path: str) -> str:
-    lines = netlist.split("\n")
+    # (first, while GHDL's own text has no string: the string generics come after)
+    lines = wide_constants(netlist).split("\n")
     out, i = [], 0
     inst = None                     # the primitive whose instance's parameters follow
     while i < len(lines):
