@@ -113,6 +113,17 @@ def sources(top, extra=()):
     return files
 
 
+def declares_generic(files, top, name):
+    """The entity `top` (in one of `files`) has the generic `name` (a block's cocotb run
+    takes a top without TABLE_DIR)."""
+    ent = re.compile(rf"^\s*entity\s+{top}\s+is\b(.*?)\bport\b", re.I | re.M | re.S)
+    for f in files:
+        m = ent.search(re.sub(r"--[^\n]*", "", (ROOT / f).read_text()))
+        if m:
+            return re.search(rf"\b{name}\s*:", m.group(1), re.I) is not None
+    return True
+
+
 def netlist(top, out, work, generics=(), extra=()):
     """Write the repaired netlist of `top` to `out` (GHDL's messages to out.log); stops with
     GHDL's message when GHDL fails."""
@@ -121,7 +132,8 @@ def netlist(top, out, work, generics=(), extra=()):
     work.mkdir(parents=True, exist_ok=True)
     log = out.with_suffix(".log")
     gen = [f"-g{g}" for g in generics]
-    if not any(g.startswith("TABLE_DIR=") for g in generics):
+    if not any(g.startswith("TABLE_DIR=") for g in generics) and \
+            declares_generic(files, top, "TABLE_DIR"):
         gen.insert(0, f"-gTABLE_DIR={ROOT / 'rtl' / 'tables'}/")
     with open(log, "w") as lf:
         for cmd in (["ghdl", "-a", "--std=08", f"--workdir={work}"] + files,
