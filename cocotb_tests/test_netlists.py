@@ -8,8 +8,8 @@ sets, and the blocks left out here, run on their netlist with FQ_GHDL_SYNTH=1
 netlist also runs against the model in sim/tests/test_run_vhdl.py (`make rtlsim
 EDITION=vhdl-synth`, Verilator).
 
-Chosen for CI time: the smallest set of each block, 66 s for the 13 from fresh builds
-(57 s warm; a shared 2-core machine, 2026-11-29), 1 to 10 s each. Left out: monitor (30
+Chosen for CI time: the smallest set of each block, 56 s for the 13 from fresh builds
+(a shared 2-core machine, 2026-11-29), 1 to 10 s each. Left out: monitor (30
 and 50 s; the core's netlist runs it), uart_axil's bridge (some 45 s), finequad_core (28
 s for `uniform`; test_run_vhdl.py's netlist run covers it), finequad_multi (68 s) and the
 estimator (its three cases, some 30 s)."""
