@@ -91,8 +91,79 @@ def has_vhdl(block: str) -> bool:
 
 def simulators(block: str):
     """The simulators that run `block`'s tests: SIMULATORS, and GHDL when the block has a
-    VHDL edition (run_block then builds that edition from the same Verilog source list)."""
-    return SIMULATORS + (("ghdl",) if has_vhdl(block) else ())
+    VHDL edition (run_block then builds that edition from the same Verilog source list);
+    with FQ_GHDL_SYNTH=1 in the environment also "ghdl-synth", GHDL's synthesised netlist
+    of that edition (run_block)."""
+    sims = SIMULATORS + (("ghdl",) if has_vhdl(block) else ())
+    if has_vhdl(block) and os.environ.get("FQ_GHDL_SYNTH", "0") not in ("", "0"):
+        sims += ("ghdl-synth",)
+    return sims
+
+
+# "ghdl-synth": the Verilog netlist `ghdl --synth --out=verilog` writes of the VHDL
+# edition, run by this simulator (FQ_SYNTH_SIM: icarus, the default, or verilator)
+SYNTH_SIM_DEFAULT = "icarus"
+
+
+def synth_sim() -> str:
+    """The simulator that runs GHDL's netlist for sim "ghdl-synth"."""
+    s = os.environ.get("FQ_SYNTH_SIM", SYNTH_SIM_DEFAULT)
+    if s not in SIMULATORS:
+        raise ValueError(f"FQ_SYNTH_SIM={s!r}: must be one of {SIMULATORS}")
+    return s
+
+
+def is_vhdl(sim: str) -> bool:
+    """`sim` runs the VHDL edition: GHDL, or GHDL's netlist of it ("ghdl-synth")."""
+    return sim in ("ghdl", "ghdl-synth")
+
+
+def plan_sim(sim: str) -> str:
+    """The simulator whose plan (sample counts, skipped sets) a test applies to `sim`:
+    GHDL's for its netlist too (the same edition; the netlist is no faster)."""
+    return "ghdl" if sim == "ghdl-synth" else sim
+
+
+def _ghdl_netlist():
+    """scripts/ghdl_netlist.py, which makes (and repairs) GHDL's netlist of a VHDL top."""
+    import importlib.util
+    if "fq_ghdl_netlist" not in sys.modules:
+        spec = importlib.util.spec_from_file_location("fq_ghdl_netlist",
+                                                      REPO / "scripts" / "ghdl_netlist.py")
+        mod = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(mod)
+        sys.modules["fq_ghdl_netlist"] = mod
+    return sys.modules["fq_ghdl_netlist"]
+
+
+def ghdl_netlist(toplevel, srcs, parameters, build_dir: Path) -> Path:
+    """GHDL's Verilog netlist of the VHDL edition's `toplevel` with the generics
+    `parameters` (a string's quotes dropped), made by scripts/ghdl_netlist.py (the edition,
+    then the test's own VHDL files of `srcs`: a simulation model, a bench's twin) ->
+    build_dir/<toplevel>_netlist.v; again only when a source, a generic or GHDL changed."""
+    import hashlib
+
+    extra = [f for f in vhdl_sources(srcs) if f not in vhdl_files()]
+    generics = []
+    for k, v in parameters.items():
+        if isinstance(v, str) and len(v) > 1 and v[0] == v[-1] == '"':
+            v = v[1:-1]
+        generics.append(f"{k}={v}")
+    h = hashlib.sha1(repr((toplevel, generics, [str(f) for f in extra])).encode())
+    h.update(ghdl_version().encode())
+    for f in vhdl_files() + extra + [REPO / "scripts" / "ghdl_netlist.py"]:
+        h.update(Path(f).read_bytes())
+    net = build_dir / f"{toplevel}_netlist.v"
+    stamp = build_dir / "fq_netlist.stamp"
+    if net.is_file() and stamp.is_file() and stamp.read_text() == h.hexdigest():
+        return net
+    stamp.unlink(missing_ok=True)
+    work = build_dir / "work"
+    for cf in work.glob("*.cf"):
+        cf.unlink()
+    _ghdl_netlist().netlist(toplevel, net, work, generics, extra)
+    stamp.write_text(h.hexdigest())
+    return net
 
 
 def vhdl_files():
@@ -263,7 +334,15 @@ def run_block(sim, toplevel, srcs, test_module, parameters=None, extra_env=None,
     setup_paths()
     parameters = dict(parameters or {})
     build_dir = SIM_BUILD / f"{toplevel}-{sim}-{tag or param_tag(parameters)}"
+    if sim == "ghdl-synth":
+        # GHDL's netlist (its generics are in it) built by synth_sim() like Verilog RTL;
+        # a black box (an empty module, e.g. MULT18X18D) keeps its empty body
+        srcs = [ghdl_netlist(toplevel, srcs, parameters, build_dir)]
+        parameters = {}
+        sim = synth_sim()
     runner = get_runner(sim)
+    # FQ_WAVES=1: the simulator's waveform dump in the build folder (for debugging)
+    waves = os.environ.get("FQ_WAVES", "0") not in ("", "0")
     build_args = []
     test_args, run_opts = [], []
     if sim == "verilator":
@@ -285,7 +364,7 @@ def run_block(sim, toplevel, srcs, test_module, parameters=None, extra_env=None,
         run_opts = ["--ieee-asserts=disable"]
     build_args += list(extra_build_args)
     includes = INCLUDES + [Path(d) for d in extra_includes]
-    stamp = _stamp(sim, toplevel, srcs, parameters, build_args, includes)
+    stamp = _stamp(sim, toplevel, srcs, parameters, build_args + ["waves"] * waves, includes)
     stamp_file = build_dir / "fq_build.stamp"
     if sim == "verilator":
         exe = build_dir / toplevel
@@ -311,6 +390,7 @@ def run_block(sim, toplevel, srcs, test_module, parameters=None, extra_env=None,
         build_args=build_args,
         timescale=("1ns", "1ps"),
         always=True,
+        waves=waves,
     )
     if not up_to_date:
         stamp_file.write_text(stamp)
@@ -326,6 +406,7 @@ def run_block(sim, toplevel, srcs, test_module, parameters=None, extra_env=None,
         test_args=test_args,
         plusargs=run_opts,
         timescale=("1ns", "1ps"),
+        waves=waves,
     )
 
 

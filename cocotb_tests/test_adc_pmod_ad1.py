@@ -47,7 +47,7 @@ def test_adc_pmod_ad1(sim, name):
     s = dict(SETS[name])
     if "EXPECT" in s and sim != "icarus":
         pytest.skip("checks of the model: one simulator is enough")
-    if sim == "ghdl" and name == "ulx3s":
+    if fqtb.is_vhdl(sim) and name == "ulx3s":
         # CI time: GHDL runs icebreaker and slow16, which between them give every
         # generic two values (ulx3s differs from icebreaker only in PERIOD and the clock)
         pytest.skip("GHDL runs icebreaker and slow16")

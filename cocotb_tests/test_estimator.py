@@ -29,19 +29,23 @@ def test_estimator_editions(case, tmp_path):
         pytest.skip("no VHDL edition of estimator")
     params = dict(TABLE_DIR=fqtb.qstr(fqtb.TABLE_DIR), **CASES[case])
     traces = {}
-    # (Icarus: the Verilog reference; Verilator runs it alike, one is enough)
-    for sim in ("icarus", "ghdl"):
+    # (Icarus: the Verilog reference; Verilator runs it alike, one is enough; GHDL, and
+    # with FQ_GHDL_SYNTH=1 GHDL's netlist too: fqtb.simulators)
+    vhdl = [s for s in fqtb.simulators("estimator") if fqtb.is_vhdl(s)]
+    for sim in ["icarus"] + vhdl:
         path = tmp_path / f"{sim}.trace"
         fqtb.run_block(sim, "estimator", fqtb.sources("estimator", "rls_engine"),
                        "test_estimator", parameters=params,
                        extra_env=dict(TRACE=path, N_EDGES=N_EDGES,
                                       EXT=CASES[case].get("OPT_EXT_ENGINE", 0)))
         traces[sim] = path.read_text().splitlines()
-    a, b = traces["icarus"], traces["ghdl"]
-    assert len(a) == len(b) == N_EDGES, (len(a), len(b))
-    bad = [i for i in range(len(a)) if a[i] != b[i]]
-    assert not bad, (f"{len(bad)} edges differ, the first {bad[0]}:\n  Verilog {a[bad[0]]}\n"
-                     f"  VHDL    {b[bad[0]]}")
+    a = traces["icarus"]
+    for sim in vhdl:
+        b = traces[sim]
+        assert len(a) == len(b) == N_EDGES, (sim, len(a), len(b))
+        bad = [i for i in range(len(a)) if a[i] != b[i]]
+        assert not bad, (f"{sim}: {len(bad)} edges differ, the first {bad[0]}:\n"
+                         f"  Verilog {a[bad[0]]}\n  VHDL    {b[bad[0]]}")
     # the stimulus reaches updates, LOADs and (engine inside) hand-overs; what else it
     # reached is printed (jumps, holds, saturation)
     rec = [dict(kv.split("=") for kv in ln.split()) for ln in a]

@@ -254,17 +254,17 @@ def backlog_at(count, t, reads, cfg):
 # them runs on GHDL as it is.
 CASES = [pytest.param(sim, scenario, id=f"{sim}-{scenario}")
          for sim in fqtb.simulators("finequad_core") for scenario in SCENARIOS
-         if sim != "ghdl" or "ghdl" in SCENARIOS[scenario]["n"]]
+         if not fqtb.is_vhdl(sim) or "ghdl" in SCENARIOS[scenario]["n"]]
 
 
 @pytest.mark.parametrize(("sim", "scenario"), CASES)
 def test_core(sim, scenario):
     sc = SCENARIOS[scenario]
-    n = int(os.environ.get("FQ_CORE_SAMPLES", 0)) or sc["n"][sim]
+    n = int(os.environ.get("FQ_CORE_SAMPLES", 0)) or sc["n"][fqtb.plan_sim(sim)]
     if n == 0:
         pytest.skip(f"{scenario}: not run on {sim}")
     build = dict(sc.get("build", {}))
-    if sim == "ghdl":
+    if fqtb.is_vhdl(sim):
         # OPT_ECP5_MULT = 1 instantiates the ECP5 MULT18X18D, which Icarus and Verilator
         # do not see (no SYNTHESIS define: rtl/octant.v and rtl/lut.v simulate the inferred
         # form, the logic of OPT_ECP5_MULT = 0); VHDL has no such define, so GHDL simulates

@@ -77,7 +77,7 @@ GHDL_SAMPLES = 3000
 
 def _run(case, out, sim="verilator"):
     c = CASES[case]
-    n = int(os.environ.get("FQ_MULTI_SAMPLES", 0)) or (GHDL_SAMPLES if sim == "ghdl"
+    n = int(os.environ.get("FQ_MULTI_SAMPLES", 0)) or (GHDL_SAMPLES if fqtb.is_vhdl(sim)
                                                         else c["n"])
     fqtb.run_block(sim, "finequad_multi", multi_sources(), "test_finequad_multi",
                    parameters=dict(TABLE_DIR=fqtb.qstr(fqtb.TABLE_DIR), AXES=c["axes"],

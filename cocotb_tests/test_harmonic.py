@@ -125,13 +125,13 @@ SAMPLES = {"icarus": {"gaps": 6000, "b2b": 10000, "slow": 20000},
 SAMPLES["ghdl"] = {p: n for p, n in SAMPLES["icarus"].items() if p != "slow"}
 # (the long stream, no clears, takes the step through all its halvings: Verilator only)
 RUNS = [(s, p) for s in fqtb.simulators("harmonic") for p in PATTERNS
-        if p == "directed" or p in SAMPLES[s]]
+        if p == "directed" or p in SAMPLES[fqtb.plan_sim(s)]]
 
 
 @pytest.mark.parametrize("distram", [0, 1], ids=["BRAM", "DISTRAM"])
 @pytest.mark.parametrize("sim, pattern", RUNS)
 def test_harmonic(sim, pattern, distram):
-    n = SAMPLES[sim].get(pattern, 0)
+    n = SAMPLES[fqtb.plan_sim(sim)].get(pattern, 0)
     exact = int(PATTERNS[pattern] == "exact")
     fqtb.run_block(sim, "harmonic", fqtb.sources("harmonic", "hbin"), "test_harmonic",
                    parameters=dict(TABLE_EXACT=exact, OPT_DISTRAM=distram,
@@ -153,7 +153,7 @@ def test_sig_switches():
     (on both simulators) shows the table once significant and hides it again, by a
     clear and by a table that shrinks (the hysteresis); the long one shows it."""
     for sim in fqtb.SIMULATORS:
-        st = stimulus("b2b", SAMPLES[sim]["b2b"])
+        st = stimulus("b2b", SAMPLES[fqtb.plan_sim(sim)]["b2b"])
         assert st.show == hm.SIG_ON
         _, tr, _ = run_model(st, trace=True)
         clear = model_inputs(st.edges, st.ctrl, st.clears)[3]

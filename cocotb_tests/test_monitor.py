@@ -42,7 +42,7 @@ import fqtb
 def test_monitor(sim, opt):
     if not opt and sim == "icarus":
         pytest.skip("OPT_MONITOR=0 runs on Verilator and GHDL")
-    scale = 1 if sim == "icarus" or (sim == "ghdl" and not opt) else 4
+    scale = 1 if sim == "icarus" or (fqtb.is_vhdl(sim) and not opt) else 4
     fqtb.run_block(sim, "monitor", fqtb.sources("monitor"), "test_monitor",
                    parameters=dict(OPT_MONITOR=opt),
                    extra_env=dict(SCALE=scale, OPT_MONITOR=opt))

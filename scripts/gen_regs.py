@@ -527,9 +527,11 @@ def vhdl(regs):
              "",
              "  begin",
              "",
-             "    -- one condition per line",
-             "    case a is",
-             ""]
+             "    ok := false;",
+             "",
+             "    -- one condition per line (if, not case: GHDL 2.0's Verilog writer drops a",
+             "    -- case's others, rtl/vhdl/README.md)"]
+    first = True
     for r in regs:
         if not r["write"]:
             continue
@@ -540,14 +542,11 @@ def vhdl(regs):
         for f in r["fields"]:
             if f["write"]:
                 conds += vhdl_field_checks(n, f)
-        body.append(f"      when FQ_{n} =>")
-        body.append(f"        ok := {conds[0] if conds else 'true'};")
-        body += [f"        ok := ok and {c};" for c in conds[1:]]
-        body.append("")
-    body += ["      when others =>",
-             "        ok := false;",
-             "",
-             "    end case;",
+        body.append(f"    {'if' if first else 'elsif'} a = FQ_{n} then")
+        body.append(f"      ok := {conds[0] if conds else 'true'};")
+        body += [f"      ok := ok and {c};" for c in conds[1:]]
+        first = False
+    body += ["    end if;",
              "",
              "    return ok;",
              "",

@@ -19,6 +19,13 @@ components, which GHDL leaves as black boxes. Its Verilog then has two faults:
   generics declared `string` in the component declarations of VHDL_FILE... are written
   back as strings.
 Anything else that does not match what this expects stops with the file and line.
+
+And one fault of every netlist: a non-zero constant wider than 32 bits (the initial or
+reset value of a wide record, e.g. finequad_core's settings) is written as a quoted
+string of its bits, "0101...", which Verilog reads as ASCII text (8 bits a character), so
+the register powers up and resets to garbage. Each becomes the sized literal it spells,
+N'b0101... (GHDL writes no string of its own otherwise: generics are sized literals).
+rtl/vhdl/README.md lists this with the constructs the VHDL avoids.
 """
 import argparse
 import re
@@ -51,8 +58,17 @@ def ascii_of(width: int, bits: str, where: str) -> str:
     return text
 
 
+WIDE_CONST = re.compile(r'"([01xzXZ]+)"')
+
+
+def wide_constants(netlist: str) -> str:
+    """Each quoted string of bits as the sized literal it spells."""
+    return WIDE_CONST.sub(lambda m: f"{len(m.group(1))}'b{m.group(1)}", netlist)
+
+
 def fix(netlist: str, prims: dict, path: str) -> str:
-    lines = netlist.split("\n")
+    # (first, while GHDL's own text has no string: the string generics come after)
+    lines = wide_constants(netlist).split("\n")
     out, i = [], 0
     inst = None                     # the primitive whose instance's parameters follow
     while i < len(lines):
@@ -97,6 +113,17 @@ def sources(top, extra=()):
     return files
 
 
+def declares_generic(files, top, name):
+    """The entity `top` (in one of `files`) has the generic `name` (a block's cocotb run
+    takes a top without TABLE_DIR)."""
+    ent = re.compile(rf"^\s*entity\s+{top}\s+is\b(.*?)\bport\b", re.I | re.M | re.S)
+    for f in files:
+        m = ent.search(re.sub(r"--[^\n]*", "", (ROOT / f).read_text()))
+        if m:
+            return re.search(rf"\b{name}\s*:", m.group(1), re.I) is not None
+    return True
+
+
 def netlist(top, out, work, generics=(), extra=()):
     """Write the repaired netlist of `top` to `out` (GHDL's messages to out.log); stops with
     GHDL's message when GHDL fails."""
@@ -105,12 +132,14 @@ def netlist(top, out, work, generics=(), extra=()):
     work.mkdir(parents=True, exist_ok=True)
     log = out.with_suffix(".log")
     gen = [f"-g{g}" for g in generics]
-    if not any(g.startswith("TABLE_DIR=") for g in generics):
+    if not any(g.startswith("TABLE_DIR=") for g in generics) and \
+            declares_generic(files, top, "TABLE_DIR"):
         gen.insert(0, f"-gTABLE_DIR={ROOT / 'rtl' / 'tables'}/")
     with open(log, "w") as lf:
-        for cmd in (["ghdl", "-a", "--std=08", f"--workdir={work}"] + files,
-                    ["ghdl", "--synth", "--std=08", f"--workdir={work}", "--out=verilog"]
-                    + gen + [top]):
+        # (one step, the files before -e: GHDL analyses them in memory for the synthesis;
+        # a separate `ghdl -a` would have the LLVM back end compile every file, 5 s here)
+        for cmd in (["ghdl", "--synth", "--std=08", f"--workdir={work}", "--out=verilog"]
+                    + gen + files + ["-e", top],):
             lf.write(" ".join(map(str, cmd)) + "\n")
             lf.flush()
             with open(out.with_suffix(".tmp"), "w") as f:

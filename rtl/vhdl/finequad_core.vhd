@@ -450,128 +450,91 @@ begin
       req <= NO_REQUESTS;
 
       if wr_take then
-
-        case reg_addr is
-
-          when FQ_CTRL =>
-            req.cov_reset  <= d(FQ_CTRL_COV_RESET_LSB);
-            req.load       <= d(FQ_CTRL_LOAD_LSB);
-            req.capture    <= d(FQ_CTRL_CAPTURE_LSB);
-            cfg.count_mode <= d(FQ_CTRL_COUNT_MODE_LSB);
-            req.inval      <= d(FQ_CTRL_COUNT_MODE_LSB);
-
-          when FQ_INTERP =>
-            cfg.interp <= field(d, FQ_INTERP_INTERP_LSB, FQ_INTERP_INTERP_W);
-            req.inval  <= to_sl(field(d, FQ_INTERP_INTERP_LSB, FQ_INTERP_INTERP_W) /= cfg.interp);
-
-          when FQ_REF =>
-            cfg.ref_q    <= field(d, FQ_REF_REF_Q_LSB, FQ_REF_REF_Q_W);
-            cfg.ref_filt <= field(d, FQ_REF_REF_FILT_LSB, FQ_REF_REF_FILT_W);
-            req.home     <= d(FQ_REF_HOME_LSB);
-
-          when FQ_HOME =>
-            cfg.home <= signed(field(d, FQ_HOME_HOME_COUNT_LSB, FQ_HOME_HOME_COUNT_W));
-
-          when FQ_DCODE =>
-            if OPT_DCODE = 1 then
-              req.dc_inval   <= to_sl(field(d, FQ_DCODE_DC_SPACING_LSB, FQ_DCODE_DC_SPACING_W)
-                                      /= cfg.dc_spacing or
-                                      field(d, FQ_DCODE_DC_CODED_LSB, FQ_DCODE_DC_CODED_W)
-                                      /= cfg.dc_coded);
-              cfg.dc_spacing <= field(d, FQ_DCODE_DC_SPACING_LSB, FQ_DCODE_DC_SPACING_W);
-              cfg.dc_coded   <= field(d, FQ_DCODE_DC_CODED_LSB, FQ_DCODE_DC_CODED_W);
-              cfg.dc_confirm <= d(FQ_DCODE_DC_CONFIRM_LSB);
-            end if;
-
+        -- (if, not case: GHDL 2.0's Verilog writer drops a case's others, README.md)
+        if reg_addr = FQ_CTRL then
+          req.cov_reset  <= d(FQ_CTRL_COV_RESET_LSB);
+          req.load       <= d(FQ_CTRL_LOAD_LSB);
+          req.capture    <= d(FQ_CTRL_CAPTURE_LSB);
+          cfg.count_mode <= d(FQ_CTRL_COUNT_MODE_LSB);
+          req.inval      <= d(FQ_CTRL_COUNT_MODE_LSB);
+        elsif reg_addr = FQ_INTERP then
+          cfg.interp <= field(d, FQ_INTERP_INTERP_LSB, FQ_INTERP_INTERP_W);
+          req.inval  <= to_sl(field(d, FQ_INTERP_INTERP_LSB, FQ_INTERP_INTERP_W) /= cfg.interp);
+        elsif reg_addr = FQ_REF then
+          cfg.ref_q    <= field(d, FQ_REF_REF_Q_LSB, FQ_REF_REF_Q_W);
+          cfg.ref_filt <= field(d, FQ_REF_REF_FILT_LSB, FQ_REF_REF_FILT_W);
+          req.home     <= d(FQ_REF_HOME_LSB);
+        elsif reg_addr = FQ_HOME then
+          cfg.home <= signed(field(d, FQ_HOME_HOME_COUNT_LSB, FQ_HOME_HOME_COUNT_W));
+        elsif reg_addr = FQ_DCODE then
+          if OPT_DCODE = 1 then
+            req.dc_inval   <= to_sl(field(d, FQ_DCODE_DC_SPACING_LSB, FQ_DCODE_DC_SPACING_W)
+                                    /= cfg.dc_spacing or
+                                    field(d, FQ_DCODE_DC_CODED_LSB, FQ_DCODE_DC_CODED_W)
+                                    /= cfg.dc_coded);
+            cfg.dc_spacing <= field(d, FQ_DCODE_DC_SPACING_LSB, FQ_DCODE_DC_SPACING_W);
+            cfg.dc_coded   <= field(d, FQ_DCODE_DC_CODED_LSB, FQ_DCODE_DC_CODED_W);
+            cfg.dc_confirm <= d(FQ_DCODE_DC_CONFIRM_LSB);
+          end if;
+        elsif reg_addr = FQ_GAIN then
           -- the staged bundle (the low 16 bits of the signed fields)
-          when FQ_GAIN =>
-            staged.g <= field(d, FQ_GAIN_GAIN_LSB, FQ_GAIN_GAIN_W);
-
-          when FQ_M1 =>
-            staged.m1 <= signed(field(d, FQ_M1_M1_LSB, 16));
-
-          when FQ_M2 =>
-            staged.m2 <= signed(field(d, FQ_M2_M2_LSB, 16));
-
-          when FQ_C1 =>
-            staged.c1 <= signed(field(d, FQ_C1_C1_LSB, 16));
-
-          when FQ_C12 =>
-            staged.c12 <= signed(field(d, FQ_C12_C12_LSB, 16));
-
-          when FQ_C2 =>
-            staged.c2 <= signed(field(d, FQ_C2_C2_LSB, 16));
-
-          when others =>
-            null;
-
-        end case;
-
+          staged.g <= field(d, FQ_GAIN_GAIN_LSB, FQ_GAIN_GAIN_W);
+        elsif reg_addr = FQ_M1 then
+          staged.m1 <= signed(field(d, FQ_M1_M1_LSB, 16));
+        elsif reg_addr = FQ_M2 then
+          staged.m2 <= signed(field(d, FQ_M2_M2_LSB, 16));
+        elsif reg_addr = FQ_C1 then
+          staged.c1 <= signed(field(d, FQ_C1_C1_LSB, 16));
+        elsif reg_addr = FQ_C12 then
+          staged.c12 <= signed(field(d, FQ_C12_C12_LSB, 16));
+        elsif reg_addr = FQ_C2 then
+          staged.c2 <= signed(field(d, FQ_C2_C2_LSB, 16));
+        end if;
       end if;
 
       -- the tuning registers: constant with OPT_TUNABLE = 0 (fq_write_ok refuses their
       -- writes too; the generic here lets synthesis fold them)
       if wr_take and OPT_TUNABLE = 1 then
-
-        case reg_addr is
-
-          when FQ_EPS =>
-            cfg.eps <= field(d, FQ_EPS_EPS_LSB, FQ_EPS_EPS_W);
-
-          when FQ_LAMBDA_K =>
-            cfg.lambda_k <= field(d, FQ_LAMBDA_K_LAMBDA_K_LSB, FQ_LAMBDA_K_LAMBDA_K_W);
-
-          when FQ_KAPPA =>
-            cfg.kappa  <= field(d, FQ_KAPPA_KAPPA_LSB, FQ_KAPPA_KAPPA_W);
-            cfg.kappa5 <= kappa5(field(d, FQ_KAPPA_KAPPA_LSB, FQ_KAPPA_KAPPA_W));
-
-          when FQ_PERIOD =>
-            cfg.period <= field(d, FQ_PERIOD_PERIOD_LSB, FQ_PERIOD_PERIOD_W);
-
-          when FQ_SETTLE =>
-            cfg.settle <= field(d, FQ_SETTLE_SETTLE_LSB, FQ_SETTLE_SETTLE_W);
-
-          when FQ_GATE =>
-            cfg.gate <= field(d, FQ_GATE_GATE_LSB, FQ_GATE_GATE_W);
-
-          when FQ_HARM =>
-            cfg.harm_apply <= d(FQ_HARM_HARM_APPLY_LSB);
-            cfg.harm_learn <= d(FQ_HARM_HARM_LEARN_LSB);
-            cfg.harm_mu    <= field(d, FQ_HARM_HARM_MU_LSB, FQ_HARM_HARM_MU_W);
-            req.harm_clear <= d(FQ_HARM_HARM_CLEAR_LSB);
-
-          when FQ_JUMP =>
-            cfg.jump_off <= d(FQ_JUMP_JUMP_OFF_LSB);
-            cfg.jump_min <= field(d, FQ_JUMP_JUMP_MIN_LSB, FQ_JUMP_JUMP_MIN_W);
-
-          when FQ_ABGEN =>
-            cfg.ab_sep <= field(d, FQ_ABGEN_AB_SEP_LSB, FQ_ABGEN_AB_SEP_W);
-            cfg.ab_src <= d(FQ_ABGEN_AB_SRC_LSB);
-
-          when FQ_AB_BOUND =>
-            cfg.ab_bound <= field(d, FQ_AB_BOUND_AB_BOUND_LSB, FQ_AB_BOUND_AB_BOUND_W);
-
-          when FQ_CLIP =>
-            cfg.clip <= field(d, FQ_CLIP_CLIP_LSB, FQ_CLIP_CLIP_W);
-
-          when FQ_RADIUS =>
-            cfg.loss <= field(d, FQ_RADIUS_LOSS_LSB, FQ_RADIUS_LOSS_W);
-            cfg.over <= field(d, FQ_RADIUS_OVER_LSB, FQ_RADIUS_OVER_W);
-
-          when FQ_MONITOR =>
-            cfg.glitch_k  <= field(d, FQ_MONITOR_GLITCH_K_LSB, FQ_MONITOR_GLITCH_K_W);
-            cfg.stuck_n   <= field(d, FQ_MONITOR_STUCK_N_LSB, FQ_MONITOR_STUCK_N_W);
-            cfg.code_step <= field(d, FQ_MONITOR_CODE_STEP_LSB, FQ_MONITOR_CODE_STEP_W);
-
-          when FQ_COAST =>
-            cfg.floor     <= field(d, FQ_COAST_FLOOR_LSB, FQ_COAST_FLOOR_W);
-            cfg.coast_acc <= field(d, FQ_COAST_COAST_ACC_LSB, FQ_COAST_COAST_ACC_W);
-
-          when others =>
-            null;
-
-        end case;
-
+        -- (if, not case: GHDL 2.0's Verilog writer drops a case's others, README.md)
+        if reg_addr = FQ_EPS then
+          cfg.eps <= field(d, FQ_EPS_EPS_LSB, FQ_EPS_EPS_W);
+        elsif reg_addr = FQ_LAMBDA_K then
+          cfg.lambda_k <= field(d, FQ_LAMBDA_K_LAMBDA_K_LSB, FQ_LAMBDA_K_LAMBDA_K_W);
+        elsif reg_addr = FQ_KAPPA then
+          cfg.kappa  <= field(d, FQ_KAPPA_KAPPA_LSB, FQ_KAPPA_KAPPA_W);
+          cfg.kappa5 <= kappa5(field(d, FQ_KAPPA_KAPPA_LSB, FQ_KAPPA_KAPPA_W));
+        elsif reg_addr = FQ_PERIOD then
+          cfg.period <= field(d, FQ_PERIOD_PERIOD_LSB, FQ_PERIOD_PERIOD_W);
+        elsif reg_addr = FQ_SETTLE then
+          cfg.settle <= field(d, FQ_SETTLE_SETTLE_LSB, FQ_SETTLE_SETTLE_W);
+        elsif reg_addr = FQ_GATE then
+          cfg.gate <= field(d, FQ_GATE_GATE_LSB, FQ_GATE_GATE_W);
+        elsif reg_addr = FQ_HARM then
+          cfg.harm_apply <= d(FQ_HARM_HARM_APPLY_LSB);
+          cfg.harm_learn <= d(FQ_HARM_HARM_LEARN_LSB);
+          cfg.harm_mu    <= field(d, FQ_HARM_HARM_MU_LSB, FQ_HARM_HARM_MU_W);
+          req.harm_clear <= d(FQ_HARM_HARM_CLEAR_LSB);
+        elsif reg_addr = FQ_JUMP then
+          cfg.jump_off <= d(FQ_JUMP_JUMP_OFF_LSB);
+          cfg.jump_min <= field(d, FQ_JUMP_JUMP_MIN_LSB, FQ_JUMP_JUMP_MIN_W);
+        elsif reg_addr = FQ_ABGEN then
+          cfg.ab_sep <= field(d, FQ_ABGEN_AB_SEP_LSB, FQ_ABGEN_AB_SEP_W);
+          cfg.ab_src <= d(FQ_ABGEN_AB_SRC_LSB);
+        elsif reg_addr = FQ_AB_BOUND then
+          cfg.ab_bound <= field(d, FQ_AB_BOUND_AB_BOUND_LSB, FQ_AB_BOUND_AB_BOUND_W);
+        elsif reg_addr = FQ_CLIP then
+          cfg.clip <= field(d, FQ_CLIP_CLIP_LSB, FQ_CLIP_CLIP_W);
+        elsif reg_addr = FQ_RADIUS then
+          cfg.loss <= field(d, FQ_RADIUS_LOSS_LSB, FQ_RADIUS_LOSS_W);
+          cfg.over <= field(d, FQ_RADIUS_OVER_LSB, FQ_RADIUS_OVER_W);
+        elsif reg_addr = FQ_MONITOR then
+          cfg.glitch_k  <= field(d, FQ_MONITOR_GLITCH_K_LSB, FQ_MONITOR_GLITCH_K_W);
+          cfg.stuck_n   <= field(d, FQ_MONITOR_STUCK_N_LSB, FQ_MONITOR_STUCK_N_W);
+          cfg.code_step <= field(d, FQ_MONITOR_CODE_STEP_LSB, FQ_MONITOR_CODE_STEP_W);
+        elsif reg_addr = FQ_COAST then
+          cfg.floor     <= field(d, FQ_COAST_FLOOR_LSB, FQ_COAST_FLOOR_W);
+          cfg.coast_acc <= field(d, FQ_COAST_COAST_ACC_LSB, FQ_COAST_COAST_ACC_W);
+        end if;
       end if;
 
       -- write 1 to clear; a fault arriving on the same edge stays set
@@ -1139,164 +1102,122 @@ begin
 
     if rising_edge(clk) then
       if reg_re = '1' then
-
-        case reg_addr is
-
-          when FQ_STATUS =>
-            rdata_q <= fq_rd_status(b_uncal, b_hold, e_sat, cfg.count_mode, b_loaded);
-
-          when FQ_INTERP =>
-            rdata_q <= fq_rd_interp(cfg.interp);
-
-          when FQ_EPS =>
-            rdata_q <= fq_rd_eps(cfg.eps);
-
-          when FQ_LAMBDA_K =>
-            rdata_q <= fq_rd_lambda_k(cfg.lambda_k);
-
-          when FQ_KAPPA =>
-            rdata_q <= fq_rd_kappa(cfg.kappa);
-
-          when FQ_PERIOD =>
-            rdata_q <= fq_rd_period(cfg.period);
-
-          when FQ_SETTLE =>
-            rdata_q <= fq_rd_settle(cfg.settle);
-
-          when FQ_GATE =>
-            rdata_q <= fq_rd_gate(cfg.gate);
-
-          when FQ_COUNT =>
-            rdata_q <= fq_rd_count(resize(count, FQ_COUNT_COUNT_W));
-
-          when FQ_ILLEGAL =>
-            rdata_q <= fq_rd_illegal(k.ill_count);
-
-          when FQ_FAULT_STICKY =>
-            rdata_q <= fq_rd_fault_sticky(clip   => fault_stk(FQ_FAULT_STICKY_CLIP_LSB),
-                                          nsat   => fault_stk(FQ_FAULT_STICKY_NSAT_LSB),
-                                          csat   => fault_stk(FQ_FAULT_STICKY_CSAT_LSB),
-                                          ovs    => fault_stk(FQ_FAULT_STICKY_OVS_LSB),
-                                          uncal  => fault_stk(FQ_FAULT_STICKY_UNCAL_LSB),
-                                          hold   => fault_stk(FQ_FAULT_STICKY_HOLD_LSB),
-                                          abovf  => fault_stk(FQ_FAULT_STICKY_ABOVF_LSB),
-                                          loss   => fault_stk(FQ_FAULT_STICKY_LOSS_LSB),
-                                          over   => fault_stk(FQ_FAULT_STICKY_OVER_LSB),
-                                          stuck  => fault_stk(FQ_FAULT_STICKY_STUCK_LSB),
-                                          glitch => fault_stk(FQ_FAULT_STICKY_GLITCH_LSB));
-
-          when FQ_GAIN =>
-            rdata_q <= fq_rd_gain(bundle.g);
-
-          when FQ_M1 =>
-            rdata_q <= fq_rd_m1(resize(bundle.m1, FQ_M1_M1_W));
-
-          when FQ_M2 =>
-            rdata_q <= fq_rd_m2(resize(bundle.m2, FQ_M2_M2_W));
-
-          when FQ_C1 =>
-            rdata_q <= fq_rd_c1(resize(bundle.c1, FQ_C1_C1_W));
-
-          when FQ_C12 =>
-            rdata_q <= fq_rd_c12(resize(bundle.c12, FQ_C12_C12_W));
-
-          when FQ_C2 =>
-            rdata_q <= fq_rd_c2(resize(bundle.c2, FQ_C2_C2_W));
-
-          when FQ_UPDATES =>
-            rdata_q <= fq_rd_updates(e_upd);
-
-          when FQ_HARM =>
-            if OPT_HARMONIC = 1 then
-              rdata_q <= fq_rd_harm(cfg.harm_apply, cfg.harm_learn, cfg.harm_mu);
-            else
-              rdata_q <= (others => '0');
-            end if;
-
-          when FQ_JUMP =>
-            if OPT_JUMP = 1 then
-              rdata_q <= fq_rd_jump(cfg.jump_min, cfg.jump_off);
-            else
-              -- the detector off
-              rdata_q <= fq_rd_jump(to_unsigned(0, FQ_JUMP_JUMP_MIN_W), '1');
-            end if;
-
-          when FQ_JUMPS =>
-            if OPT_JUMP = 1 then
-              rdata_q <= fq_rd_jumps(e_jumps);
-            else
-              rdata_q <= (others => '0');
-            end if;
-
-          when FQ_ABGEN =>
-            rdata_q <= fq_rd_abgen(cfg.ab_sep, cfg.ab_src);
-
-          when FQ_AB_BOUND =>
-            rdata_q <= fq_rd_ab_bound(cfg.ab_bound);
-
-          when FQ_AB_BACKLOG =>
-            rdata_q <= fq_rd_ab_backlog(resize(ab.backlog, FQ_AB_BACKLOG_AB_BACKLOG_W));
-
-          when FQ_CLIP =>
-            rdata_q <= fq_rd_clip(cfg.clip);
-
-          when FQ_RADIUS =>
-            if OPT_MONITOR = 1 then
-              rdata_q <= fq_rd_radius(cfg.loss, cfg.over);
-            else
-              rdata_q <= (others => '0');
-            end if;
-
-          when FQ_MONITOR =>
-            if OPT_MONITOR = 1 then
-              rdata_q <= fq_rd_monitor(cfg.glitch_k, cfg.code_step, cfg.stuck_n);
-            else
-              rdata_q <= (others => '0');
-            end if;
-
-          when FQ_COAST =>
-            if OPT_MONITOR = 1 then
-              rdata_q <= fq_rd_coast(cfg.floor, cfg.coast_acc);
-            else
-              rdata_q <= (others => '0');
-            end if;
-
-          when FQ_CAPTURE =>
-            rdata_q <= fq_rd_capture(resize(capture, FQ_CAPTURE_CAPTURE_W));
-
-          when FQ_TRAVEL =>
-            rdata_q <= fq_rd_travel(mon.travel);
-
-          when FQ_REF =>
-            rdata_q <= fq_rd_ref(cfg.ref_q, cfg.ref_filt);
-
-          when FQ_HOME =>
-            rdata_q <= fq_rd_home(cfg.home);
-
-          when FQ_REF_COUNT =>
-            rdata_q <= fq_rd_ref_count(resize(rm.ref_count, FQ_REF_COUNT_REF_COUNT_W));
-
-          when FQ_REF_STATUS =>
-            rdata_q <= fq_rd_ref_status(rm.win, rm.homed, rm.pos_valid, rm.home_armed,
-                                        dc.abs_valid);
-
-          when FQ_REF_STICKY =>
-            rdata_q <= fq_rd_ref_sticky(ref_stk(0), ref_stk(1), ref_stk(2));
-
-          when FQ_DCODE =>
-            rdata_q <= fq_rd_dcode(cfg.dc_spacing, cfg.dc_coded, cfg.dc_confirm);
-
-          when FQ_ABS_COUNT =>
-            rdata_q <= fq_rd_abs_count(resize(dc.abs_count, FQ_ABS_COUNT_ABS_COUNT_W));
-
-          when FQ_ID =>
-            rdata_q <= std_logic_vector(FQ_ID_ID_RESET);
-
-          when others =>
+        -- (if, not case: GHDL 2.0's Verilog writer drops a case's others, README.md)
+        if reg_addr = FQ_STATUS then
+          rdata_q <= fq_rd_status(b_uncal, b_hold, e_sat, cfg.count_mode, b_loaded);
+        elsif reg_addr = FQ_INTERP then
+          rdata_q <= fq_rd_interp(cfg.interp);
+        elsif reg_addr = FQ_EPS then
+          rdata_q <= fq_rd_eps(cfg.eps);
+        elsif reg_addr = FQ_LAMBDA_K then
+          rdata_q <= fq_rd_lambda_k(cfg.lambda_k);
+        elsif reg_addr = FQ_KAPPA then
+          rdata_q <= fq_rd_kappa(cfg.kappa);
+        elsif reg_addr = FQ_PERIOD then
+          rdata_q <= fq_rd_period(cfg.period);
+        elsif reg_addr = FQ_SETTLE then
+          rdata_q <= fq_rd_settle(cfg.settle);
+        elsif reg_addr = FQ_GATE then
+          rdata_q <= fq_rd_gate(cfg.gate);
+        elsif reg_addr = FQ_COUNT then
+          rdata_q <= fq_rd_count(resize(count, FQ_COUNT_COUNT_W));
+        elsif reg_addr = FQ_ILLEGAL then
+          rdata_q <= fq_rd_illegal(k.ill_count);
+        elsif reg_addr = FQ_FAULT_STICKY then
+          rdata_q <= fq_rd_fault_sticky(clip   => fault_stk(FQ_FAULT_STICKY_CLIP_LSB),
+                                        nsat   => fault_stk(FQ_FAULT_STICKY_NSAT_LSB),
+                                        csat   => fault_stk(FQ_FAULT_STICKY_CSAT_LSB),
+                                        ovs    => fault_stk(FQ_FAULT_STICKY_OVS_LSB),
+                                        uncal  => fault_stk(FQ_FAULT_STICKY_UNCAL_LSB),
+                                        hold   => fault_stk(FQ_FAULT_STICKY_HOLD_LSB),
+                                        abovf  => fault_stk(FQ_FAULT_STICKY_ABOVF_LSB),
+                                        loss   => fault_stk(FQ_FAULT_STICKY_LOSS_LSB),
+                                        over   => fault_stk(FQ_FAULT_STICKY_OVER_LSB),
+                                        stuck  => fault_stk(FQ_FAULT_STICKY_STUCK_LSB),
+                                        glitch => fault_stk(FQ_FAULT_STICKY_GLITCH_LSB));
+        elsif reg_addr = FQ_GAIN then
+          rdata_q <= fq_rd_gain(bundle.g);
+        elsif reg_addr = FQ_M1 then
+          rdata_q <= fq_rd_m1(resize(bundle.m1, FQ_M1_M1_W));
+        elsif reg_addr = FQ_M2 then
+          rdata_q <= fq_rd_m2(resize(bundle.m2, FQ_M2_M2_W));
+        elsif reg_addr = FQ_C1 then
+          rdata_q <= fq_rd_c1(resize(bundle.c1, FQ_C1_C1_W));
+        elsif reg_addr = FQ_C12 then
+          rdata_q <= fq_rd_c12(resize(bundle.c12, FQ_C12_C12_W));
+        elsif reg_addr = FQ_C2 then
+          rdata_q <= fq_rd_c2(resize(bundle.c2, FQ_C2_C2_W));
+        elsif reg_addr = FQ_UPDATES then
+          rdata_q <= fq_rd_updates(e_upd);
+        elsif reg_addr = FQ_HARM then
+          if OPT_HARMONIC = 1 then
+            rdata_q <= fq_rd_harm(cfg.harm_apply, cfg.harm_learn, cfg.harm_mu);
+          else
             rdata_q <= (others => '0');
-
-        end case;
-
+          end if;
+        elsif reg_addr = FQ_JUMP then
+          if OPT_JUMP = 1 then
+            rdata_q <= fq_rd_jump(cfg.jump_min, cfg.jump_off);
+          else
+            -- the detector off
+            rdata_q <= fq_rd_jump(to_unsigned(0, FQ_JUMP_JUMP_MIN_W), '1');
+          end if;
+        elsif reg_addr = FQ_JUMPS then
+          if OPT_JUMP = 1 then
+            rdata_q <= fq_rd_jumps(e_jumps);
+          else
+            rdata_q <= (others => '0');
+          end if;
+        elsif reg_addr = FQ_ABGEN then
+          rdata_q <= fq_rd_abgen(cfg.ab_sep, cfg.ab_src);
+        elsif reg_addr = FQ_AB_BOUND then
+          rdata_q <= fq_rd_ab_bound(cfg.ab_bound);
+        elsif reg_addr = FQ_AB_BACKLOG then
+          rdata_q <= fq_rd_ab_backlog(resize(ab.backlog, FQ_AB_BACKLOG_AB_BACKLOG_W));
+        elsif reg_addr = FQ_CLIP then
+          rdata_q <= fq_rd_clip(cfg.clip);
+        elsif reg_addr = FQ_RADIUS then
+          if OPT_MONITOR = 1 then
+            rdata_q <= fq_rd_radius(cfg.loss, cfg.over);
+          else
+            rdata_q <= (others => '0');
+          end if;
+        elsif reg_addr = FQ_MONITOR then
+          if OPT_MONITOR = 1 then
+            rdata_q <= fq_rd_monitor(cfg.glitch_k, cfg.code_step, cfg.stuck_n);
+          else
+            rdata_q <= (others => '0');
+          end if;
+        elsif reg_addr = FQ_COAST then
+          if OPT_MONITOR = 1 then
+            rdata_q <= fq_rd_coast(cfg.floor, cfg.coast_acc);
+          else
+            rdata_q <= (others => '0');
+          end if;
+        elsif reg_addr = FQ_CAPTURE then
+          rdata_q <= fq_rd_capture(resize(capture, FQ_CAPTURE_CAPTURE_W));
+        elsif reg_addr = FQ_TRAVEL then
+          rdata_q <= fq_rd_travel(mon.travel);
+        elsif reg_addr = FQ_REF then
+          rdata_q <= fq_rd_ref(cfg.ref_q, cfg.ref_filt);
+        elsif reg_addr = FQ_HOME then
+          rdata_q <= fq_rd_home(cfg.home);
+        elsif reg_addr = FQ_REF_COUNT then
+          rdata_q <= fq_rd_ref_count(resize(rm.ref_count, FQ_REF_COUNT_REF_COUNT_W));
+        elsif reg_addr = FQ_REF_STATUS then
+          rdata_q <= fq_rd_ref_status(rm.win, rm.homed, rm.pos_valid, rm.home_armed,
+                                      dc.abs_valid);
+        elsif reg_addr = FQ_REF_STICKY then
+          rdata_q <= fq_rd_ref_sticky(ref_stk(0), ref_stk(1), ref_stk(2));
+        elsif reg_addr = FQ_DCODE then
+          rdata_q <= fq_rd_dcode(cfg.dc_spacing, cfg.dc_coded, cfg.dc_confirm);
+        elsif reg_addr = FQ_ABS_COUNT then
+          rdata_q <= fq_rd_abs_count(resize(dc.abs_count, FQ_ABS_COUNT_ABS_COUNT_W));
+        elsif reg_addr = FQ_ID then
+          rdata_q <= std_logic_vector(FQ_ID_ID_RESET);
+        else
+          rdata_q <= (others => '0');
+        end if;
       end if;
     end if;
 

@@ -234,8 +234,9 @@ begin
 
   end generate g_axis;
 
-  -- a write to a reg_axis beyond the axes reaches no core: refused too
-  axis_ok <= '1' when AXES = 1 or reg_axis < AXES else
+  -- a write to a reg_axis beyond the axes reaches no core: refused too (an integer
+  -- compare: GHDL 2.0's synthesis cuts AXES to reg_axis's width, README.md)
+  axis_ok <= '1' when AXES = 1 or to_integer(reg_axis) < AXES else
              '0';
   reg_err <= or err_all or (reg_we and not axis_ok);
 

@@ -1204,126 +1204,97 @@ package body finequad_regs_pkg is
 
   begin
 
-    -- one condition per line
-    case a is
+    ok := false;
 
-      when FQ_CTRL =>
-        ok := free_bits_zero(d, FQ_CTRL_WMASK);
-
-      when FQ_INTERP =>
-        ok := free_bits_zero(d, FQ_INTERP_WMASK);
-        ok := ok and unsigned(d(8 downto 0)) /= 0;
-
-      when FQ_EPS =>
-        ok := opt.opt_tunable;
-        ok := ok and free_bits_zero(d, FQ_EPS_WMASK);
-
-      when FQ_LAMBDA_K =>
-        ok := opt.opt_tunable;
-        ok := ok and free_bits_zero(d, FQ_LAMBDA_K_WMASK);
-        ok := ok and unsigned(d(4 downto 0)) /= 0;
-        ok := ok and unsigned(d(4 downto 0)) <= FQ_LAMBDA_K_LAMBDA_K_HI;
-
-      when FQ_KAPPA =>
-        ok := opt.opt_tunable;
-        ok := ok and free_bits_zero(d, FQ_KAPPA_WMASK);
-        ok := ok and unsigned(d(15 downto 0)) /= 0;
-
-      when FQ_PERIOD =>
-        ok := opt.opt_tunable;
-        ok := ok and free_bits_zero(d, FQ_PERIOD_WMASK);
-
-      when FQ_SETTLE =>
-        ok := opt.opt_tunable;
-        ok := ok and free_bits_zero(d, FQ_SETTLE_WMASK);
-
-      when FQ_GATE =>
-        ok := opt.opt_tunable;
-        ok := ok and free_bits_zero(d, FQ_GATE_WMASK);
-
-      when FQ_FAULT_STICKY =>
-        ok := free_bits_zero(d, FQ_FAULT_STICKY_WMASK);
-
-      when FQ_GAIN =>
-        ok := free_bits_zero(d, FQ_GAIN_WMASK);
-
-      when FQ_M1 =>
-        ok := signed(d) >= FQ_M1_M1_LO;
-        ok := ok and signed(d) <= FQ_M1_M1_HI;
-
-      when FQ_M2 =>
-        ok := signed(d) >= FQ_M2_M2_LO;
-        ok := ok and signed(d) <= FQ_M2_M2_HI;
-
-      when FQ_C1 =>
-        ok := signed(d) >= FQ_C1_C1_LO;
-        ok := ok and signed(d) <= FQ_C1_C1_HI;
-
-      when FQ_C12 =>
-        ok := signed(d) >= FQ_C12_C12_LO;
-        ok := ok and signed(d) <= FQ_C12_C12_HI;
-
-      when FQ_C2 =>
-        ok := signed(d) >= FQ_C2_C2_LO;
-        ok := ok and signed(d) <= FQ_C2_C2_HI;
-
-      when FQ_HARM =>
-        ok := opt.opt_tunable;
-        ok := ok and opt.opt_harmonic;
-        ok := ok and free_bits_zero(d, FQ_HARM_WMASK);
-
-      when FQ_JUMP =>
-        ok := opt.opt_tunable;
-        ok := ok and opt.opt_jump;
-        ok := ok and free_bits_zero(d, FQ_JUMP_WMASK);
-
-      when FQ_ABGEN =>
-        ok := opt.opt_tunable;
-        ok := ok and free_bits_zero(d, FQ_ABGEN_WMASK);
-        ok := ok and unsigned(d(7 downto 0)) /= 0;
-
-      when FQ_AB_BOUND =>
-        ok := opt.opt_tunable;
-        ok := ok and free_bits_zero(d, FQ_AB_BOUND_WMASK);
-
-      when FQ_CLIP =>
-        ok := opt.opt_tunable;
-        ok := ok and free_bits_zero(d, FQ_CLIP_WMASK);
-
-      when FQ_RADIUS =>
-        ok := opt.opt_tunable;
-        ok := ok and opt.opt_monitor;
-
-      when FQ_MONITOR =>
-        ok := opt.opt_tunable;
-        ok := ok and opt.opt_monitor;
-        ok := ok and free_bits_zero(d, FQ_MONITOR_WMASK);
-        ok := ok and unsigned(d(11 downto 8)) <= FQ_MONITOR_CODE_STEP_HI;
-
-      when FQ_REF =>
-        ok := free_bits_zero(d, FQ_REF_WMASK);
-        ok := ok and unsigned(d(10 downto 0)) <= FQ_REF_REF_Q_HI;
-
-      when FQ_HOME =>
-        ok := true;
-
-      when FQ_REF_STICKY =>
-        ok := free_bits_zero(d, FQ_REF_STICKY_WMASK);
-
-      when FQ_DCODE =>
-        ok := opt.opt_dcode;
-        ok := ok and free_bits_zero(d, FQ_DCODE_WMASK);
-        ok := ok and unsigned(d(11 downto 0)) <= FQ_DCODE_DC_SPACING_HI;
-
-      when FQ_COAST =>
-        ok := opt.opt_tunable;
-        ok := ok and opt.opt_monitor;
-        ok := ok and free_bits_zero(d, FQ_COAST_WMASK);
-
-      when others =>
-        ok := false;
-
-    end case;
+    -- one condition per line (if, not case: GHDL 2.0's Verilog writer drops a
+    -- case's others, rtl/vhdl/README.md)
+    if a = FQ_CTRL then
+      ok := free_bits_zero(d, FQ_CTRL_WMASK);
+    elsif a = FQ_INTERP then
+      ok := free_bits_zero(d, FQ_INTERP_WMASK);
+      ok := ok and unsigned(d(8 downto 0)) /= 0;
+    elsif a = FQ_EPS then
+      ok := opt.opt_tunable;
+      ok := ok and free_bits_zero(d, FQ_EPS_WMASK);
+    elsif a = FQ_LAMBDA_K then
+      ok := opt.opt_tunable;
+      ok := ok and free_bits_zero(d, FQ_LAMBDA_K_WMASK);
+      ok := ok and unsigned(d(4 downto 0)) /= 0;
+      ok := ok and unsigned(d(4 downto 0)) <= FQ_LAMBDA_K_LAMBDA_K_HI;
+    elsif a = FQ_KAPPA then
+      ok := opt.opt_tunable;
+      ok := ok and free_bits_zero(d, FQ_KAPPA_WMASK);
+      ok := ok and unsigned(d(15 downto 0)) /= 0;
+    elsif a = FQ_PERIOD then
+      ok := opt.opt_tunable;
+      ok := ok and free_bits_zero(d, FQ_PERIOD_WMASK);
+    elsif a = FQ_SETTLE then
+      ok := opt.opt_tunable;
+      ok := ok and free_bits_zero(d, FQ_SETTLE_WMASK);
+    elsif a = FQ_GATE then
+      ok := opt.opt_tunable;
+      ok := ok and free_bits_zero(d, FQ_GATE_WMASK);
+    elsif a = FQ_FAULT_STICKY then
+      ok := free_bits_zero(d, FQ_FAULT_STICKY_WMASK);
+    elsif a = FQ_GAIN then
+      ok := free_bits_zero(d, FQ_GAIN_WMASK);
+    elsif a = FQ_M1 then
+      ok := signed(d) >= FQ_M1_M1_LO;
+      ok := ok and signed(d) <= FQ_M1_M1_HI;
+    elsif a = FQ_M2 then
+      ok := signed(d) >= FQ_M2_M2_LO;
+      ok := ok and signed(d) <= FQ_M2_M2_HI;
+    elsif a = FQ_C1 then
+      ok := signed(d) >= FQ_C1_C1_LO;
+      ok := ok and signed(d) <= FQ_C1_C1_HI;
+    elsif a = FQ_C12 then
+      ok := signed(d) >= FQ_C12_C12_LO;
+      ok := ok and signed(d) <= FQ_C12_C12_HI;
+    elsif a = FQ_C2 then
+      ok := signed(d) >= FQ_C2_C2_LO;
+      ok := ok and signed(d) <= FQ_C2_C2_HI;
+    elsif a = FQ_HARM then
+      ok := opt.opt_tunable;
+      ok := ok and opt.opt_harmonic;
+      ok := ok and free_bits_zero(d, FQ_HARM_WMASK);
+    elsif a = FQ_JUMP then
+      ok := opt.opt_tunable;
+      ok := ok and opt.opt_jump;
+      ok := ok and free_bits_zero(d, FQ_JUMP_WMASK);
+    elsif a = FQ_ABGEN then
+      ok := opt.opt_tunable;
+      ok := ok and free_bits_zero(d, FQ_ABGEN_WMASK);
+      ok := ok and unsigned(d(7 downto 0)) /= 0;
+    elsif a = FQ_AB_BOUND then
+      ok := opt.opt_tunable;
+      ok := ok and free_bits_zero(d, FQ_AB_BOUND_WMASK);
+    elsif a = FQ_CLIP then
+      ok := opt.opt_tunable;
+      ok := ok and free_bits_zero(d, FQ_CLIP_WMASK);
+    elsif a = FQ_RADIUS then
+      ok := opt.opt_tunable;
+      ok := ok and opt.opt_monitor;
+    elsif a = FQ_MONITOR then
+      ok := opt.opt_tunable;
+      ok := ok and opt.opt_monitor;
+      ok := ok and free_bits_zero(d, FQ_MONITOR_WMASK);
+      ok := ok and unsigned(d(11 downto 8)) <= FQ_MONITOR_CODE_STEP_HI;
+    elsif a = FQ_REF then
+      ok := free_bits_zero(d, FQ_REF_WMASK);
+      ok := ok and unsigned(d(10 downto 0)) <= FQ_REF_REF_Q_HI;
+    elsif a = FQ_HOME then
+      ok := true;
+    elsif a = FQ_REF_STICKY then
+      ok := free_bits_zero(d, FQ_REF_STICKY_WMASK);
+    elsif a = FQ_DCODE then
+      ok := opt.opt_dcode;
+      ok := ok and free_bits_zero(d, FQ_DCODE_WMASK);
+      ok := ok and unsigned(d(11 downto 0)) <= FQ_DCODE_DC_SPACING_HI;
+    elsif a = FQ_COAST then
+      ok := opt.opt_tunable;
+      ok := ok and opt.opt_monitor;
+      ok := ok and free_bits_zero(d, FQ_COAST_WMASK);
+    end if;
 
     return ok;
 

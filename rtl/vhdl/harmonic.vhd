@@ -175,21 +175,16 @@ architecture rtl of harmonic is
   function next_gear (g : gear_t; mv : gear_move_t) return gear_t is
   begin
 
-    case mv is
+    -- (if, not case: GHDL 2.0's netlist leaves Yosys a latch for a case, README.md)
+    if mv = g_zero then
+      return (others => '0');
+    elsif mv = g_up then
+      return g + 1;
+    elsif mv = g_down then
+      return g - 1;
+    end if;
 
-      when g_zero =>
-        return (others => '0');
-
-      when g_up =>
-        return g + 1;
-
-      when g_down =>
-        return g - 1;
-
-      when g_keep =>
-        return g;
-
-    end case;
+    return g;
 
   end function next_gear;
 
@@ -323,21 +318,16 @@ architecture rtl of harmonic is
 
   begin
 
-    case cv is
-
-      when g_up =>
-        w := v + asr(v, 1);
-
-      when g_down =>
-        w := v - asr(v, 2);
-
-      when g_zero =>
-        w := (others => '0');
-
-      when g_keep =>
-        w := v;
-
-    end case;
+    -- (if, not case: GHDL 2.0's netlist leaves Yosys a latch for a case, README.md)
+    if cv = g_up then
+      w := v + asr(v, 1);
+    elsif cv = g_down then
+      w := v - asr(v, 2);
+    elsif cv = g_zero then
+      w := (others => '0');
+    else
+      w := v;
+    end if;
 
     return unsigned(w(25 downto 8));
 
@@ -347,21 +337,16 @@ architecture rtl of harmonic is
   function obs_vc (v : signed(25 downto 0); cv : gear_move_t) return signed is
   begin
 
-    case cv is
+    -- (if, not case: GHDL 2.0's netlist leaves Yosys a latch for a case, README.md)
+    if cv = g_up then
+      return shift_left(v, 1);
+    elsif cv = g_down then
+      return asr(v, 1);
+    elsif cv = g_zero then
+      return to_signed(0, v'length);
+    end if;
 
-      when g_up =>
-        return shift_left(v, 1);
-
-      when g_down =>
-        return asr(v, 1);
-
-      when g_zero =>
-        return to_signed(0, v'length);
-
-      when g_keep =>
-        return v;
-
-    end case;
+    return v;
 
   end function obs_vc;
 

@@ -358,18 +358,14 @@ architecture rtl of rls_engine is
 
   begin
 
-    case dyn is
-
-      when "01" =>
-        amt := dz;
-
-      when "10" =>
-        amt := '0' & dz(4 downto 1);
-
-      when others =>
-        amt := "00000";
-
-    end case;
+    -- (if, not case: GHDL 2.0's Verilog writer drops a case's others, README.md)
+    if dyn = "01" then
+      amt := dz;
+    elsif dyn = "10" then
+      amt := '0' & dz(4 downto 1);
+    else
+      amt := "00000";
+    end if;
 
     raw := resize(sh, 8) - amt;
 
@@ -913,33 +909,21 @@ begin
 
       if i1.b(6) = '0' then
         oth_b := lane_io(owner(i1.b)).res6;
+      -- (if, not case: GHDL 2.0's Verilog writer drops a case's others, README.md)
+      elsif i1.b(2 downto 0) = "000" then
+        oth_b := x1_30;
+      elsif i1.b(2 downto 0) = "001" then
+        oth_b := x2_30;
+      elsif i1.b(2 downto 0) = "010" then
+        oth_b := onel;
+      elsif i1.b(2 downto 0) = "011" then
+        oth_b := kap;
+      elsif i1.b(2 downto 0) = "100" then
+        oth_b := gs1;
+      elsif i1.b(2 downto 0) = "101" then
+        oth_b := gs2;
       else
-
-        case i1.b(2 downto 0) is
-
-          when "000" =>
-            oth_b := x1_30;
-
-          when "001" =>
-            oth_b := x2_30;
-
-          when "010" =>
-            oth_b := onel;
-
-          when "011" =>
-            oth_b := kap;
-
-          when "100" =>
-            oth_b := gs1;
-
-          when "101" =>
-            oth_b := gs2;
-
-          when others =>
-            oth_b := (others => '0');
-
-        end case;
-
+        oth_b := (others => '0');
       end if;
 
       if i1.a(6) = '0' and ha6 = '0' then
@@ -1193,13 +1177,19 @@ begin
         end if;
 
         -- OUT: LANES = 1 the round stage's 16-bit value, LANES = 2 its register
-        if lane_io(li).out_we = '1' and lane_io(li).out_dst /= 7 then
-          if LANES = 1 then
-            outs(to_integer(lane_io(li).out_dst)) <= r.r16;
-          else
-            outs(to_integer(lane_io(li).out_dst)) <= lane_io(li).out_res;
+        -- (a loop of constant indices, not outs(out_dst): GHDL 2.0's netlist makes an
+        -- array written at a variable index and read outside a RAM a latch, README.md)
+        for oi in outs'range loop
+
+          if lane_io(li).out_we = '1' and lane_io(li).out_dst = oi then
+            if LANES = 1 then
+              outs(oi) <= r.r16;
+            else
+              outs(oi) <= lane_io(li).out_res;
+            end if;
           end if;
-        end if;
+
+        end loop;
 
         -- a register write saturated
         if lane_io(li).wr5 = '1' and r.fit32 = '0' then

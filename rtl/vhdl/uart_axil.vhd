@@ -231,153 +231,149 @@ begin
     if rising_edge(clk) then
       drop_q <= '0';
 
-      case state is
+      -- (if, not case: Yosys reads GHDL 2.0's case as a latch, README.md)
+      if state = s_hunt then
+        if rx_valid = '1' and rx_data = FLAG then
+          state       <= s_rx;
+          rxf.n       <= (others => '0');
+          rxf.escaped <= '0';
+          rxf.crc     <= CRC_0;
+          rxf.idle    <= (others => '0');
+        end if;
+      elsif state = s_rx then
+        -- the answer starts afresh
+        txf <= (k => (others => '0'), escaping => '0', crc => CRC_0);
 
-        when s_hunt =>
-          if rx_valid = '1' and rx_data = FLAG then
-            state       <= s_rx;
+        if rx_valid = '1' then
+          rxf.idle <= (others => '0');
+
+          if rx_data = FLAG then
+            -- the frame closes (and the FLAG opens the next one)
             rxf.n       <= (others => '0');
             rxf.escaped <= '0';
             rxf.crc     <= CRC_0;
-            rxf.idle    <= (others => '0');
-          end if;
 
-        when s_rx =>
-          -- the answer starts afresh
-          txf <= (k => (others => '0'), escaping => '0', crc => CRC_0);
+            if rxf.n /= 0 and rxf.escaped = '0' and len_ok then
+              is_wr <= to_sl(is_wr_n);
+              echo  <= rxf.sh(15 downto 0);
 
-          if rx_valid = '1' then
-            rxf.idle <= (others => '0');
-
-            if rx_data = FLAG then
-              -- the frame closes (and the FLAG opens the next one)
-              rxf.n       <= (others => '0');
-              rxf.escaped <= '0';
-              rxf.crc     <= CRC_0;
-
-              if rxf.n /= 0 and rxf.escaped = '0' and len_ok then
-                is_wr <= to_sl(is_wr_n);
-                echo  <= rxf.sh(15 downto 0);
-
-                if is_wr_n then
-                  axm.awaddr <= rxf.sh(63 downto 48);
-                  axm.wdata  <= rxf.sh(47 downto 16);
-                else
-                  axm.awaddr <= rxf.sh(31 downto 16);
-                end if;
-
-                if rxf.crc = x"0000" then
-                  state       <= s_bus;
-                  axm.awvalid <= to_sl(is_wr_n);
-                  axm.wvalid  <= to_sl(is_wr_n);
-                  axm.bready  <= to_sl(is_wr_n);
-                  axm.arvalid <= to_sl(not is_wr_n);
-                  axm.rready  <= to_sl(not is_wr_n);
-                else
-                  st        <= ST_CRC;
-                  axm.wdata <= (others => '0');
-                  state     <= s_tx;
-                end if;
-              elsif rxf.n /= 0 or rxf.escaped = '1' then
-                drop_q <= '1';
-              end if;
-            elsif rx_data = ESC and rxf.escaped = '0' then
-              rxf.escaped <= '1';
-            else
-              rxf.escaped <= '0';
-
-              if rxf.n = 0 then
-                rxf.cmd <= rx_byte;
+              if is_wr_n then
+                axm.awaddr <= rxf.sh(63 downto 48);
+                axm.wdata  <= rxf.sh(47 downto 16);
               else
-                rxf.sh <= rxf.sh(55 downto 0) & rx_byte;
+                axm.awaddr <= rxf.sh(31 downto 16);
               end if;
 
-              if rxf.n /= 10 then
-                rxf.n <= rxf.n + 1;
+              if rxf.crc = x"0000" then
+                state       <= s_bus;
+                axm.awvalid <= to_sl(is_wr_n);
+                axm.wvalid  <= to_sl(is_wr_n);
+                axm.bready  <= to_sl(is_wr_n);
+                axm.arvalid <= to_sl(not is_wr_n);
+                axm.rready  <= to_sl(not is_wr_n);
+              else
+                st        <= ST_CRC;
+                axm.wdata <= (others => '0');
+                state     <= s_tx;
               end if;
-
-              rxf.crc <= crc_step(rxf.crc, rx_byte);
-            end if;
-          elsif rxf.n /= 0 or rxf.escaped = '1' then
-            if rxf.idle = TIMEOUT then
-              state  <= s_hunt;
+            elsif rxf.n /= 0 or rxf.escaped = '1' then
               drop_q <= '1';
-            else
-              rxf.idle <= rxf.idle + 1;
             end if;
-          end if;
+          elsif rx_data = ESC and rxf.escaped = '0' then
+            rxf.escaped <= '1';
+          else
+            rxf.escaped <= '0';
 
-          if frame_err = '1' then
+            if rxf.n = 0 then
+              rxf.cmd <= rx_byte;
+            else
+              rxf.sh <= rxf.sh(55 downto 0) & rx_byte;
+            end if;
+
+            if rxf.n /= 10 then
+              rxf.n <= rxf.n + 1;
+            end if;
+
+            rxf.crc <= crc_step(rxf.crc, rx_byte);
+          end if;
+        elsif rxf.n /= 0 or rxf.escaped = '1' then
+          if rxf.idle = TIMEOUT then
             state  <= s_hunt;
-            drop_q <= to_sl(rxf.n /= 0 or rxf.escaped = '1');
+            drop_q <= '1';
+          else
+            rxf.idle <= rxf.idle + 1;
           end if;
+        end if;
 
-        when s_bus =>
-          if m_axil_awready = '1' then
-            axm.awvalid <= '0';
+        if frame_err = '1' then
+          state  <= s_hunt;
+          drop_q <= to_sl(rxf.n /= 0 or rxf.escaped = '1');
+        end if;
+      elsif state = s_bus then
+        if m_axil_awready = '1' then
+          axm.awvalid <= '0';
+        end if;
+
+        if m_axil_wready = '1' then
+          axm.wvalid <= '0';
+        end if;
+
+        if m_axil_arready = '1' then
+          axm.arvalid <= '0';
+        end if;
+
+        if axm.bready = '1' and m_axil_bvalid = '1' then
+          axm.bready <= '0';
+          st         <= ST_BUS & m_axil_bresp;
+          state      <= s_tx;
+        end if;
+
+        if axm.rready = '1' and m_axil_rvalid = '1' then
+          axm.rready <= '0';
+          st         <= ST_BUS & m_axil_rresp;
+          axm.wdata  <= m_axil_rdata;
+          state      <= s_tx;
+        end if;
+      else
+        -- s_tx
+        if tx_valid = '0' then
+          tx_valid <= '1';
+
+          if txf.k = 0 or txf.k > n_ans then
+            tx_data <= FLAG;
+          elsif txf.escaping = '1' then
+            tx_data <= ans_byte xor x"20";
+          elsif special then
+            tx_data <= ESC;
+          else
+            tx_data <= ans_byte;
           end if;
+        elsif tx_ready = '1' then
+          tx_valid <= '0';
 
-          if m_axil_wready = '1' then
-            axm.wvalid <= '0';
-          end if;
+          if txf.k /= 0 and txf.k <= n_ans and special and txf.escaping = '0' then
+            -- the escaped byte follows
+            txf.escaping <= '1';
+          else
+            txf.escaping <= '0';
 
-          if m_axil_arready = '1' then
-            axm.arvalid <= '0';
-          end if;
-
-          if axm.bready = '1' and m_axil_bvalid = '1' then
-            axm.bready <= '0';
-            st         <= ST_BUS & m_axil_bresp;
-            state      <= s_tx;
-          end if;
-
-          if axm.rready = '1' and m_axil_rvalid = '1' then
-            axm.rready <= '0';
-            st         <= ST_BUS & m_axil_rresp;
-            axm.wdata  <= m_axil_rdata;
-            state      <= s_tx;
-          end if;
-
-        when s_tx =>
-          if tx_valid = '0' then
-            tx_valid <= '1';
-
-            if txf.k = 0 or txf.k > n_ans then
-              tx_data <= FLAG;
-            elsif txf.escaping = '1' then
-              tx_data <= ans_byte xor x"20";
-            elsif special then
-              tx_data <= ESC;
+            if txf.k > n_ans then
+              -- the closing FLAG went out
+              state <= s_hunt;
             else
-              tx_data <= ans_byte;
-            end if;
-          elsif tx_ready = '1' then
-            tx_valid <= '0';
+              txf.k <= txf.k + 1;
 
-            if txf.k /= 0 and txf.k <= n_ans and special and txf.escaping = '0' then
-              -- the escaped byte follows
-              txf.escaping <= '1';
-            else
-              txf.escaping <= '0';
+              if txf.k /= 0 and txf.k < n_ans - 1 then
+                txf.crc <= crc_step(txf.crc, ans_byte);
+              end if;
 
-              if txf.k > n_ans then
-                -- the closing FLAG went out
-                state <= s_hunt;
-              else
-                txf.k <= txf.k + 1;
-
-                if txf.k /= 0 and txf.k < n_ans - 1 then
-                  txf.crc <= crc_step(txf.crc, ans_byte);
-                end if;
-
-                if txf.k >= 4 and txf.k < n_ans - 1 then
-                  axm.wdata <= axm.wdata(23 downto 0) & x"00";
-                end if;
+              if txf.k >= 4 and txf.k < n_ans - 1 then
+                axm.wdata <= axm.wdata(23 downto 0) & x"00";
               end if;
             end if;
           end if;
-
-      end case;
+        end if;
+      end if;
 
       if rst = '1' then
         state       <= s_hunt;

@@ -69,50 +69,47 @@ begin
         valid_q <= '0';
       end if;
 
-      case state is
+      -- (if, not case: Yosys reads GHDL 2.0's case as a latch, README.md)
+      if state = s_idle then
+        if rx = '0' then
+          state <= s_bits;
+          cnt   <= HALF;
+          bit_n <= (others => '0');
+        end if;
+      elsif state = s_bits then
+        if cnt /= 0 then
+          cnt <= cnt - 1;
+        else
+          cnt   <= FULL;
+          bit_n <= bit_n + 1;
 
-        when s_idle =>
-          if rx = '0' then
-            state <= s_bits;
-            cnt   <= HALF;
-            bit_n <= (others => '0');
-          end if;
-
-        when s_bits =>
-          if cnt /= 0 then
-            cnt <= cnt - 1;
-          else
-            cnt   <= FULL;
-            bit_n <= bit_n + 1;
-
-            if bit_n = 0 then
-              -- a glitch, not a start bit
-              if rx = '1' then
-                state <= s_idle;
-              end if;
-            elsif bit_n /= 9 then
-              shift <= rx & shift(7 downto 1);
-            elsif rx = '0' then
-              ferr_q <= '1';
-              state  <= s_high;
-            else
+          if bit_n = 0 then
+            -- a glitch, not a start bit
+            if rx = '1' then
               state <= s_idle;
+            end if;
+          elsif bit_n /= 9 then
+            shift <= rx & shift(7 downto 1);
+          elsif rx = '0' then
+            ferr_q <= '1';
+            state  <= s_high;
+          else
+            state <= s_idle;
 
-              if valid_q = '1' and m_axis_tready = '0' then
-                ovr_q <= '1';
-              else
-                data_q  <= shift;
-                valid_q <= '1';
-              end if;
+            if valid_q = '1' and m_axis_tready = '0' then
+              ovr_q <= '1';
+            else
+              data_q  <= shift;
+              valid_q <= '1';
             end if;
           end if;
-
-        when s_high =>
-          if rx = '1' then
-            state <= s_idle;
-          end if;
-
-      end case;
+        end if;
+      else
+        -- s_high
+        if rx = '1' then
+          state <= s_idle;
+        end if;
+      end if;
 
       if rst = '1' then
         state   <= s_idle;
