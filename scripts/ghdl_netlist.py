@@ -10,14 +10,17 @@ TABLE_DIR is set to rtl/tables/ unless given: the tables are read by the synthes
 become the ROMs' contents. GHDL's messages go to NET.log beside NET.v.
 
 The VHDL edition instantiates the vendor primitives (SB_PLL40_PAD, EHXPLLL, MULT18X18D) as
-components, which GHDL leaves as black boxes. Its Verilog then has two faults:
-- an empty module for each black box (a component no entity is bound to), whose parameters have no defaults ("Parameter
-  defaults can only be omitted in SystemVerilog mode"); it would also hide Yosys's own
-  cell of that name. Removed.
+components, which GHDL leaves as black boxes. Its Verilog then has these faults:
+- an empty module for each black box (a component no entity is bound to), whose
+  parameters have no defaults ("Parameter defaults can only be omitted in SystemVerilog
+  mode"); it would also hide Yosys's own cell of that name. Removed.
 - a string generic of an instance written as the bits of its ASCII text
   (`.FEEDBACK_PATH(48'b0101...)` for "SIMPLE"), where nextpnr reads a string. The
   generics declared `string` in the component declarations of VHDL_FILE... are written
   back as strings.
+- a port of the top that is a vector of one bit (top_ulx3s's `btn : std_logic_vector(1
+  downto 1)`, the Verilog's `[1:1] btn`) written as a scalar, so the constraints' `btn[1]`
+  finds no port. Declared with its range again.
 Anything else that does not match what this expects stops with the file and line.
 
 And one fault of every netlist: a non-zero constant wider than 32 bits (the initial or
@@ -124,6 +127,33 @@ def declares_generic(files, top, name):
     return True
 
 
+def one_bit_vectors(files, top):
+    """{port: index} of the entity `top`'s ports declared std_logic_vector(i downto i)."""
+    ent = re.compile(rf"^\s*entity\s+{top}\s+is\b(.*?)^\s*end\b", re.I | re.M | re.S)
+    for f in files:
+        m = ent.search(re.sub(r"--[^\n]*", "", (ROOT / f).read_text()))
+        if m:
+            return {n: int(i) for n, i, j in re.findall(
+                r"(\w+)\s*:\s*(?:in|out|inout)\s+std_logic_vector\s*\(\s*(\d+)\s+downto\s+"
+                r"(\d+)\s*\)", m.group(1), re.I) if i == j}
+    return {}
+
+
+def ranged_ports(netlist: str, top: str, ports: dict) -> str:
+    """The scalar declarations of `ports` in module `top`'s header with their range."""
+    if not ports:
+        return netlist
+    head = re.search(rf"^module {top}\b.*?\);", netlist, re.M | re.S)
+    if head is None:
+        sys.exit(f"ghdl_netlist: no module {top} in GHDL's netlist")
+    text = head.group(0)
+    for name, i in ports.items():
+        text, n = re.subn(rf"\b(input|output|inout)(\s+){name}\b", rf"\1 [{i}:{i}]\2{name}", text)
+        if n != 1:
+            sys.exit(f"ghdl_netlist: module {top}: port {name} not found as a scalar")
+    return netlist[:head.start()] + text + netlist[head.end():]
+
+
 def netlist(top, out, work, generics=(), extra=()):
     """Write the repaired netlist of `top` to `out` (GHDL's messages to out.log); stops with
     GHDL's message when GHDL fails."""
@@ -149,7 +179,8 @@ def netlist(top, out, work, generics=(), extra=()):
                          f"{r.returncode}):\n{log.read_text()[-3000:]}")
     text = out.with_suffix(".tmp").read_text()
     out.with_suffix(".tmp").unlink()
-    out.write_text(fix(text, string_generics(ROOT / f for f in files), str(out)))
+    text = fix(text, string_generics(ROOT / f for f in files), str(out))
+    out.write_text(ranged_ports(text, top, one_bit_vectors(files, top)))
 
 
 def main(argv=None):
