@@ -1047,6 +1047,11 @@ begin
     signal fl_wp  : unsigned(2 downto 0) := (others => '0');
     signal fl_q   : flags_t              := (others => '0');
 
+    -- (block RAM as in rtl/finequad_core.v; written onto the netlist by
+    -- ../../scripts/ghdl_netlist.py: GHDL's writer drops attributes)
+    attribute ram_style : string;
+    attribute ram_style of fl_mem : signal is "block";
+
   begin
 
     flag_ram : process (clk) is
