@@ -221,9 +221,9 @@ begin
   arm_n <= arm or (win_n and not win);
   lat_n <= xc and arm_n = '1';
   -- (one adder behind a choice of its operand; a choice between two sums would be two)
-  xd    <= -signed(resize(place.kf, COUNT_W)) when fwd else
-           signed(resize(kr, COUNT_W));
-  x     <= count_i + xd;
+  xd <= -signed(resize(place.kf, COUNT_W)) when fwd else
+        signed(resize(kr, COUNT_W));
+  x  <= count_i + xd;
 
   -- disarm: the window closed, the pins and their target strictly on one side of z_at
   disarm : process (all) is

@@ -1027,8 +1027,8 @@ begin
       attribute no_rw_check : boolean;
       attribute ram_style of late_mem   : signal is "block";
       attribute no_rw_check of late_mem : signal is true;
-      signal late_wa  : unsigned(1 downto 0) := "00";
-      signal late_q   : wbf_t;
+      signal late_wa : unsigned(1 downto 0) := "00";
+      signal late_q  : wbf_t;
 
     begin
 
