@@ -1041,7 +1041,8 @@ begin
   -- on edge t + LATENCY, into the RAM's output register
   else generate
 
-    type flag_ram_t is array (0 to LATENCY - 1) of flags_t;
+    -- (descending: GHDL addresses an ascending memory at the index's complement)
+    type flag_ram_t is array (LATENCY - 1 downto 0) of flags_t;
 
     signal fl_mem : flag_ram_t           := (others => (others => '0'));
     signal fl_wp  : unsigned(2 downto 0) := (others => '0');

@@ -546,7 +546,7 @@ architecture rtl of rls_engine is
   impure function rf_image (name : string) return rf_t is
 
     constant IMG : hex_table_t := read_hex(name, 2 ** BW, 32);
-    variable r   : rf_t(0 to RF_DEPTH - 1);
+    variable r   : rf_t(RF_DEPTH - 1 downto 0);
 
   begin
 
@@ -720,7 +720,9 @@ begin
 
       constant IMAGE : string := TABLE_DIR & "rls_regfile_" & LCH & "_" & integer'image(b) & ".hex";
 
-      signal rf_mem : rf_t(0 to RF_DEPTH - 1) := rf_image(IMAGE);
+      -- (descending, as every memory here: GHDL addresses an ascending one at the
+      -- index's complement, logic in front of the RAM, README.md)
+      signal rf_mem : rf_t(RF_DEPTH - 1 downto 0) := rf_image(IMAGE);
 
       -- (as in rtl/rls_engine.v: the forwarding covers a read of the register being
       -- written, so Yosys adds no logic for it; ../../scripts/ghdl_netlist.py writes the
@@ -1016,7 +1018,7 @@ begin
 
     g_late_ram : if LANES = 1 generate
 
-      type late_mem_t is array (0 to 3) of wbf_t;
+      type late_mem_t is array (3 downto 0) of wbf_t;
 
       signal late_mem : late_mem_t;
 
