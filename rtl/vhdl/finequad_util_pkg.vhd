@@ -216,7 +216,7 @@ package body finequad_util_pkg is
     variable digit : natural range 0 to 15;
     -- (descending: GHDL's synthesis addresses an ascending memory at its index's
     -- complement, which Yosys keeps as logic in front of the block RAM's address)
-    variable r     : hex_table_t(depth - 1 downto 0)(width - 1 downto 0) := (others => (others => '0'));
+    variable r : hex_table_t(depth - 1 downto 0)(width - 1 downto 0) := (others => (others => '0'));
 
   begin
 
