@@ -167,7 +167,7 @@ def config(run):
 def recording(run, sim="verilator"):
     """(u1, u2, ref, t, x, ev) of a run, as long as the simulator runs it."""
     spec = RUNS[run]
-    x, ref, ev, sig = homing_recording(spec["noise"], vmax=spec.get("vmax"), **LENGTH[sim])
+    x, ref, ev, sig = homing_recording(spec["noise"], vmax=spec.get("vmax"), **LENGTH[fqtb.plan_sim(sim)])
     u1, u2, _ = siggen.encode(x, PITCH, sig, seed=7)
     n = len(x)
     if spec["gaps"]:
@@ -197,7 +197,7 @@ def setup_writes(cfg):
 def test_refmark(sim, run):
     if sim == "icarus" and run != "n05":
         pytest.skip(f"{run}: Verilator only (Icarus runs the 0.5 % run, shortened)")
-    if sim == "ghdl" and run != "n2_gaps":
+    if fqtb.plan_sim(sim) == "ghdl" and run != "n2_gaps":
         pytest.skip(f"{run}: not on GHDL (GHDL runs n2_gaps, shortened)")
     fqtb.run_block(sim, "finequad_core", CORE_SOURCES, "test_refmark",
                    parameters=dict(TABLE_DIR=fqtb.qstr(fqtb.TABLE_DIR), TABLE_EXACT=1),
@@ -308,7 +308,7 @@ async def refmark_run(dut):
 
     # ---- the latch: once per pass, HOME every time ---------------------------------------------
     want = expected_latches(x)
-    assert want >= LENGTH[sim]["passes"], want
+    assert want >= LENGTH[fqtb.plan_sim(sim)]["passes"], want
     assert res["ref_latches"] == want, (f"{run}: {res['ref_latches']} latches, the motion "
                                         f"crossed the reference point in {want} passes")
     rc = np.asarray(res["ref_count"])

@@ -394,6 +394,11 @@ def vhdl_field_checks(n, f):
     if f["signed"]:
         if (f["lo"], f["hi"]) == (-(1 << (w - 1)), (1 << (w - 1)) - 1):
             return []
+        k = sign_bits(f)
+        if k is not None:
+            # the range of an s(k + 1): bits 31..k all 0 or all 1, as the Verilog's z<k> /
+            # o<k> (two 32-bit comparisons would be two carry chains)
+            return [f"(unsigned(d(31 downto {k})) = 0 or (and d(31 downto {k})) = '1')"]
         return [f"signed({sel}) >= {p}_LO", f"signed({sel}) <= {p}_HI"]
     if w == 1:
         return []

@@ -28,7 +28,23 @@ reset value of a wide record, e.g. finequad_core's settings) is written as a quo
 string of its bits, "0101...", which Verilog reads as ASCII text (8 bits a character), so
 the register powers up and resets to garbage. Each becomes the sized literal it spells,
 N'b0101... (GHDL writes no string of its own otherwise: generics are sized literals).
-rtl/vhdl/README.md lists this with the constructs the VHDL avoids.
+And a signed product (`// smul`) is written as Verilog's unsigned `*` of its operands
+sign-extended to the product's width: the same bits, but Yosys cannot narrow an unsigned
+multiplier whose high bits are sign copies, so a 16x16 signed product became a 32x32 one
+(three SB_MAC16 instead of one: the iCE40 build took 18 of the UP5K's 8). Each is written
+as `$signed(a) * $signed(b)`, the same bits modulo the width, which Yosys narrows to the
+operands' real widths as it does the Verilog edition's.
+And a memory's address (VHDL's ascending index on GHDL's descending memory) is written as
+`assign a = N'b11...1 - i;`, which Yosys keeps as an N-bit subtractor (a carry chain per
+memory port: three 11-bit ones in lut) where it is `~i`: written so when `a` is N bits.
+And GHDL's Verilog writer drops the VHDL's attributes of a memory: the Yosys attributes
+ram_style and no_rw_check that the Verilog edition sets (a 4-word delay line in block RAM,
+no read-during-write logic where the design never reads a word as it writes it) are
+declared on the VHDL signal (`attribute ram_style of late_mem : signal is "block"`,
+`attribute no_rw_check of rf_mem : signal is true`) and written back onto the netlist's
+memory of that name (GHDL's `reg [w] <prefix>_<name>[n] ; // memory`) in the modules of
+the entity whose file declares them.
+rtl/vhdl/README.md lists these with the constructs the VHDL avoids.
 """
 import argparse
 import re
@@ -69,9 +85,75 @@ def wide_constants(netlist: str) -> str:
     return WIDE_CONST.sub(lambda m: f"{len(m.group(1))}'b{m.group(1)}", netlist)
 
 
+SMUL = re.compile(r"^(\s*assign \w+ = )(\S+) \* (\S+); // smul$", re.M)
+
+
+def signed_products(netlist: str, path: str) -> str:
+    """Each signed product as a product of signed operands."""
+    text, n = SMUL.subn(r"\1$signed(\2) * $signed(\3); // smul", netlist)
+    if n != netlist.count("// smul"):
+        sys.exit(f"ghdl_netlist: {path}: a signed product (// smul) not of the form "
+                 "`assign n = a * b; // smul`")
+    return text
+
+
+MEM_ATTRS = ("ram_style", "no_rw_check")
+MEM_ATTR = re.compile(r"^\s*attribute\s+(\w+)\s+of\s+(\w+)\s*:\s*signal\s+is\s+"
+                      r"(\"[^\"]*\"|true)\s*;", re.I | re.M)
+ENTITY = re.compile(r"^\s*entity\s+(\w+)\s+is\b", re.I | re.M)
+MEMORY = re.compile(r"^(\s*)reg (\[\d+:\d+\] )?(\w+)\[\d+:\d+\] ; // memory$")
+
+
+def memory_attributes(vhdl_files) -> dict:
+    """{entity: [(signal, Verilog attribute)]} of the memory attributes the files declare."""
+    attrs = {}
+    for f in vhdl_files:
+        text = re.sub(r"--[^\n]*", "", Path(f).read_text())
+        found = [(sig.lower(), f'{a.lower()} = {v}' if v.startswith('"') else a.lower())
+                 for a, sig, v in MEM_ATTR.findall(text) if a.lower() in MEM_ATTRS]
+        for e in ENTITY.findall(text):
+            attrs[e.lower()] = found
+    return attrs
+
+
+def memory_attrs(netlist: str, attrs: dict) -> str:
+    out, ents = [], []
+    for ln in netlist.split("\n"):
+        m = re.match(r"module (\w+)\s*$", ln)
+        if m:
+            name = m.group(1).lower()
+            # (the longest entity name that names the module: `lut` before `lut_x`)
+            es = [e for e in attrs if name == e or name.startswith(e + "_")]
+            ents = attrs[max(es, key=len)] if es else []
+        m = MEMORY.match(ln)
+        if m:
+            mem = m.group(3).lower()
+            hit = [a for sig, a in ents if mem == sig or mem.endswith("_" + sig)]
+            if hit:
+                ln = f"{m.group(1)}(* {', '.join(hit)} *) {ln.lstrip()}"
+        out.append(ln)
+    return "\n".join(out)
+
+
+ONES_MINUS = re.compile(r"^(\s*assign (\w+) = )(\d+)'b(1+) - (\w+);$", re.M)
+WIRE_W = re.compile(r"^\s*(?:wire|reg) \[(\d+):0\] (\w+);$", re.M)
+
+
+def ones_minus(netlist: str) -> str:
+    """Each `a = N'b1..1 - i` with a of N bits as `a = ~i` (the same bits)."""
+    width = {m.group(2): int(m.group(1)) + 1 for m in WIRE_W.finditer(netlist)}
+
+    def sub(m):
+        n = int(m.group(3))
+        if n != len(m.group(4)) or width.get(m.group(2)) != n:
+            return m.group(0)
+        return f"{m.group(1)}~{m.group(5)};"
+    return ONES_MINUS.sub(sub, netlist)
+
+
 def fix(netlist: str, prims: dict, path: str) -> str:
     # (first, while GHDL's own text has no string: the string generics come after)
-    lines = wide_constants(netlist).split("\n")
+    lines = ones_minus(signed_products(wide_constants(netlist), path)).split("\n")
     out, i = [], 0
     inst = None                     # the primitive whose instance's parameters follow
     while i < len(lines):
@@ -180,6 +262,7 @@ def netlist(top, out, work, generics=(), extra=()):
     text = out.with_suffix(".tmp").read_text()
     out.with_suffix(".tmp").unlink()
     text = fix(text, string_generics(ROOT / f for f in files), str(out))
+    text = memory_attrs(text, memory_attributes(ROOT / f for f in files))
     out.write_text(ranged_ports(text, top, one_bit_vectors(files, top)))
 
 

@@ -80,8 +80,9 @@ begin
           target_i /= pos and geu(cnt, sep_i);
 
   -- pos + 1 or pos - 1 in one carry chain behind d's sign
-  pos_n <= pos - 1 when neg = '1' else
-           pos + 1;
+  -- (one adder of +1 or -1: "01" or "11" sign-extended; a choice between pos - 1 and
+  -- pos + 1 would be two)
+  pos_n <= pos + resize(signed'(neg & '1'), COUNT_W);
 
   -- |d| > bound from d registered (one edge later: the subtraction and the comparison in
   -- one clock were the UP5K's critical path). With m = d xor its sign (d when d >= 0,

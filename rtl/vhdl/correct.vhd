@@ -116,7 +116,7 @@ architecture rtl of correct is
     begin
 
       -- (an if, not abs: GHDL 2.0's Verilog writer prints abs of a signed as VHDL text)
-      if u < 0 then
+      if u(u'high) = '1' then -- (the sign bit: Yosys makes u < 0 a carry chain)
         a := -resize(u, 17);
       else
         a := resize(u, 17);

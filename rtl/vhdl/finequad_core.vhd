@@ -1041,11 +1041,17 @@ begin
   -- on edge t + LATENCY, into the RAM's output register
   else generate
 
-    type flag_ram_t is array (0 to LATENCY - 1) of flags_t;
+    -- (descending: GHDL addresses an ascending memory at the index's complement)
+    type flag_ram_t is array (LATENCY - 1 downto 0) of flags_t;
 
     signal fl_mem : flag_ram_t           := (others => (others => '0'));
     signal fl_wp  : unsigned(2 downto 0) := (others => '0');
     signal fl_q   : flags_t              := (others => '0');
+
+    -- (block RAM as in rtl/finequad_core.v; written onto the netlist by
+    -- ../../scripts/ghdl_netlist.py: GHDL's writer drops attributes)
+    attribute ram_style : string;
+    attribute ram_style of fl_mem : signal is "block";
 
   begin
 

@@ -1239,20 +1239,15 @@ package body finequad_regs_pkg is
     elsif a = FQ_GAIN then
       ok := free_bits_zero(d, FQ_GAIN_WMASK);
     elsif a = FQ_M1 then
-      ok := signed(d) >= FQ_M1_M1_LO;
-      ok := ok and signed(d) <= FQ_M1_M1_HI;
+      ok := (unsigned(d(31 downto 15)) = 0 or (and d(31 downto 15)) = '1');
     elsif a = FQ_M2 then
-      ok := signed(d) >= FQ_M2_M2_LO;
-      ok := ok and signed(d) <= FQ_M2_M2_HI;
+      ok := (unsigned(d(31 downto 15)) = 0 or (and d(31 downto 15)) = '1');
     elsif a = FQ_C1 then
-      ok := signed(d) >= FQ_C1_C1_LO;
-      ok := ok and signed(d) <= FQ_C1_C1_HI;
+      ok := (unsigned(d(31 downto 15)) = 0 or (and d(31 downto 15)) = '1');
     elsif a = FQ_C12 then
-      ok := signed(d) >= FQ_C12_C12_LO;
-      ok := ok and signed(d) <= FQ_C12_C12_HI;
+      ok := (unsigned(d(31 downto 15)) = 0 or (and d(31 downto 15)) = '1');
     elsif a = FQ_C2 then
-      ok := signed(d) >= FQ_C2_C2_LO;
-      ok := ok and signed(d) <= FQ_C2_C2_HI;
+      ok := (unsigned(d(31 downto 15)) = 0 or (and d(31 downto 15)) = '1');
     elsif a = FQ_HARM then
       ok := opt.opt_tunable;
       ok := ok and opt.opt_harmonic;

@@ -214,11 +214,13 @@ package body finequad_util_pkg is
     variable l     : line;
     variable word  : unsigned(width + 3 downto 0);
     variable digit : natural range 0 to 15;
-    variable r     : hex_table_t(0 to depth - 1)(width - 1 downto 0) := (others => (others => '0'));
+    -- (descending: GHDL's synthesis addresses an ascending memory at its index's
+    -- complement, which Yosys keeps as logic in front of the block RAM's address)
+    variable r : hex_table_t(depth - 1 downto 0)(width - 1 downto 0) := (others => (others => '0'));
 
   begin
 
-    for i in r'range loop
+    for i in 0 to depth - 1 loop
 
       exit when endfile(f);
       readline(f, l);

@@ -240,9 +240,10 @@ architecture rtl of monitor is
   constant TRAVEL_INIT : travel_t := (u => (others => '0'), s => (others => '0'));
 
   -- SPAN_K of the model, by {E & 1, m}
-  type span_k_t is array (0 to 7) of natural range 0 to 255;
+  -- (descending: GHDL addresses an ascending table at the index's complement)
+  type span_k_t is array (7 downto 0) of natural range 0 to 255;
 
-  constant SPAN_K : span_k_t := (108, 118, 127, 136, 152, 167, 180, 192);
+  constant SPAN_K : span_k_t := (192, 180, 167, 152, 136, 127, 118, 108);
 
   -- {zero, E, m} of |c| with the code step 2^sh: E = msb(|c|) + sh, m the two bits below
   -- the msb (u1, u5, u2)

@@ -158,6 +158,7 @@ architecture rtl of refmark is
   signal xc       : boolean; -- a crossing inside the window
   signal arm_n    : std_logic;
   signal lat_n    : boolean;
+  signal xd       : count_t; -- the crossed count's offset from count_i
   signal x        : count_t; -- the crossed count
   signal off_side : boolean; -- Z may be disarmed
 
@@ -219,8 +220,10 @@ begin
   xc    <= cv_i = '1' and hit and win_n = '1';
   arm_n <= arm or (win_n and not win);
   lat_n <= xc and arm_n = '1';
-  x     <= count_i - signed(resize(place.kf, COUNT_W)) when fwd else
-           count_i + signed(resize(kr, COUNT_W));
+  -- (one adder behind a choice of its operand; a choice between two sums would be two)
+  xd <= -signed(resize(place.kf, COUNT_W)) when fwd else
+        signed(resize(kr, COUNT_W));
+  x  <= count_i + xd;
 
   -- disarm: the window closed, the pins and their target strictly on one side of z_at
   disarm : process (all) is

@@ -546,7 +546,7 @@ architecture rtl of rls_engine is
   impure function rf_image (name : string) return rf_t is
 
     constant IMG : hex_table_t := read_hex(name, 2 ** BW, 32);
-    variable r   : rf_t(0 to RF_DEPTH - 1);
+    variable r   : rf_t(RF_DEPTH - 1 downto 0);
 
   begin
 
@@ -720,7 +720,15 @@ begin
 
       constant IMAGE : string := TABLE_DIR & "rls_regfile_" & LCH & "_" & integer'image(b) & ".hex";
 
-      signal mem : rf_t(0 to RF_DEPTH - 1) := rf_image(IMAGE);
+      -- (descending, as every memory here: GHDL addresses an ascending one at the
+      -- index's complement, logic in front of the RAM, README.md)
+      signal rf_mem : rf_t(RF_DEPTH - 1 downto 0) := rf_image(IMAGE);
+
+      -- (as in rtl/rls_engine.v: the forwarding covers a read of the register being
+      -- written, so Yosys adds no logic for it; ../../scripts/ghdl_netlist.py writes the
+      -- attribute onto the netlist, whose writer drops it)
+      attribute no_rw_check : boolean;
+      attribute no_rw_check of rf_mem : signal is true;
 
     begin
 
@@ -729,7 +737,7 @@ begin
 
         if rising_edge(clk) then
           if lane_io(b).wr_en = '1' then
-            mem(rf_addr(axis_q, lane_io(b).wr_dst)) <= lane_io(b).wr_res;
+            rf_mem(rf_addr(axis_q, lane_io(b).wr_dst)) <= lane_io(b).wr_res;
           end if;
         end if;
 
@@ -746,7 +754,7 @@ begin
         begin
 
           if rising_edge(clk) then
-            rd_q <= mem(rf_addr(axis_q, rd_addr0(p)));
+            rd_q <= rf_mem(rf_addr(axis_q, rd_addr0(p)));
           end if;
 
         end process rf_read;
@@ -756,7 +764,7 @@ begin
       end generate g_sync;
 
       g_async : if ASYNC_RF generate
-        rd_all(b)(p) <= mem(rf_addr(axis_q, rd_addr1(p)));
+        rd_all(b)(p) <= rf_mem(rf_addr(axis_q, rd_addr1(p)));
       end generate g_async;
 
     end generate g_port;
@@ -1010,11 +1018,19 @@ begin
 
     g_late_ram : if LANES = 1 generate
 
-      type late_mem_t is array (0 to 3) of wbf_t;
+      type late_mem_t is array (3 downto 0) of wbf_t;
 
       signal late_mem : late_mem_t;
-      signal late_wa  : unsigned(1 downto 0) := "00";
-      signal late_q   : wbf_t;
+
+      -- (block RAM as in rtl/rls_engine.v: Yosys maps so small a memory to flip-flops
+      -- unless told; never read as written. Written onto the netlist by
+      -- ../../scripts/ghdl_netlist.py: GHDL's writer drops attributes)
+      attribute ram_style   : string;
+      attribute no_rw_check : boolean;
+      attribute ram_style of late_mem   : signal is "block";
+      attribute no_rw_check of late_mem : signal is true;
+      signal late_wa : unsigned(1 downto 0) := "00";
+      signal late_q  : wbf_t;
 
     begin
 
