@@ -51,6 +51,7 @@ from sim import baselines, metrics, reference, scenarios, siggen  # noqa: E402
 from sim.model import finequad_core as core  # noqa: E402
 from sim.model import regs  # noqa: E402
 from sim.run_model import write_codes, write_result  # noqa: E402
+from reporting.common import make_env  # noqa: E402  (scripts/reporting)
 
 METHODS = ("rtl", "float", "paper_table", "paper", "heydemann", "raw")
 TARGET = 1.15
@@ -80,9 +81,7 @@ def rtl_cmd(inp, out, interp, adc_w, code_step=0, edition="verilog"):
            f"OUT={out}", f"INTERP={interp}", f"ADC_W={adc_w}", "TABLE=exact"]
     if code_step:
         cmd.append(f"SETTINGS=--code-step {code_step}")
-    if edition != "verilog":
-        cmd.append(f"EDITION={edition}")
-    return cmd
+    return cmd + [f"EDITION={edition}"]
 
 
 def run_rtl(inp, out, interp, adc_w, code_step=0, edition="verilog"):
@@ -91,7 +90,8 @@ def run_rtl(inp, out, interp, adc_w, code_step=0, edition="verilog"):
     import threading
     t0 = time.time()
     proc = subprocess.Popen(rtl_cmd(inp, out, interp, adc_w, code_step, edition),
-                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                            env=make_env())
     end = []
     waiter = threading.Thread(target=lambda: (proc.wait(), end.append(time.time())),
                               daemon=True)
@@ -108,10 +108,12 @@ def timed_rtl(inp, out, interp, adc_w, code_step=0, edition="verilog"):
     timed); returns its wall seconds."""
     cmd = rtl_cmd(inp, out, interp, adc_w, code_step, edition)
     if (adc_w, edition) not in _WARM:            # (builds the harness: not timed)
-        subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                       env=make_env())
         _WARM.add((adc_w, edition))
     t = time.time()
-    p = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    p = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                       env=make_env())
     if p.returncode != 0:
         raise SystemExit(f"bench: error: make rtlsim ({edition}) failed on {inp}:\n{p.stderr}")
     return time.time() - t

@@ -1,6 +1,7 @@
 """Paths, errors, running tools and the median: what every part of the report uses."""
 import os
 import pathlib
+import re
 import subprocess
 import sys
 import time
@@ -43,15 +44,34 @@ def rel(p):
     return os.path.relpath(p, ROOT)
 
 
+def command_line_vars(makeflags):
+    """The names of the variables a `make NAME=value ...` command line set, from the
+    MAKEFLAGS it hands its recipes ('s -- EDITION=vhdl PROFILE=x'; a space inside a
+    value is escaped with a backslash)."""
+    if " -- " not in " " + makeflags:
+        return set()
+    tail = (" " + makeflags).split(" -- ", 1)[1]
+    return {m.group(1) for word in re.split(r"(?<!\\) ", tail)
+            if (m := re.match(r"([A-Za-z_][A-Za-z0-9_]*)=", word))}
+
+
+def make_env(environ=None):
+    """The environment of a nested make: without MAKEFLAGS and without the variables of
+    the `make report EDITION=vhdl PROFILE=...` around this script, which make also puts
+    in its recipes' environment (as NAME=value); either would change what the nested
+    make builds or runs (EDITION=vhdl made `make rtlsim` run the VHDL edition)."""
+    environ = os.environ if environ is None else environ
+    drop = {"MAKEFLAGS", "MFLAGS"} | command_line_vars(environ.get("MAKEFLAGS", ""))
+    return {k: v for k, v in environ.items() if k not in drop}
+
+
 def run(cmd, log=None, what="", check=True, timeout=None):
     """Runs cmd in the repository; a run stopped after `timeout` seconds has returncode
-    None. A nested make gets only the variables cmd gives it: not those of a `make
-    report PROFILE=...` around this script (MAKEFLAGS), which would change the build it
-    runs."""
+    None. A nested make gets only the variables cmd gives it (make_env)."""
     t = time.perf_counter()
     env = None
     if cmd and cmd[0] == "make":
-        env = {k: v for k, v in os.environ.items() if k not in ("MAKEFLAGS", "MFLAGS")}
+        env = make_env()
     try:
         p = subprocess.run(cmd, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                            text=True, timeout=timeout, env=env)

@@ -723,3 +723,21 @@ def test_markdown_flags_rtl_not_model_and_a_core_that_does_not_fit():
     assert "| **NO** |" in md
     assert "## Reduced variants (the full core did not place)" in md
     assert "0 (the full core does not fit; reduced variant 1: 31.00)" in md
+
+
+def test_nested_make_gets_none_of_the_outer_make_command_line(tmp_path):
+    # `make report EDITION=vhdl` puts EDITION=vhdl in its recipes' environment as well as
+    # in MAKEFLAGS; a nested `make rtlsim` that inherited it ran the VHDL edition
+    mk = tmp_path / "Makefile"
+    mk.write_text("all:\n\t@" + sys.executable + " -c 'import json, os; "
+                  "print(json.dumps(dict(os.environ)))'\n")
+    out = subprocess.run(["make", "-s", "-f", str(mk), "EDITION=vhdl",
+                          "SETTINGS=--eps 1000 --interp 5", "PROFILE=up5k"],
+                         capture_output=True, text=True, check=True).stdout
+    outer = json.loads(out)
+    assert outer["EDITION"] == "vhdl" and "MAKEFLAGS" in outer
+    assert common.command_line_vars(outer["MAKEFLAGS"]) == {"EDITION", "SETTINGS", "PROFILE"}
+    env = common.make_env(outer)
+    assert not {"EDITION", "SETTINGS", "PROFILE", "MAKEFLAGS", "MFLAGS"} & set(env)
+    assert env["PATH"] == outer["PATH"]
+    assert common.command_line_vars("s") == set() and common.command_line_vars("") == set()
