@@ -44,6 +44,10 @@ declared on the VHDL signal (`attribute ram_style of late_mem : signal is "block
 `attribute no_rw_check of rf_mem : signal is true`) and written back onto the netlist's
 memory of that name (GHDL's `reg [w] <prefix>_<name>[n] ; // memory`) in the modules of
 the entity whose file declares them.
+And GHDL names registers and expressions nN_q, nN_o and writes each VHDL signal as an
+alias of one (named_nets); the nets take the signals' names, so Yosys's cells and
+nextpnr's paths carry the names the Verilog edition's do (constraints/up5k_dsp.py finds
+the UP5K's DSP blocks by them).
 rtl/vhdl/README.md lists these with the constructs the VHDL avoids.
 """
 import argparse
@@ -151,6 +155,36 @@ def ones_minus(netlist: str) -> str:
             return m.group(0)
         return f"{m.group(1)}~{m.group(5)};"
     return ONES_MINUS.sub(sub, netlist)
+
+
+ALIAS = re.compile(r"^  assign (\w+) = (n\d+_[a-z]+); // \(signal\)\n"
+                   r"|^  always @\*\n    (\w+) = (n\d+_[a-z]+); // \(isignal\)\n"
+                   r"  initial\n    \3 <= [^;\n]+;\n", re.M)
+
+
+def named_nets(netlist: str) -> str:
+    """Each VHDL signal under its own name. GHDL names a register or an expression nN_q,
+    nN_o and gives the signal as an alias of it (`assign p1 = nN_q; // (signal)`, or
+    `always @* p1 = nN_q; // (isignal)` with its initial value); Yosys then names the cells
+    after nN_q (u_correct.n4095_q_SB_MAC16_O where the Verilog edition has u_correct.p1:
+    constraints/up5k_dsp.py places blocks by those names, and timing paths read better).
+    Where a module has one alias of a net, the net takes the signal's name: its uses
+    renamed, the signal's declaration and alias removed (the same bits: an alias)."""
+    out = []
+    for mod in re.split(r"(?<=\nendmodule\n)", netlist):
+        aliases = [(m.group(1) or m.group(3), m.group(2) or m.group(4), m.group(0))
+                   for m in ALIAS.finditer(mod)]
+        count = {}
+        for _, net, _ in aliases:
+            count[net] = count.get(net, 0) + 1
+        for name, net, text in aliases:
+            decl = re.compile(rf"^  (?:wire|reg) (?:\[\d+:\d+\] )?{name};\n", re.M)
+            if count[net] != 1 or len(decl.findall(mod)) != 1:
+                continue
+            mod = decl.sub("", mod.replace(text, "", 1), 1)
+            mod = re.sub(rf"\b{net}\b", name, mod)
+        out.append(mod)
+    return "".join(out)
 
 
 def fix(netlist: str, prims: dict, path: str) -> str:
@@ -262,7 +296,7 @@ def netlist(top, out, work, generics=(), extra=()):
     text = out.with_suffix(".tmp").read_text()
     out.with_suffix(".tmp").unlink()
     text = fix(text, string_generics(ROOT / f for f in files), str(out))
-    text = memory_attrs(text, memory_attributes(ROOT / f for f in files))
+    text = named_nets(memory_attrs(text, memory_attributes(ROOT / f for f in files)))
     out.write_text(ranged_ports(text, top, one_bit_vectors(files, top)))
 
 
