@@ -33,10 +33,14 @@ harmonics the online count is the better one) (2 on bad arguments).
 GHDL (make rtlsim EDITION=vhdl); vhdl-synth: GHDL's synthesised netlist of it under
 Verilator. The table is the same (every figure comes from the count, which must equal
 the model's bit for bit); the run also times Verilator's rtlsim on each recording and
-reports both editions' samples per second (accuracy.json "rtlsim_speed").
+reports both editions' samples per second (accuracy.json "rtlsim_speed"). A GHDL run is
+kept beside its recording (rtl.csv, rtl.key: run_key) and used again, not re-run, while
+its command, its recording, the VHDL edition, its bench and GHDL are the same: the model
+and every score are computed afresh each time.
 """
 import argparse
 from dataclasses import replace
+import hashlib
 import json
 import pathlib
 import subprocess
@@ -119,13 +123,60 @@ def timed_rtl(inp, out, interp, adc_w, code_step=0, edition="verilog"):
     return time.time() - t
 
 
+# What a GHDL run's output depends on besides its recording and command: the edition's
+# files, the bench and its front end (the stimulus, the settings' register writes), the
+# tables, the Makefile's rtlsim recipe, and GHDL itself.
+RUN_INPUTS = ("sim/harness/harness.vhd", "sim/run_vhdl.py", "sim/run_model.py", "sim/ghdl.py",
+              "sim/model/regs.py", "Makefile")
+
+
+def run_key(d, cmd):
+    """The fingerprint of a GHDL run (--edition vhdl) of d/in.csv: its command, recording
+    and RUN_INPUTS (bench_accuracy keeps the run's rtl.csv and reuses it while the key is
+    the same: a run of the whole suite takes hours)."""
+    from sim import ghdl
+    h = hashlib.sha256()
+    files = sorted(set(ghdl.vhdl_files()) | set(RUN_INPUTS)) + sorted(
+        str(f.relative_to(ROOT)) for f in (ROOT / "rtl" / "tables").glob("*.hex"))
+    for part in ([" ".join(c for c in cmd if not c.startswith(("IN=", "OUT=", "-C")))]
+                 + [subprocess.run(["ghdl", "--version"], capture_output=True,
+                                   text=True).stdout.split("\n")[0]]):
+        h.update(part.encode() + b"\0")
+    for f in files:
+        h.update(f.encode() + b"\0" + (ROOT / f).read_bytes() + b"\0")
+    h.update((d / "in.csv").read_bytes())
+    return h.hexdigest()
+
+
+class Reused:
+    """A finished run whose rtl.csv is still valid (run_key): it took `secs` seconds."""
+    returncode = 0
+
+    def __init__(self, secs):
+        self.secs = secs
+
+    def communicate(self):
+        return "", ""
+
+    def seconds(self):
+        return self.secs
+
+
 def bench(sc, d, interp, rtl, edition="verilog"):
     u1, u2, a = sc.codes()
     bits, code_step = sc.port()           # the port's width; the converter's code step
     d.mkdir(parents=True, exist_ok=True)
     write_codes(d / "in.csv", u1, u2)
-    proc = (run_rtl(d / "in.csv", d / "rtl.csv", interp, bits, code_step, edition)
-            if rtl else None)
+    proc, key = None, None
+    if rtl and edition == "vhdl":
+        key = run_key(d, rtl_cmd(d / "in.csv", d / "rtl.csv", interp, bits, code_step, edition))
+        kept = json.loads((d / "rtl.key").read_text()) if (d / "rtl.key").is_file() else {}
+        if kept.get("key") == key and (d / "rtl.csv").is_file():
+            proc = Reused(kept["seconds"])
+        else:
+            (d / "rtl.key").unlink(missing_ok=True)
+    if rtl and proc is None:
+        proc = run_rtl(d / "in.csv", d / "rtl.csv", interp, bits, code_step, edition)
     t0 = time.time()
     cfg = core.Config(interp=interp, ADC_W=bits, code_step=code_step)
     res = core.run(u1, u2, cfg)
@@ -157,6 +208,9 @@ def bench(sc, d, interp, rtl, edition="verilog"):
         t_rtl = proc.seconds()
         if proc.returncode != 0:
             raise SystemExit(f"bench: error: make rtlsim failed on {sc.name}:\n{err}")
+        row["rtl_reused"] = isinstance(proc, Reused)
+        if key and not row["rtl_reused"]:
+            (d / "rtl.key").write_text(json.dumps({"key": key, "seconds": t_rtl}) + "\n")
         rtl_bytes = (d / "rtl.csv").read_bytes()
         row["rtl_equals_model"] = rtl_bytes == (d / "model.csv").read_bytes()
         rows = np.loadtxt(d / "rtl.csv", delimiter=",", skiprows=1, dtype=np.int64, ndmin=2)
@@ -302,7 +356,8 @@ def main():
               f"ratio {s['ratio']:.3f}, peak {s['peak_nm']:6.1f} nm, slips {s['slips']}, "
               f"float twin {r['float']['ratio']:.3f}; {eq}"
               + (f"; {args.edition} {sp[args.edition]} samples/s, Verilator {sp['verilog']}"
-                 if sp else ""), flush=True)
+                 if sp else "") + (" (its GHDL run kept from before: rtl.key)"
+                                   if r.get("rtl_reused") else ""), flush=True)
     md = (f"n = {args.interp}, 4 um pitch, 1 MS/s; ratio = RMS / floor; convergence = "
           f"signal periods of travel (and samples) from the start / after each jump "
           f"until every 200-sample window stays within 2x the floor ('-': never); "
