@@ -58,3 +58,29 @@ def test_bench_rejects_bad_arguments(tmp_path):
         for opt in ("--target", "--offline"):
             p = bench(opt, bad, "--build", str(tmp_path))
             assert p.returncode == 2 and f"{opt} must be a ratio > 0" in p.stderr, (opt, bad)
+
+
+def test_a_kept_ghdl_run_is_used_again_only_while_nothing_it_depends_on_changed(
+        tmp_path, monkeypatch):
+    import shutil
+    if shutil.which("ghdl") is None:
+        import pytest
+        pytest.skip("ghdl not installed")
+    sys.path.insert(0, str(ROOT / "scripts"))
+    import bench_accuracy as b
+    dep = tmp_path / "dep.vhd"                    # stands in for a file of the edition
+    dep.write_text("a")
+    monkeypatch.setattr(b, "RUN_INPUTS", b.RUN_INPUTS + (str(dep),))
+    (tmp_path / "in.csv").write_text("u1,u2\n1,2\n")
+    cmd = b.rtl_cmd(tmp_path / "in.csv", tmp_path / "rtl.csv", 100, 16, 0, "vhdl")
+    key = b.run_key(tmp_path, cmd)
+    assert b.run_key(tmp_path, b.rtl_cmd(tmp_path / "in.csv", tmp_path / "x" / "o.csv", 100,
+                                         16, 0, "vhdl")) == key     # (where it ran: not)
+    assert b.run_key(tmp_path, b.rtl_cmd(tmp_path / "in.csv", tmp_path / "rtl.csv", 50, 16,
+                                         0, "vhdl")) != key         # another setting
+    dep.write_text("b")
+    assert b.run_key(tmp_path, cmd) != key                          # the VHDL changed
+    dep.write_text("a")
+    assert b.run_key(tmp_path, cmd) == key
+    (tmp_path / "in.csv").write_text("u1,u2\n1,3\n")
+    assert b.run_key(tmp_path, cmd) != key                          # the recording
