@@ -81,6 +81,7 @@ def compare_editions(entries, path=None):
         print("(no Verilog edition report to compare with: make report, or --compare)")
         return
     ver = json.loads(pathlib.Path(path).read_text())
+    ver = ver.get("headline", ver)     # (scripts/results/: luts and Fmax only)
     print(f"\nVHDL edition beside the Verilog edition ({rel(pathlib.Path(path).resolve())}):")
     print("| device | | Verilog | VHDL | VHDL / Verilog |\n|---|---|---:|---:|---:|")
     for d, e in entries.items():

@@ -741,3 +741,25 @@ def test_nested_make_gets_none_of_the_outer_make_command_line(tmp_path):
     assert not {"EDITION", "SETTINGS", "PROFILE", "MAKEFLAGS", "MFLAGS"} & set(env)
     assert env["PATH"] == outer["PATH"]
     assert common.command_line_vars("s") == set() and common.command_line_vars("") == set()
+
+
+@pytest.mark.parametrize("published", [False, True])
+def test_compare_editions_reads_a_full_and_a_published_verilog_report(tmp_path, capsys,
+                                                                      published):
+    spec = importlib.util.spec_from_file_location("report_main", ROOT / "scripts" / "report.py")
+    report = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(report)
+    full = {"ice40_up5k": {"luts": 5000, "ffs": 1800, "dsps": 8, "brams": 28,
+                           "fmax_mhz": 24.0}}
+    ver = ({"name": "report", "headline": {"ice40_up5k": {"luts": 5000, "fmax_mhz": 24.0},
+                                           "latency_cycles": 8}}
+           if published else full)
+    (tmp_path / "report.json").write_text(json.dumps(ver))
+    vhdl = {"ice40_up5k": {"luts": 5100, "ffs": 1800, "dsps": 8, "brams": 28,
+                           "fmax_mhz": 25.2}}
+    report.compare_editions(vhdl, tmp_path / "report.json")
+    out = capsys.readouterr().out
+    assert "| ice40_up5k | luts | 5000 | 5100 | +2.0% |" in out
+    assert "| ice40_up5k | fmax_mhz | 24.0 | 25.2 | +5.0% |" in out
+    assert ("| ice40_up5k | ffs | - | 1800 | - |" if published
+            else "| ice40_up5k | ffs | 1800 | 1800 | +0.0% |") in out
