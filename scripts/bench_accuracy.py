@@ -36,7 +36,8 @@ the model's bit for bit); the run also times Verilator's rtlsim on each recordin
 reports both editions' samples per second (accuracy.json "rtlsim_speed"). A GHDL run is
 kept beside its recording (rtl.csv, rtl.key: run_key) and used again, not re-run, while
 its command, its recording, the VHDL edition, its bench and GHDL are the same: the model
-and every score are computed afresh each time.
+and every score are computed afresh each time. --jobs N runs the GHDL runs of N scenarios
+at once first (make bench-accuracy EDITION=vhdl JOBS=N).
 """
 import argparse
 from dataclasses import replace
@@ -162,6 +163,64 @@ class Reused:
         return self.secs
 
 
+def kept_run(d, key):
+    """The run kept in d (Reused) if its key is `key`, else None (and no key is left)."""
+    kept = json.loads((d / "rtl.key").read_text()) if (d / "rtl.key").is_file() else {}
+    if kept.get("key") == key and (d / "rtl.csv").is_file():
+        return Reused(kept["seconds"])
+    (d / "rtl.key").unlink(missing_ok=True)
+    return None
+
+
+def keep_run(d, key, seconds):
+    (d / "rtl.key").write_text(json.dumps({"key": key, "seconds": round(seconds, 1)}) + "\n")
+
+
+def ghdl_runs(suite, build, interp, jobs):
+    """--jobs N with --edition vhdl: the GHDL runs the suite needs and has not kept, N at a
+    time, the longest first, each kept for bench() to take (so a run's samples per second
+    is its own, on one of N busy cores)."""
+    todo = []
+    for sc in suite:
+        d = build / sc.name
+        u1, u2, _ = sc.codes()
+        bits, code_step = sc.port()
+        d.mkdir(parents=True, exist_ok=True)
+        write_codes(d / "in.csv", u1, u2)
+        key = run_key(d, rtl_cmd(d / "in.csv", d / "rtl.csv", interp, bits, code_step, "vhdl"))
+        if kept_run(d, key) is None:
+            todo.append((len(u1), sc.name, d, key, bits, code_step))
+    if not todo:
+        return
+    todo.sort(key=lambda t: -t[0])
+    print(f"GHDL runs of {len(todo)} scenarios, {jobs} at a time: "
+          + ", ".join(t[1] for t in todo), flush=True)
+    # (one short run first: it analyses the edition, which runs started together would race
+    # on in one work library)
+    warm = build / "_analysis"
+    warm.mkdir(parents=True, exist_ok=True)
+    write_codes(warm / "in.csv", np.zeros(2, dtype=np.int64), np.zeros(2, dtype=np.int64))
+    p = subprocess.run(rtl_cmd(warm / "in.csv", warm / "rtl.csv", interp, 16, 0, "vhdl"),
+                       stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                       env=make_env())
+    if p.returncode != 0:
+        raise SystemExit(f"bench: error: make rtlsim (vhdl) failed:\n{p.stderr}")
+    running = []
+    while todo or running:
+        while todo and len(running) < jobs:
+            n, name, d, key, bits, code_step = todo.pop(0)
+            running.append((name, d, key, run_rtl(d / "in.csv", d / "rtl.csv", interp, bits,
+                                                  code_step, "vhdl")))
+        time.sleep(1)
+        for name, d, key, proc in [r for r in running if r[3].poll() is not None]:
+            running.remove((name, d, key, proc))
+            _, err = proc.communicate()
+            if proc.returncode != 0:
+                raise SystemExit(f"bench: error: make rtlsim failed on {name}:\n{err}")
+            keep_run(d, key, proc.seconds())
+            print(f"{name}: GHDL run done in {proc.seconds():.0f} s", flush=True)
+
+
 def bench(sc, d, interp, rtl, edition="verilog"):
     u1, u2, a = sc.codes()
     bits, code_step = sc.port()           # the port's width; the converter's code step
@@ -170,11 +229,7 @@ def bench(sc, d, interp, rtl, edition="verilog"):
     proc, key = None, None
     if rtl and edition == "vhdl":
         key = run_key(d, rtl_cmd(d / "in.csv", d / "rtl.csv", interp, bits, code_step, edition))
-        kept = json.loads((d / "rtl.key").read_text()) if (d / "rtl.key").is_file() else {}
-        if kept.get("key") == key and (d / "rtl.csv").is_file():
-            proc = Reused(kept["seconds"])
-        else:
-            (d / "rtl.key").unlink(missing_ok=True)
+        proc = kept_run(d, key)
     if rtl and proc is None:
         proc = run_rtl(d / "in.csv", d / "rtl.csv", interp, bits, code_step, edition)
     t0 = time.time()
@@ -210,7 +265,7 @@ def bench(sc, d, interp, rtl, edition="verilog"):
             raise SystemExit(f"bench: error: make rtlsim failed on {sc.name}:\n{err}")
         row["rtl_reused"] = isinstance(proc, Reused)
         if key and not row["rtl_reused"]:
-            (d / "rtl.key").write_text(json.dumps({"key": key, "seconds": t_rtl}) + "\n")
+            keep_run(d, key, t_rtl)
         rtl_bytes = (d / "rtl.csv").read_bytes()
         row["rtl_equals_model"] = rtl_bytes == (d / "model.csv").read_bytes()
         rows = np.loadtxt(d / "rtl.csv", delimiter=",", skiprows=1, dtype=np.int64, ndmin=2)
@@ -311,6 +366,9 @@ def main():
     ap.add_argument("--edition", choices=list(EDITIONS), default="verilog",
                     help="the RTL: verilog (Verilator, default), vhdl (the VHDL edition "
                          "under GHDL) or vhdl-synth (its ghdl --synth netlist, Verilator)")
+    ap.add_argument("--jobs", type=int, default=1, metavar="N",
+                    help="with --edition vhdl: GHDL runs of up to N scenarios at once "
+                         "(default 1)")
     ap.add_argument("--target", type=float, default=TARGET,
                     help=f"the largest RMS / floor a scenario may have (default {TARGET})")
     ap.add_argument("--offline", type=float, default=OFFLINE,
@@ -342,9 +400,14 @@ def main():
     except ValueError as e:
         print(f"bench: error: {e}", file=sys.stderr)
         raise SystemExit(2)
+    if args.jobs < 1:
+        print(f"bench: error: --jobs must be 1 or more, got {args.jobs}", file=sys.stderr)
+        raise SystemExit(2)
     build = pathlib.Path(args.build)
     rows = []
     t0 = time.time()
+    if args.jobs > 1 and args.edition == "vhdl" and not args.no_rtl:
+        ghdl_runs(suite, build, args.interp, args.jobs)
     for sc in suite:
         r = bench(sc, build / sc.name, args.interp, not args.no_rtl, args.edition)
         rows.append(r)
