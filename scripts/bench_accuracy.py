@@ -124,24 +124,33 @@ def timed_rtl(inp, out, interp, adc_w, code_step=0, edition="verilog"):
     return time.time() - t
 
 
-# What a GHDL run's output depends on besides its recording and command: the edition's
-# files, the bench and its front end (the stimulus, the settings' register writes), the
-# tables, the Makefile's rtlsim recipe, and GHDL itself.
+# What a GHDL run's output depends on besides its recording and the command make runs:
+# the edition's files, the bench and its front end (the stimulus, the settings' register
+# writes), the tables, and GHDL itself.
 RUN_INPUTS = ("sim/harness/harness.vhd", "sim/run_vhdl.py", "sim/run_model.py", "sim/ghdl.py",
-              "sim/model/regs.py", "Makefile")
+              "sim/model/regs.py")
 
 
 def run_key(d, cmd):
-    """The fingerprint of a GHDL run (--edition vhdl) of d/in.csv: its command, recording
-    and RUN_INPUTS (bench_accuracy keeps the run's rtl.csv and reuses it while the key is
-    the same: a run of the whole suite takes hours)."""
+    """The fingerprint of a GHDL run (--edition vhdl) of d/in.csv: the command `cmd` has
+    make run (`make -n`, its paths left out), the recording and RUN_INPUTS (bench_accuracy
+    keeps the run's rtl.csv and reuses it while the key is the same: a run of the whole
+    suite takes hours)."""
     from sim import ghdl
     h = hashlib.sha256()
     files = sorted(set(ghdl.vhdl_files()) | set(RUN_INPUTS)) + sorted(
         str(f.relative_to(ROOT)) for f in (ROOT / "rtl" / "tables").glob("*.hex"))
-    for part in ([" ".join(c for c in cmd if not c.startswith(("IN=", "OUT=", "-C")))]
-                 + [subprocess.run(["ghdl", "--version"], capture_output=True,
-                                   text=True).stdout.split("\n")[0]]):
+    dry = subprocess.run(cmd[:1] + ["-n"] + cmd[1:], capture_output=True, text=True,
+                         env=make_env())
+    run = [ln for ln in dry.stdout.splitlines() if "sim.run_vhdl" in ln]
+    if dry.returncode != 0 or len(run) != 1:
+        raise SystemExit(f"bench: error: make -n rtlsim gave no one sim.run_vhdl command:\n"
+                         f"{dry.stdout}{dry.stderr}")
+    inp, out = (c.split("=", 1)[1] for c in cmd if c.startswith(("IN=", "OUT=")))
+    run = " ".join(run[0].replace(inp, "IN").replace(out, "OUT").replace(str(ROOT), ".")
+                   .split())
+    for part in (run, subprocess.run(["ghdl", "--version"], capture_output=True,
+                                     text=True).stdout.split("\n")[0]):
         h.update(part.encode() + b"\0")
     for f in files:
         h.update(f.encode() + b"\0" + (ROOT / f).read_bytes() + b"\0")
