@@ -192,10 +192,7 @@ def ghdl_runs(suite, build, interp, jobs):
     todo = []
     for sc in suite:
         d = build / sc.name
-        u1, u2, _ = sc.codes()
-        bits, code_step = sc.port()
-        d.mkdir(parents=True, exist_ok=True)
-        write_codes(d / "in.csv", u1, u2)
+        u1, _, _, bits, code_step = recording(sc, d)
         key = run_key(d, rtl_cmd(d / "in.csv", d / "rtl.csv", interp, bits, code_step, "vhdl"))
         if kept_run(d, key) is None:
             todo.append((len(u1), sc.name, d, key, bits, code_step))
@@ -230,11 +227,18 @@ def ghdl_runs(suite, build, interp, jobs):
             print(f"{name}: GHDL run done in {proc.seconds():.0f} s", flush=True)
 
 
-def bench(sc, d, interp, rtl, edition="verilog"):
+def recording(sc, d):
+    """Scenario sc's recording written to d/in.csv: its codes u1, u2, the angle, the port's
+    width and the converter's code step."""
     u1, u2, a = sc.codes()
-    bits, code_step = sc.port()           # the port's width; the converter's code step
+    bits, code_step = sc.port()
     d.mkdir(parents=True, exist_ok=True)
     write_codes(d / "in.csv", u1, u2)
+    return u1, u2, a, bits, code_step
+
+
+def bench(sc, d, interp, rtl, edition="verilog"):
+    u1, u2, a, bits, code_step = recording(sc, d)
     proc, key = None, None
     if rtl and edition == "vhdl":
         key = run_key(d, rtl_cmd(d / "in.csv", d / "rtl.csv", interp, bits, code_step, edition))
