@@ -89,7 +89,7 @@ def ghdl_netlist(top, params, out_v, log):
     if not (ROOT / "rtl" / "vhdl" / f"{top}.vhd").is_file():
         raise ReportError(f"the VHDL edition has no rtl/vhdl/{top}.vhd (the report's top {top})")
     cmd = [sys.executable, "scripts/ghdl_netlist.py", "--top", top, "--out", rel(out_v),
-           "--work", rel(out_v.parent / "ghdl")]
+           "--work", rel(out_v.parent / "ghdl"), "--signal-names"]
     for k, v in params.items():
         cmd += ["-g", f"{k}={int(v)}"]
     _, dt = run(cmd, log, f"ghdl --synth of {top}")
