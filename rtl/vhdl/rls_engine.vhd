@@ -295,6 +295,7 @@ architecture rtl of rls_engine is
       return signed(to_unsigned(((a - a mod 256) / 256 + (t - lo) / 65536) mod 65536, 16)
                     & to_unsigned(lo, 16));
     end if;
+
     -- pragma translate_on
     p := XN * YN;
     return p(31 downto 0);
