@@ -383,12 +383,12 @@ soak: deps harnesses ## soak: SOAK_SAMPLES (1e8) through the RTL (make rtlsim's 
 	    --harness $(BUILD)/rtlsim_exact_adc16/Vfinequad_core
 
 ifeq ($(EDITION),verilog)
-bench-accuracy: deps ## accuracy suite: RTL (make rtlsim) and baselines vs the floor -> build/bench/accuracy.{json,md} [EDITION=vhdl|vhdl-synth: that edition's rtlsim, the samples per second beside Verilator's -> build/bench_<edition>/, nothing published; JOBS=N: N GHDL runs at once]
+bench-accuracy: deps ## accuracy suite: RTL (make rtlsim) and baselines vs the floor -> build/bench/accuracy.{json,md} [EDITION=vhdl|vhdl-synth: that edition's rtlsim, the samples per second beside Verilator's -> build/bench_<edition>/; vhdl publishes its record, bench_accuracy_vhdl; JOBS=N: N GHDL runs at once]
 	$(PY) scripts/bench_accuracy.py --build $(BUILD)/bench $(if $(INTERP),--interp $(INTERP),--publish)
 else
 bench-accuracy: deps
 	$(PY) scripts/bench_accuracy.py --build $(BUILD)/bench_$(EDITION) --edition $(EDITION) \
-	    $(if $(INTERP),--interp $(INTERP)) $(if $(JOBS),--jobs $(JOBS))
+	    $(if $(INTERP),--interp $(INTERP),$(if $(filter vhdl,$(EDITION)),--publish)) $(if $(JOBS),--jobs $(JOBS))
 endif
 
 reproduce: deps ## the paper's experiments in simulation (Figs. 2-12, validation, closed-loop tracking, limits) -> build/reproduce/

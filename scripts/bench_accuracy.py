@@ -37,7 +37,10 @@ reports both editions' samples per second (accuracy.json "rtlsim_speed"). A GHDL
 kept beside its recording (rtl.csv, rtl.key: run_key) and used again, not re-run, while
 its command, its recording, the VHDL edition, its bench and GHDL are the same: the model
 and every score are computed afresh each time. --jobs N runs the GHDL runs of N scenarios
-at once first (make bench-accuracy EDITION=vhdl JOBS=N).
+at once first (make bench-accuracy EDITION=vhdl JOBS=N). The table is compared with the
+published Verilog edition's (scripts/results/bench_accuracy.md); --publish with --edition
+vhdl records the VHDL edition's run as bench_accuracy_vhdl (make bench-accuracy
+EDITION=vhdl does).
 """
 import argparse
 from dataclasses import replace
@@ -79,6 +82,19 @@ def score(count, sc, a, var_a, interp):
 
 EDITIONS = {"verilog": "RTL (Verilator)", "vhdl": "RTL (VHDL edition, GHDL)",
             "vhdl-synth": "RTL (VHDL edition, ghdl --synth netlist, Verilator)"}
+# the figures record (scripts/figures.py) a complete run of each edition publishes
+RECORDS = {"verilog": "bench_accuracy", "vhdl": "bench_accuracy_vhdl"}
+PUBLISHED = ROOT / "scripts" / "results" / "bench_accuracy.md"
+SAME = {True: "identical to", False: "NOT the same as", None: "not compared with (none published)"}
+
+
+def published_table(path=PUBLISHED):
+    """The accuracy table of the Verilog edition's published run (figures.publish wrote
+    it under a line naming its command and date), or None if there is none."""
+    if not path.is_file():
+        return None
+    head, sep, table = path.read_text().partition("\n\n")
+    return table if sep and head.startswith("Measured with ") else None
 
 
 def rtl_cmd(inp, out, interp, adc_w, code_step=0, edition="verilog"):
@@ -393,10 +409,10 @@ def main():
     args = ap.parse_args()
     if args.publish and (args.only or args.no_rtl or args.interp != core.Config().interp
                          or args.offline != OFFLINE or args.target != TARGET
-                         or args.edition != "verilog"):
+                         or args.edition not in RECORDS):
         print("bench: error: --publish records the whole suite through the RTL at the default "
-              "n and bounds only (no --only, --no-rtl, --interp, --target, --offline or "
-              "--edition)", file=sys.stderr)
+              "n and bounds only (no --only, --no-rtl, --interp, --target or --offline; "
+              f"--edition {' or '.join(RECORDS)})", file=sys.stderr)
         raise SystemExit(2)
     for name in ("target", "offline"):
         if not getattr(args, name) > 0:                      # (and not nan)
@@ -463,14 +479,13 @@ def main():
         print(f"rtlsim samples per second over the suite (wall, whole make rtlsim runs): "
               f"{EDITIONS[args.edition]} {tot[args.edition]:.0f}, RTL (Verilator) "
               f"{tot['verilog']:.0f} ({tot['verilog'] / tot[args.edition]:.1f}x)")
-    if args.edition != "verilog":
-        # the Verilog edition's table of the last make bench-accuracy, if it is of the same
-        # suite: this edition's must be the same, byte for byte
-        ver = ROOT / "build" / "bench" / "accuracy.md"
-        if ver.is_file() and not args.only:
-            same = ver.read_text() == md + "\n"
-            print(f"the table is {'identical to' if same else 'NOT the same as'} the Verilog "
-                  f"edition's ({ver.relative_to(ROOT)})")
+    same = None
+    if args.edition != "verilog" and not args.only:
+        # the whole suite: this edition's table must be the Verilog edition's published
+        # one, byte for byte (every figure comes from the count)
+        ver = published_table()
+        same = None if ver is None else ver == md + "\n"
+        print(f"the table is {SAME[same]} the Verilog edition's ({PUBLISHED.relative_to(ROOT)})")
     bad = [r["scenario"] for r in rows if r["rtl_equals_model"] is False]
     gaps = [r["rtl_over_offline"] for r in rows if not r["drifts"]]
     behind = [r["scenario"] for r in rows if offline_gap(r, args.offline)[1]]
@@ -481,11 +496,17 @@ def main():
     if args.publish:
         import figures
         ratios = [r["rtl"]["ratio"] for r in rows]
-        figures.publish("bench_accuracy", "make bench-accuracy", dict(
-            scenarios=len(rows), ratio_min=min(ratios), ratio_max=max(ratios),
-            slips=sum(r["rtl"]["slips"] for r in rows),
-            rtl_equal=sum(bool(r["rtl_equals_model"]) for r in rows),
-            offline_max=max(gaps), offline_over=len(behind)), md)
+        head = dict(scenarios=len(rows), ratio_min=min(ratios), ratio_max=max(ratios),
+                    slips=sum(r["rtl"]["slips"] for r in rows),
+                    rtl_equal=sum(bool(r["rtl_equals_model"]) for r in rows),
+                    offline_max=max(gaps), offline_over=len(behind))
+        if args.edition == "verilog":
+            figures.publish(RECORDS["verilog"], "make bench-accuracy", head, md)
+        else:
+            head.update(same_as_verilog=same)
+            figures.publish(RECORDS[args.edition], f"make bench-accuracy EDITION={args.edition}",
+                            head, f"{EDITIONS[args.edition]}; the table is {SAME[same]} the "
+                            "Verilog edition's ([bench_accuracy.md](bench_accuracy.md)).\n\n" + md)
     if bad:
         print(f"bench: error: RTL differs from the bit-true model on {', '.join(bad)}",
               file=sys.stderr)

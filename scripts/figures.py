@@ -3,12 +3,13 @@
 
     python3 scripts/figures.py [--check]          (make test runs --check)
 
-A measuring command (`make bench-accuracy`, `make demo`, `make report`) calls publish()
-when its run is complete: scripts/results/<name>.json gets the headline numbers with the
-date and the command, scripts/results/<name>.md the command's full table under a line
-naming both, and README.md's block between the markers BEGIN and END (HTML comments) is
-rendered again from every record. --check fails when that block differs from the
-rendering of the committed records (an edit by hand, a record without its README).
+A measuring command (`make bench-accuracy`, `make bench-accuracy EDITION=vhdl`, `make demo`,
+`make report`) calls publish() when its run is complete: scripts/results/<name>.json gets
+the headline numbers with the date and the command, scripts/results/<name>.md the
+command's full table under a line naming both, and README.md's block between the markers
+BEGIN and END (HTML comments) is rendered again from every record. --check fails when
+that block differs from the rendering of the committed records (an edit by hand, a
+record without its README).
 """
 import argparse
 import datetime
@@ -22,7 +23,7 @@ README = ROOT / "README.md"
 BEGIN = "<!-- figures:begin (scripts/figures.py writes this block; do not edit) -->"
 END = "<!-- figures:end -->"
 # the records, in table order; each renders its rows
-ORDER = ("bench_accuracy", "demo", "report")
+ORDER = ("bench_accuracy", "bench_accuracy_vhdl", "demo", "report")
 
 
 class FiguresError(Exception):
@@ -52,6 +53,15 @@ def _rows_bench(h):
                 "RMS" if "offline_max" in h else ""))]
 
 
+def _rows_bench_vhdl(h):
+    same = {True: "identical to", False: "NOT the same as", None: "not compared with"}[
+        h["same_as_verilog"]]
+    return [("Accuracy through the VHDL edition (rtl/vhdl/, GHDL), "
+             f"{h['scenarios']} scenarios", f"VHDL == model on {h['rtl_equal']} of "
+             f"{h['scenarios']}; {h['ratio_min']:.3f} to {h['ratio_max']:.3f}; {h['slips']} "
+             f"slips; table {same} the Verilog edition's")]
+
+
 def _rows_demo(h):
     return [("Demo recording (4 um pitch, n = 100, 1 MS/s, 0.5 % noise): counter error",
              f"{h['rms_nm']:.2f} nm RMS = {h['ratio']:.3f} x the floor; RTL == model: "
@@ -76,7 +86,8 @@ def _rows_report(h):
     return rows
 
 
-ROWS = {"bench_accuracy": _rows_bench, "demo": _rows_demo, "report": _rows_report}
+ROWS = {"bench_accuracy": _rows_bench, "bench_accuracy_vhdl": _rows_bench_vhdl,
+        "demo": _rows_demo, "report": _rows_report}
 
 
 def records(results=RESULTS):

@@ -60,6 +60,26 @@ def test_bench_rejects_bad_arguments(tmp_path):
             assert p.returncode == 2 and f"{opt} must be a ratio > 0" in p.stderr, (opt, bad)
 
 
+def test_publish_takes_the_whole_suite_of_the_verilog_or_vhdl_edition(tmp_path):
+    for extra in (("--only", "constant"), ("--edition", "vhdl-synth"), ("--no-rtl",)):
+        p = bench("--publish", "--build", str(tmp_path), *extra)
+        assert p.returncode == 2 and "--publish records the whole suite" in p.stderr, extra
+    assert not list(tmp_path.iterdir())                   # nothing was run or written
+
+
+def test_the_published_table_is_read_without_its_heading(tmp_path):
+    sys.path.insert(0, str(ROOT / "scripts"))
+    import bench_accuracy as b
+    md = tmp_path / "bench_accuracy.md"
+    assert b.published_table(md) is None                  # none published
+    md.write_text("Measured with `make bench-accuracy` on 2026-11-29.\n\nn = 100\n\n| a |\n")
+    assert b.published_table(md) == "n = 100\n\n| a |\n"
+    md.write_text("n = 100\n\n| a |\n")                  # not figures.publish's
+    assert b.published_table(md) is None
+    # the committed one is the table make bench-accuracy printed
+    assert b.published_table().startswith("n = 100, 4 um pitch")
+
+
 def test_a_kept_ghdl_run_is_used_again_only_while_nothing_it_depends_on_changed(
         tmp_path, monkeypatch):
     import shutil

@@ -54,3 +54,21 @@ def test_bad_readme_and_records_are_named(tmp_path):
     (res / "demo.json").write_text(json.dumps({"name": "demo", "headline": {}}))
     with pytest.raises(figures.FiguresError, match="demo.json: not a record of demo"):
         figures.render(res)
+
+
+def test_the_vhdl_editions_record_says_whether_its_table_is_the_verilog_editions(tmp_path):
+    res, readme = tmp_path / "results", tmp_path / "README.md"
+    readme.write_text(README)
+    head = dict(BENCH, same_as_verilog=True)
+    figures.publish("bench_accuracy_vhdl", "make bench-accuracy EDITION=vhdl", head, "t",
+                    results=res, readme=readme)
+    text = readme.read_text()
+    assert "VHDL == model on 11 of 11; 1.000 to 1.095; 0 slips; table identical to the " \
+        "Verilog edition's | `make bench-accuracy EDITION=vhdl`" in text
+    figures.publish("bench_accuracy", "make bench-accuracy", BENCH, "t", results=res,
+                    readme=readme)
+    text = readme.read_text()
+    assert text.index("RTL == model") < text.index("VHDL == model")   # table order
+    figures.publish("bench_accuracy_vhdl", "make bench-accuracy EDITION=vhdl",
+                    dict(head, same_as_verilog=False), "t", results=res, readme=readme)
+    assert "table NOT the same as the Verilog edition's" in readme.read_text()
