@@ -11,7 +11,11 @@ the same stream). Independently of the model, in this file:
     the last edge, an edge happens (the backlog is paid at the maximum allowed rate);
   * ovf_o == |target_i - pos| > bound_i of the edge before (pos the decoder count before
     that edge; 0 on the first edge after rst), backlog_o == that difference saturated to
-    s16, ovf_sticky_o == OR of ovf_o since rst.
+    s16, ovf_sticky_o == OR of ovf_o since rst;
+  * z_o == z_en_i and (the decoder count after the edge == z_at_i), with z_en_i and
+    z_at_i as driven before the edge (0 after rst): Z marks its count only, armed. z_at_i
+    moves to a count near the pins' every 97 clocks (z_en_i low in a fifth of them), and
+    the stream must enter Z from above and from below.
 Streams: slow moves, jumps of thousands of counts, reversals mid-backlog, sep changes
 (0, 1, 2..7, 255), bounds small enough that ovf toggles, rst in the middle of a backlog,
 backlog saturation, a modular (short-way) difference at COUNT_W = 18.
@@ -240,12 +244,22 @@ async def abgen_streams(dut):
     sticky = 0
     n_edges = 0
     prev_diff, prev_bound = 0, 0          # the edge before (its flags show on this one)
+    zrng = random.Random(900 + cw)
+    z_en, z_at = 0, 0
+    dut.z_en_i.value, dut.z_at_i.value = z_en, z_at
+    z_entries = {1: 0, -1: 0}             # Z entered moving up / down
     for i in range(n):
+        if i % 97 == 0:                   # Z moves to a count near the pins
+            z_en = int(zrng.random() < 0.8)
+            z_at = wrapw(dec + zrng.randint(-3, 3), cw)
         dut.rst.value = S.rst[i]
         dut.target_i.value = S.target[i] & ((1 << cw) - 1)
         dut.sep_i.value = S.sep[i]
         dut.bound_i.value = S.bound[i]
+        dut.z_en_i.value = z_en
+        dut.z_at_i.value = z_at & ((1 << cw) - 1)
         await bench.step()
+        z = fqtb.uval(dut.z_o)
         got = [fqtb.sval(p) if sg else fqtb.uval(p) for p, sg in zip(ports, signed)]
         exp = [S.exp[k][i] for k in names]
         if got != exp:
@@ -255,8 +269,8 @@ async def abgen_streams(dut):
         if S.rst[i]:
             prev_ab, dec, last_edge, sticky = (a, b), 0, None, 0
             prev_diff, prev_bound = 0, 0
-            if (a, b) != (1, 1) or pos != 0:
-                bad.append(f"clock {i}: after rst a={a} b={b} pos={pos}")
+            if (a, b) != (1, 1) or pos != 0 or z != 0:
+                bad.append(f"clock {i}: after rst a={a} b={b} pos={pos} z={z}")
             continue
         # ---- independent checks
         dec_before = dec
@@ -291,13 +305,19 @@ async def abgen_streams(dut):
         prev_ab = (a, b)
         if dec != pos:
             bad.append(f"clock {i}: decoder reads {dec}, pos_o {pos}")
+        if z != int(z_en and dec == z_at):
+            bad.append(f"clock {i}: z_o={z}, z_en_i={z_en}, decoder {dec}, z_at_i {z_at}")
+        if z and dec != dec_before:
+            z_entries[1 if wrapw(dec - dec_before, cw) > 0 else -1] += 1
         if i in S.settle and dec != S.target[i]:
             bad.append(f"clock {i}: settled decoder {dec} != target {S.target[i]}")
         if len(bad) > 40:
             break
     assert not bad, f"{len(bad)} failures:\n" + "\n".join(bad[:30])
-    dut._log.info("abgen COUNT_W=%d: %d clocks equal, %d edges, %d settle points met",
-                  cw, n, n_edges, len(S.settle))
+    assert min(z_entries.values()) >= 5, f"Z entered (up, down) {z_entries}: too few"
+    dut._log.info("abgen COUNT_W=%d: %d clocks equal, %d edges, %d settle points met, Z "
+                  "entered %d times up and %d down", cw, n, n_edges, len(S.settle),
+                  z_entries[1], z_entries[-1])
 
 
 async def _pins(dut, bench, moves, sep):

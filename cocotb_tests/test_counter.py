@@ -14,8 +14,9 @@ of a sample is the x4 decoder's count E after the pulses sampled on edges
 garbage (valid_i and pv_i low), so a block that samples an input on the wrong edge fails.
 
 Every output is compared on every edge, not only with valid_o: count_o holds its value
-between samples (0 after rst), ovs_o and ill_o are low off their edges, ill_count_o holds
-between pulses.
+between samples (0 after rst), ovs_o, held_o and ill_o are low off their edges,
+ill_count_o holds between pulses. held_o is high with valid_o for a held sample in phase
+mode (the core's rule, sim.model.finequad_core: hold & count_mode == 0).
 
   * RTL == model: per epoch (power-up or rst to the next rst) counter on the
     samples that survive and edge_steps on the pulses, E and the illegal count
@@ -318,23 +319,24 @@ def build(plan, count_w, rng):
 
 
 def assemble(length, resets, outs, pulses):
-    """Per edge e the outputs after it, (valid_o, count_o, ovs_o, ill_o, ill_count_o),
-    from the samples' outputs {edge: (count, ovs)} and the pulses' {edge: (ill, ill
-    count)}: count_o holds between samples, ill_count_o between pulses, rst clears all."""
+    """Per edge e the outputs after it, (valid_o, count_o, ovs_o, held_o, ill_o,
+    ill_count_o), from the samples' outputs {edge: (count, ovs, held)} and the pulses'
+    {edge: (ill, ill count)}: count_o holds between samples, ill_count_o between pulses,
+    rst clears all."""
     rst = set(resets)
     count = illc = 0          # power-up values
     out = []
     for e in range(length):
-        valid = ovs = ill = 0
+        valid = ovs = held = ill = 0
         if e in rst:
             count = illc = 0
         else:
             if e in outs:
                 valid = 1
-                count, ovs = outs[e]
+                count, ovs, held = outs[e]
             if e in pulses:
                 ill, illc = pulses[e]
-        out.append((valid, count, ovs, ill, illc))
+        out.append((valid, count, ovs, held, ill, illc))
     return out
 
 
@@ -388,7 +390,8 @@ def model_trace(samples, resets, preloads, count_w, length):
         e_at = ((e_at + (m >> 1)) % m) - (m >> 1)
         for j, k in enumerate(ks):
             c = int(e_at[j]) if samples[k]["mode"] else int(cnt[j])
-            outs[samples[k]["t"] + T_OUT] = (c, int(ovs[j]))
+            outs[samples[k]["t"] + T_OUT] = (c, int(ovs[j]),
+                                             int(hold[j] and not samples[k]["mode"]))
     return assemble(length, resets, outs, pulses)
 
 
@@ -406,7 +409,8 @@ def reference_trace(samples, resets, preloads, count_w, length):
             continue                 # a pulse sampled with rst is lost
         if e in by_out:              # E before this edge's pulse
             x = by_out[e]
-            outs[e] = (wrap_s(dec.e, count_w) if x["mode"] else x["count_ph"], x["ovs"])
+            outs[e] = (wrap_s(dec.e, count_w) if x["mode"] else x["count_ph"], x["ovs"],
+                       int(x["hold"] and not x["mode"]))
         if e in by_pulse:
             x = by_pulse[e]
             ill, ills, _ = dec.pulse((x["a"], x["b"]))
@@ -417,7 +421,7 @@ def reference_trace(samples, resets, preloads, count_w, length):
 # ---- cocotb side ------------------------------------------------------------------------
 import cocotb  # noqa: E402
 
-OUT_NAMES = ("valid_o", "count_o", "ovs_o", "ill_o", "ill_count_o")
+OUT_NAMES = ("valid_o", "count_o", "ovs_o", "held_o", "ill_o", "ill_count_o")
 
 
 def make_plan(count_w, rng):
@@ -509,7 +513,7 @@ async def counter_sequences(dut):
         await bench.step()
         # ---- outputs after edge e
         got.append((fqtb.uval(dut.valid_o), fqtb.sval(dut.count_o), fqtb.uval(dut.ovs_o),
-                    fqtb.uval(dut.ill_o), fqtb.uval(dut.ill_count_o)))
+                    fqtb.uval(dut.held_o), fqtb.uval(dut.ill_o), fqtb.uval(dut.ill_count_o)))
 
     # ---- compare every output on every edge
     out_at = at(T_OUT, with_lost=False)
@@ -550,7 +554,7 @@ async def counter_sequences(dut):
         elif check == "hold":                        # held samples kept their count
             held = [x for x in seg if x["hold"]]
             assert len(held) >= 20 and all(
-                got[x["t"] + T_OUT][1] == x["count_ph"] and got[x["t"] + T_OUT][2] == 0
+                got[x["t"] + T_OUT][1:4] == (x["count_ph"], 0, 1)    # count, ovs, held
                 for x in held), f"segment {si}: held samples"
         elif check == "threshold":
             o = [got[x["t"] + T_OUT][2] for x in seg]
