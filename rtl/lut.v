@@ -89,11 +89,15 @@ module lut #(
                 $readmemh({TABLE_DIR, "sine_16.hex"}, sin_rom_c);
                 $readmemh({TABLE_DIR, "sine_16.hex"}, sin_rom_s);
             end
-        end else begin : g_sin10
+        end else if (SIN_W == 10) begin : g_sin10
             initial begin
                 $readmemh({TABLE_DIR, "sine_10.hex"}, sin_rom_c);
                 $readmemh({TABLE_DIR, "sine_10.hex"}, sin_rom_s);
             end
+        end else begin : g_bad_sin_w
+            // no table of that width: an undefined module named after the rule stops
+            // elaboration (as rtl/finequad_core.v; rtl/vhdl/lut.vhd asserts the same)
+            lut_SIN_W_must_be_8_10_12_or_16 u_bad ();
         end
     endgenerate
 

@@ -1,6 +1,6 @@
-"""finequad_core's parameter checks (rtl/finequad_core.v): a value out of range stops
-elaboration in Icarus and in Yosys with the rule's name, and the values at the ends of
-each range elaborate."""
+"""finequad_core's parameter checks (rtl/finequad_core.v) and those of its blocks that
+can be used alone (rtl/lut.v's SIN_W): a value out of range stops elaboration in Icarus
+and in Yosys with the rule's name, and the values at the ends of each range elaborate."""
 import pathlib
 import shutil
 import subprocess
@@ -29,31 +29,41 @@ CASES = [
 ]
 
 
-def _icarus(name, value, tmp_path):
-    return subprocess.run(["iverilog", "-g2005", *INCLUDES, "-s", "finequad_core",
-                           f"-Pfinequad_core.{name}={value}",
-                           f"-Pfinequad_core.TABLE_DIR=\"{ROOT / 'rtl/tables'}/\"",
+def _icarus(name, value, tmp_path, top="finequad_core"):
+    return subprocess.run(["iverilog", "-g2005", *INCLUDES, "-s", top,
+                           f"-P{top}.{name}={value}",
+                           f"-P{top}.TABLE_DIR=\"{ROOT / 'rtl/tables'}/\"",
                            "-o", str(tmp_path / "a.vvp"), *map(str, SOURCES)],
                           capture_output=True, text=True)
 
 
-def _yosys(name, value, _tmp_path):
+def _yosys(name, value, _tmp_path, top="finequad_core"):
     script = (f"read_verilog {' '.join(INCLUDES[i] + INCLUDES[i + 1] for i in (0, 2))} "
               + " ".join(map(str, SOURCES))
-              + f"; chparam -set {name} {value} finequad_core"
-              + "; hierarchy -check -top finequad_core")
+              + f"; chparam -set {name} {value} {top}"
+              + f"; hierarchy -check -top {top}")
     # (from the repository root: TABLE_DIR's default, rtl/tables/, is relative to it)
     return subprocess.run(["yosys", "-q", "-p", script], capture_output=True, text=True,
                           cwd=ROOT)
 
 
+# a block's own checks, with the block as the top: (block, parameter, value, rule or None)
+BLOCK_CASES = [
+    ("lut", "SIN_W", 9, "lut_SIN_W_must_be_8_10_12_or_16"),
+    ("lut", "SIN_W", 11, "lut_SIN_W_must_be_8_10_12_or_16"),
+    ("lut", "SIN_W", 10, None),
+]
+
+
 @pytest.mark.parametrize("tool", ["icarus", "yosys"])
-@pytest.mark.parametrize("name,value,rule", CASES, ids=lambda v: str(v))
-def test_parameter_range(tool, name, value, rule, tmp_path):
+@pytest.mark.parametrize("top,name,value,rule",
+                         [("finequad_core", *c) for c in CASES] + BLOCK_CASES,
+                         ids=lambda v: str(v))
+def test_parameter_range(tool, top, name, value, rule, tmp_path):
     exe = {"icarus": "iverilog", "yosys": "yosys"}[tool]
     if shutil.which(exe) is None:
         pytest.skip(f"needs {exe}")
-    r = {"icarus": _icarus, "yosys": _yosys}[tool](name, value, tmp_path)
+    r = {"icarus": _icarus, "yosys": _yosys}[tool](name, value, tmp_path, top)
     out = r.stdout + r.stderr
     if rule is None:
         assert r.returncode == 0, f"{name}={value} should elaborate:\n{out[-2000:]}"
