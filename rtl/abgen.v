@@ -51,6 +51,14 @@ module abgen #(
     output reg                       z_o           // Z: the pins at z_at_i, armed
 );
 `include "geu.vh"                          // geu(a, b): a >= b, unsigned, bit by bit
+    // parameter check (as rtl/finequad_core.v; rtl/vhdl/abgen.vhd's range): ovf reads
+    // d above bit 15, so COUNT_W >= 17; an undefined module named after the rule stops
+    // elaboration
+    generate
+        if (COUNT_W < 17) begin : g_bad_count_w
+            abgen_COUNT_W_must_be_17_or_more u_bad ();
+        end
+    endgenerate
     // d = target - pos, s(COUNT_W).0 modular; whether it is zero comes from an equality
     // tree beside the subtraction
     wire signed [COUNT_W-1:0] d = target_i - pos_o;

@@ -65,6 +65,13 @@ module counter #(
     output reg                       held_o      // with valid_o: a held sample, phase mode
 );
 `include "geu.vh"                          // geu(a, b): a >= b, unsigned, bit by bit
+    // parameter check (as rtl/finequad_core.v; rtl/vhdl/counter.vhd's range): an undefined
+    // module named after the rule stops elaboration
+    generate
+        if (COUNT_W < 16 || COUNT_W > 32) begin : g_bad_count_w
+            counter_COUNT_W_must_be_16_to_32 u_bad ();
+        end
+    endgenerate
     // ---- e + 1: wrap, B ------------------------------------------------------------------
     reg  [12:0] ph_prev = 13'd0;
     reg         primed = 1'b0;

@@ -1,6 +1,7 @@
 """finequad_core's parameter checks (rtl/finequad_core.v) and those of its blocks that
-can be used alone (rtl/lut.v's SIN_W): a value out of range stops elaboration in Icarus
-and in Yosys with the rule's name, and the values at the ends of each range elaborate."""
+can be used alone (rtl/lut.v's SIN_W, rtl/counter.v's and rtl/abgen.v's COUNT_W): a value
+out of range stops elaboration in Icarus and in Yosys with the rule's name, and the values
+at the ends of each range elaborate."""
 import pathlib
 import shutil
 import subprocess
@@ -52,6 +53,11 @@ BLOCK_CASES = [
     ("lut", "SIN_W", 9, "lut_SIN_W_must_be_8_10_12_or_16"),
     ("lut", "SIN_W", 11, "lut_SIN_W_must_be_8_10_12_or_16"),
     ("lut", "SIN_W", 10, None),
+    ("counter", "COUNT_W", 15, "counter_COUNT_W_must_be_16_to_32"),
+    ("counter", "COUNT_W", 33, "counter_COUNT_W_must_be_16_to_32"),
+    ("counter", "COUNT_W", 16, None),
+    ("abgen", "COUNT_W", 16, "abgen_COUNT_W_must_be_17_or_more"),
+    ("abgen", "COUNT_W", 17, None),
 ]
 
 
