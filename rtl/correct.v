@@ -60,6 +60,13 @@ module correct #(
     output reg  [3:0]              zl_o,    // lzc15(ax_o | ay_o): 0..14 (14 for 0 and 1)
     output reg                     rsat_o
 );
+    // parameter check (as rtl/finequad_core.v; rtl/vhdl/correct.vhd's range): an
+    // undefined module named after the rule stops elaboration
+    generate
+        if (ADC_W < 12 || ADC_W > 16) begin : g_bad_adc_w
+            correct_ADC_W_must_be_12_to_16 u_bad ();
+        end
+    endgenerate
     // ---- t: align, gain, offsets ------------------------------------------------------------
     // (as functions evaluated in the clock enable's branch: the ports feed nothing else, so
     // simulation computes this logic only when a sample arrives)

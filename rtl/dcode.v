@@ -76,6 +76,13 @@ module dcode #(
     output wire signed [COUNT_W-1:0] ref_o,      // with home_o: HOME + ABS
     output reg                       err_o       // a pulse: REF_STICKY.dc_err
 );
+    // parameter check (as rtl/finequad_core.v; rtl/vhdl/dcode.vhd's range): an
+    // undefined module named after the rule stops elaboration
+    generate
+        if (COUNT_W < 17 || COUNT_W > 32) begin : g_bad_count_w
+            dcode_COUNT_W_must_be_17_to_32 u_bad ();
+        end
+    endgenerate
     localparam LAST = 27;
 
     // ---- the distance since the last latch ---------------------------------------------------

@@ -27,7 +27,7 @@
 module lut #(
     parameter TABLE_DIR = "rtl/tables/",
     parameter [0:0] TABLE_EXACT = 1'b1,
-    // sine word width (magnitude SIN_W-1 bits)
+    // sine word width (magnitude SIN_W-1 bits): 8, 10, 12 or 16 (rtl/tables/sine_<SIN_W>.hex)
     parameter SIN_W = 10,
     // 1: n * phase with the `*` operator (a DSP block where the device has one to
     // spare, e.g. ECP5); 0: shift-and-add in logic (iCE40 UP5K: its 8 DSP blocks are taken)

@@ -125,6 +125,13 @@ module refmark #(
     output reg                       latch_o,    // a pulse: a reference latched
     output reg                       lost_o      // a pulse: pos_valid fell
 );
+    // parameter check (as rtl/finequad_core.v; rtl/vhdl/refmark.vhd's range): an
+    // undefined module named after the rule stops elaboration
+    generate
+        if (COUNT_W < 17 || COUNT_W > 32) begin : g_bad_count_w
+            refmark_COUNT_W_must_be_17_to_32 u_bad ();
+        end
+    endgenerate
     // ---- t + 8: kf, kr (12-bit two's complement, then + 4 n when negative) -----------------
     wire [11:0] n4 = {1'b0, n_i, 2'b00};
     wire [11:0] kf0 = {1'b0, q_i} - {1'b0, ref_q_i};

@@ -1,7 +1,7 @@
 """finequad_core's parameter checks (rtl/finequad_core.v) and those of its blocks that
-can be used alone (rtl/lut.v's SIN_W, rtl/counter.v's and rtl/abgen.v's COUNT_W): a value
-out of range stops elaboration in Icarus and in Yosys with the rule's name, and the values
-at the ends of each range elaborate."""
+can be used alone, as their VHDL twins' ranges (lut's SIN_W; counter's, abgen's,
+refmark's and dcode's COUNT_W; correct's ADC_W): a value out of range stops elaboration in
+Icarus and in Yosys with the rule's name, and values at the ends of each range elaborate."""
 import pathlib
 import shutil
 import subprocess
@@ -30,10 +30,15 @@ CASES = [
 ]
 
 
+# the tops that read rtl/tables/ (TABLE_DIR)
+TABLE_TOPS = ("finequad_core", "lut")
+
+
 def _icarus(name, value, tmp_path, top="finequad_core"):
+    tables = ([f"-P{top}.TABLE_DIR=\"{ROOT / 'rtl/tables'}/\""] if top in TABLE_TOPS
+              else [])
     return subprocess.run(["iverilog", "-g2005", *INCLUDES, "-s", top,
-                           f"-P{top}.{name}={value}",
-                           f"-P{top}.TABLE_DIR=\"{ROOT / 'rtl/tables'}/\"",
+                           f"-P{top}.{name}={value}", *tables,
                            "-o", str(tmp_path / "a.vvp"), *map(str, SOURCES)],
                           capture_output=True, text=True)
 
@@ -52,12 +57,23 @@ def _yosys(name, value, _tmp_path, top="finequad_core"):
 BLOCK_CASES = [
     ("lut", "SIN_W", 9, "lut_SIN_W_must_be_8_10_12_or_16"),
     ("lut", "SIN_W", 11, "lut_SIN_W_must_be_8_10_12_or_16"),
-    ("lut", "SIN_W", 10, None),
+    ("lut", "SIN_W", 8, None),
+    ("lut", "SIN_W", 16, None),
     ("counter", "COUNT_W", 15, "counter_COUNT_W_must_be_16_to_32"),
     ("counter", "COUNT_W", 33, "counter_COUNT_W_must_be_16_to_32"),
     ("counter", "COUNT_W", 16, None),
+    ("counter", "COUNT_W", 32, None),
     ("abgen", "COUNT_W", 16, "abgen_COUNT_W_must_be_17_or_more"),
     ("abgen", "COUNT_W", 17, None),
+    ("refmark", "COUNT_W", 16, "refmark_COUNT_W_must_be_17_to_32"),
+    ("refmark", "COUNT_W", 33, "refmark_COUNT_W_must_be_17_to_32"),
+    ("refmark", "COUNT_W", 17, None),
+    ("dcode", "COUNT_W", 16, "dcode_COUNT_W_must_be_17_to_32"),
+    ("dcode", "COUNT_W", 33, "dcode_COUNT_W_must_be_17_to_32"),
+    ("dcode", "COUNT_W", 32, None),
+    ("correct", "ADC_W", 11, "correct_ADC_W_must_be_12_to_16"),
+    ("correct", "ADC_W", 17, "correct_ADC_W_must_be_12_to_16"),
+    ("correct", "ADC_W", 12, None),
 ]
 
 
