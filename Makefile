@@ -388,7 +388,8 @@ bench-accuracy: deps ## accuracy suite: RTL (make rtlsim) and baselines vs the f
 else
 bench-accuracy: deps
 	$(PY) scripts/bench_accuracy.py --build $(BUILD)/bench_$(EDITION) --edition $(EDITION) \
-	    $(if $(INTERP),--interp $(INTERP),$(if $(filter vhdl,$(EDITION)),--publish)) $(if $(JOBS),--jobs $(JOBS))
+	    $(if $(INTERP),--interp $(INTERP),$(if $(filter vhdl,$(EDITION)),--publish)) \
+	    $(if $(JOBS),--jobs $(JOBS))
 endif
 
 reproduce: deps ## the paper's experiments in simulation (Figs. 2-12, validation, closed-loop tracking, limits) -> build/reproduce/

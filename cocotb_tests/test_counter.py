@@ -358,7 +358,8 @@ def epochs(samples, resets):
 
 def model_trace(samples, resets, preloads, count_w, length):
     """The expected outputs from sim.model.counter, epoch by epoch, with the core's
-    timing for the edge-mode count (sim.model.finequad_core.Core.feed)."""
+    timing for the edge-mode count (sim.model.finequad_core.Core.feed); held_o, which
+    sim.model.counter does not give, by the core model's rule (hold & count_mode == 0)."""
     import numpy as np
     from sim.model import counter as counter_m
 

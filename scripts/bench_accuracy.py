@@ -37,10 +37,11 @@ reports both editions' samples per second (accuracy.json "rtlsim_speed"). A GHDL
 kept beside its recording (rtl.csv, rtl.key: run_key) and used again, not re-run, while
 its command, its recording, the VHDL edition, its bench and GHDL are the same: the model
 and every score are computed afresh each time. --jobs N runs the GHDL runs of N scenarios
-at once first (make bench-accuracy EDITION=vhdl JOBS=N). The table is compared with the
-published Verilog edition's (scripts/results/bench_accuracy.md); --publish with --edition
-vhdl records the VHDL edition's run as bench_accuracy_vhdl (make bench-accuracy
-EDITION=vhdl does).
+at once first (make bench-accuracy EDITION=vhdl JOBS=N). A whole run's table (the whole
+suite at the default n and bounds) is compared with the published Verilog edition's
+(scripts/results/bench_accuracy.md) and must be the same, byte for byte (else exit 1);
+--publish with --edition vhdl records the run as bench_accuracy_vhdl, with the sha256 of
+the Verilog table it was compared with (make bench-accuracy EDITION=vhdl does).
 """
 import argparse
 from dataclasses import replace
@@ -84,17 +85,16 @@ EDITIONS = {"verilog": "RTL (Verilator)", "vhdl": "RTL (VHDL edition, GHDL)",
             "vhdl-synth": "RTL (VHDL edition, ghdl --synth netlist, Verilator)"}
 # the figures record (scripts/figures.py) a complete run of each edition publishes
 RECORDS = {"verilog": "bench_accuracy", "vhdl": "bench_accuracy_vhdl"}
-PUBLISHED = ROOT / "scripts" / "results" / "bench_accuracy.md"
-SAME = {True: "identical to", False: "NOT the same as", None: "not compared with (none published)"}
 
 
-def published_table(path=PUBLISHED):
-    """The accuracy table of the Verilog edition's published run (figures.publish wrote
-    it under a line naming its command and date), or None if there is none."""
-    if not path.is_file():
-        return None
-    head, sep, table = path.read_text().partition("\n\n")
-    return table if sep and head.startswith("Measured with ") else None
+def not_whole(args):
+    """Why this run is not the whole suite through the RTL at the default n and bounds
+    (the run a record publishes, and whose table is the Verilog edition's), or None."""
+    why = [opt for opt, on in (("--only", args.only), ("--no-rtl", args.no_rtl),
+                               ("--interp", args.interp != core.Config().interp),
+                               ("--target", args.target != TARGET),
+                               ("--offline", args.offline != OFFLINE)) if on]
+    return ", ".join(why) or None
 
 
 def rtl_cmd(inp, out, interp, adc_w, code_step=0, edition="verilog"):
@@ -404,15 +404,27 @@ def main():
                     help="the largest RMS / the offline fit's RMS a scenario with constant "
                          f"parameters may have (default {OFFLINE})")
     ap.add_argument("--publish", action="store_true",
-                    help="record the figures (scripts/results/bench_accuracy.*, README.md): "
-                         "make bench-accuracy does; the whole suite with the RTL only")
+                    help="record the figures (scripts/results/bench_accuracy.*, or "
+                         "bench_accuracy_vhdl.* with --edition vhdl; README.md): make "
+                         "bench-accuracy [EDITION=vhdl] does; the whole suite with the RTL "
+                         "only")
     args = ap.parse_args()
-    if args.publish and (args.only or args.no_rtl or args.interp != core.Config().interp
-                         or args.offline != OFFLINE or args.target != TARGET
-                         or args.edition not in RECORDS):
+    if args.publish and (not_whole(args) or args.edition not in RECORDS):
         print("bench: error: --publish records the whole suite through the RTL at the default "
               "n and bounds only (no --only, --no-rtl, --interp, --target or --offline; "
-              f"--edition {' or '.join(RECORDS)})", file=sys.stderr)
+              f"--edition {' or '.join(RECORDS)}); got {not_whole(args) or args.edition}",
+              file=sys.stderr)
+        raise SystemExit(2)
+    import figures
+    try:
+        verilog_table = figures.table(RECORDS["verilog"])
+    except figures.FiguresError as e:
+        print(f"bench: error: {e}", file=sys.stderr)
+        raise SystemExit(2)
+    if args.publish and args.edition != "verilog" and verilog_table is None:
+        print(f"bench: error: --publish --edition {args.edition} records whether its table is "
+              "the Verilog edition's, and none is published (scripts/results/"
+              "bench_accuracy.md: make bench-accuracy first)", file=sys.stderr)
         raise SystemExit(2)
     for name in ("target", "offline"):
         if not getattr(args, name) > 0:                      # (and not nan)
@@ -480,12 +492,16 @@ def main():
               f"{EDITIONS[args.edition]} {tot[args.edition]:.0f}, RTL (Verilator) "
               f"{tot['verilog']:.0f} ({tot['verilog'] / tot[args.edition]:.1f}x)")
     same = None
-    if args.edition != "verilog" and not args.only:
+    if args.edition != "verilog":
         # the whole suite: this edition's table must be the Verilog edition's published
         # one, byte for byte (every figure comes from the count)
-        ver = published_table()
-        same = None if ver is None else ver == md + "\n"
-        print(f"the table is {SAME[same]} the Verilog edition's ({PUBLISHED.relative_to(ROOT)})")
+        if not_whole(args) or verilog_table is None:
+            print("the table is not compared with the Verilog edition's ("
+                  + (not_whole(args) or "none is published") + ")")
+        else:
+            same = verilog_table == md + "\n"
+            print(f"the table is {figures.SAME_AS_VERILOG[same]} the Verilog edition's "
+                  "(scripts/results/bench_accuracy.md)")
     bad = [r["scenario"] for r in rows if r["rtl_equals_model"] is False]
     gaps = [r["rtl_over_offline"] for r in rows if not r["drifts"]]
     behind = [r["scenario"] for r in rows if offline_gap(r, args.offline)[1]]
@@ -494,7 +510,6 @@ def main():
               f"{max(gaps):.3f} (at most {args.offline}); over: "
               f"{', '.join(behind) if behind else 'none'}")
     if args.publish:
-        import figures
         ratios = [r["rtl"]["ratio"] for r in rows]
         head = dict(scenarios=len(rows), ratio_min=min(ratios), ratio_max=max(ratios),
                     slips=sum(r["rtl"]["slips"] for r in rows),
@@ -503,10 +518,12 @@ def main():
         if args.edition == "verilog":
             figures.publish(RECORDS["verilog"], "make bench-accuracy", head, md)
         else:
-            head.update(same_as_verilog=same)
+            head.update(same_as_verilog=same,
+                        verilog_table_sha256=figures.sha256(verilog_table))
             figures.publish(RECORDS[args.edition], f"make bench-accuracy EDITION={args.edition}",
-                            head, f"{EDITIONS[args.edition]}; the table is {SAME[same]} the "
-                            "Verilog edition's ([bench_accuracy.md](bench_accuracy.md)).\n\n" + md)
+                            head, f"{EDITIONS[args.edition]}; the table is "
+                            f"{figures.SAME_AS_VERILOG[same]} the Verilog edition's "
+                            "([bench_accuracy.md](bench_accuracy.md)).\n\n" + md)
     if bad:
         print(f"bench: error: RTL differs from the bit-true model on {', '.join(bad)}",
               file=sys.stderr)
@@ -516,7 +533,11 @@ def main():
     if behind:
         print(f"bench: error: over {args.offline}x the offline fit's RMS with constant "
               f"parameters: {', '.join(behind)}", file=sys.stderr)
-    if bad or over or behind:
+    if same is False:
+        print("bench: error: the table differs from the Verilog edition's published one "
+              "(scripts/results/bench_accuracy.md): the model or the scoring changed since "
+              "it was published, or an edition differs from the model", file=sys.stderr)
+    if bad or over or behind or same is False:
         raise SystemExit(1)
 
 

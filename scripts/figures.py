@@ -9,10 +9,12 @@ the headline numbers with the date and the command, scripts/results/<name>.md th
 command's full table under a line naming both, and README.md's block between the markers
 BEGIN and END (HTML comments) is rendered again from every record. --check fails when
 that block differs from the rendering of the committed records (an edit by hand, a
-record without its README).
+record without its README), or when a record is stale: the VHDL edition's accuracy record
+was compared with a Verilog table other than the one committed (stale()).
 """
 import argparse
 import datetime
+import hashlib
 import json
 import pathlib
 import sys
@@ -28,6 +30,43 @@ ORDER = ("bench_accuracy", "bench_accuracy_vhdl", "demo", "report")
 
 class FiguresError(Exception):
     """A record or the README is not as this script needs it; the message says where."""
+
+
+# the VHDL edition's record says whether its accuracy table is the Verilog edition's
+SAME_AS_VERILOG = {True: "identical to", False: "NOT the same as"}
+
+
+def table(name, results=RESULTS):
+    """The full table of record `name` as publish() wrote it (without the line naming its
+    command and date), or None if there is no such record."""
+    p = results / f"{name}.md"
+    if not p.is_file():
+        return None
+    head, sep, body = p.read_text().partition("\n\n")
+    if not (sep and head.startswith("Measured with `")):
+        raise FiguresError(f"{p}: not a table publish() wrote (its first line is not "
+                           "'Measured with `<command>` on <date>.')")
+    return body
+
+
+def sha256(text):
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
+def stale(results=RESULTS):
+    """What a committed record claims about another that no longer holds: the VHDL
+    edition's accuracy record names (sha256) the Verilog table it was compared with."""
+    out = []
+    for rec, _ in records(results):
+        want = rec["headline"].get("verilog_table_sha256")
+        if want is None:
+            continue
+        t = table("bench_accuracy", results)
+        if t is None or sha256(t) != want:
+            out.append(f"{rec['name']}.json was compared with a Verilog accuracy table that "
+                       "is no longer scripts/results/bench_accuracy.md: run `"
+                       f"{rec['command']}` again")
+    return out
 
 
 def publish(name, command, headline, table_md, results=RESULTS, readme=README):
@@ -54,12 +93,11 @@ def _rows_bench(h):
 
 
 def _rows_bench_vhdl(h):
-    same = {True: "identical to", False: "NOT the same as", None: "not compared with"}[
-        h["same_as_verilog"]]
     return [("Accuracy through the VHDL edition (rtl/vhdl/, GHDL), "
              f"{h['scenarios']} scenarios", f"VHDL == model on {h['rtl_equal']} of "
-             f"{h['scenarios']}; {h['ratio_min']:.3f} to {h['ratio_max']:.3f}; {h['slips']} "
-             f"slips; table {same} the Verilog edition's")]
+             f"{h['scenarios']}; {h['ratio_min']:.3f} to {h['ratio_max']:.3f} x the floor; "
+             f"{h['slips']} slips; table {SAME_AS_VERILOG[h['same_as_verilog']]} the "
+             "Verilog edition's")]
 
 
 def _rows_demo(h):
@@ -130,8 +168,9 @@ def write_readme(results=RESULTS, readme=README):
 
 
 def check(results=RESULTS, readme=README):
+    """README.md's block is the rendering of the records, and no record is stale."""
     _, block, _ = _split(readme.read_text(), readme)
-    return block == render(results)
+    return block == render(results) and not stale(results)
 
 
 def main(argv=None):
@@ -142,9 +181,10 @@ def main(argv=None):
     try:
         if a.check:
             if not check():
-                print("figures: error: README.md's figures block differs from "
-                      "scripts/results/*.json (run python3 scripts/figures.py)",
-                      file=sys.stderr)
+                for why in stale() or ["README.md's figures block differs from "
+                                       "scripts/results/*.json (run python3 "
+                                       "scripts/figures.py)"]:
+                    print(f"figures: error: {why}", file=sys.stderr)
                 return 1
             print(f"checked README.md's figures block against {len(records())} records")
         else:

@@ -67,17 +67,18 @@ def test_publish_takes_the_whole_suite_of_the_verilog_or_vhdl_edition(tmp_path):
     assert not list(tmp_path.iterdir())                   # nothing was run or written
 
 
-def test_the_published_table_is_read_without_its_heading(tmp_path):
+def test_only_a_whole_run_at_the_defaults_is_published_or_compared():
+    import argparse
     sys.path.insert(0, str(ROOT / "scripts"))
     import bench_accuracy as b
-    md = tmp_path / "bench_accuracy.md"
-    assert b.published_table(md) is None                  # none published
-    md.write_text("Measured with `make bench-accuracy` on 2026-11-29.\n\nn = 100\n\n| a |\n")
-    assert b.published_table(md) == "n = 100\n\n| a |\n"
-    md.write_text("n = 100\n\n| a |\n")                  # not figures.publish's
-    assert b.published_table(md) is None
-    # the committed one is the table make bench-accuracy printed
-    assert b.published_table().startswith("n = 100, 4 um pitch")
+    from sim.model import finequad_core as core
+    whole = dict(only=None, no_rtl=False, interp=core.Config().interp, target=b.TARGET,
+                 offline=b.OFFLINE)
+    assert b.not_whole(argparse.Namespace(**whole)) is None
+    for k, v, why in (("only", ["constant"], "--only"), ("no_rtl", True, "--no-rtl"),
+                      ("interp", 50, "--interp"), ("target", 1.0, "--target"),
+                      ("offline", 0.9, "--offline")):
+        assert b.not_whole(argparse.Namespace(**dict(whole, **{k: v}))) == why, k
 
 
 def test_a_kept_ghdl_run_is_used_again_only_while_nothing_it_depends_on_changed(

@@ -59,16 +59,36 @@ def test_bad_readme_and_records_are_named(tmp_path):
 def test_the_vhdl_editions_record_says_whether_its_table_is_the_verilog_editions(tmp_path):
     res, readme = tmp_path / "results", tmp_path / "README.md"
     readme.write_text(README)
-    head = dict(BENCH, same_as_verilog=True)
+    figures.publish("bench_accuracy", "make bench-accuracy", BENCH, "| a | b |", results=res,
+                    readme=readme)
+    vt = figures.table("bench_accuracy", res)
+    assert vt == "| a | b |\n"                            # without the line naming the run
+    head = dict(BENCH, same_as_verilog=True, verilog_table_sha256=figures.sha256(vt))
     figures.publish("bench_accuracy_vhdl", "make bench-accuracy EDITION=vhdl", head, "t",
                     results=res, readme=readme)
     text = readme.read_text()
-    assert "VHDL == model on 11 of 11; 1.000 to 1.095; 0 slips; table identical to the " \
-        "Verilog edition's | `make bench-accuracy EDITION=vhdl`" in text
-    figures.publish("bench_accuracy", "make bench-accuracy", BENCH, "t", results=res,
-                    readme=readme)
-    text = readme.read_text()
+    assert "VHDL == model on 11 of 11; 1.000 to 1.095 x the floor; 0 slips; table identical " \
+        "to the Verilog edition's | `make bench-accuracy EDITION=vhdl`" in text
     assert text.index("RTL == model") < text.index("VHDL == model")   # table order
+    assert figures.check(res, readme) and not figures.stale(res)
+    # the Verilog table published again, the same: still current; different: stale
+    figures.publish("bench_accuracy", "make bench-accuracy", BENCH, "| a | b |",
+                    results=res, readme=readme)
+    assert figures.check(res, readme)
+    figures.publish("bench_accuracy", "make bench-accuracy", BENCH, "| a | c |",
+                    results=res, readme=readme)
+    (why,) = figures.stale(res)
+    assert "bench_accuracy_vhdl.json was compared with a Verilog accuracy table" in why
+    assert "make bench-accuracy EDITION=vhdl" in why and not figures.check(res, readme)
     figures.publish("bench_accuracy_vhdl", "make bench-accuracy EDITION=vhdl",
                     dict(head, same_as_verilog=False), "t", results=res, readme=readme)
     assert "table NOT the same as the Verilog edition's" in readme.read_text()
+
+
+def test_a_table_is_read_only_as_publish_wrote_it(tmp_path):
+    assert figures.table("bench_accuracy", tmp_path) is None          # none published
+    (tmp_path / "bench_accuracy.md").write_text("n = 100\n\n| a |\n")
+    with pytest.raises(figures.FiguresError, match="bench_accuracy.md: not a table publish"):
+        figures.table("bench_accuracy", tmp_path)
+    # the committed one is the table make bench-accuracy printed
+    assert figures.table("bench_accuracy").startswith("n = 100, 4 um pitch")
